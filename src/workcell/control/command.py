@@ -1,0 +1,75 @@
+"""The one way anything drives the robot.
+
+Every operator (VR, desktop, scripted expert, replay) produces :class:`Command` values and
+nothing else, so all of them run through the same controller and are recorded alike.
+Arm targets are TCP poses in the base frame (x forward, y left, z up, origin on the floor
+under the base centre), so a held arm pose travels with the base.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+from workcell.errors import WorkcellError
+
+Vec3 = tuple[float, float, float]
+Quat = tuple[float, float, float, float]
+
+
+class CommandError(WorkcellError):
+    """A command carried a non-finite or out-of-range value."""
+
+
+def _require_finite(name: str, values: tuple[float, ...]) -> None:
+    if not all(math.isfinite(v) for v in values):
+        raise CommandError(f"{name} = {values}: every component must be a finite number")
+
+
+@dataclass(frozen=True)
+class BaseTwist:
+    """Base velocity in the base frame: m/s forward and left, rad/s counter-clockwise."""
+
+    vx: float = 0.0
+    vy: float = 0.0
+    wz: float = 0.0
+
+    def __post_init__(self) -> None:
+        _require_finite("base twist", (self.vx, self.vy, self.wz))
+
+
+@dataclass(frozen=True)
+class ArmCommand:
+    """A TCP target pose in the base frame; the arm tracks it only while ``follow``."""
+
+    position: Vec3 = (0.0, 0.0, 0.0)
+    quaternion: Quat = (1.0, 0.0, 0.0, 0.0)
+    follow: bool = False
+
+    def __post_init__(self) -> None:
+        _require_finite("arm target position", self.position)
+        _require_finite("arm target quaternion", self.quaternion)
+        norm = math.sqrt(sum(q * q for q in self.quaternion))
+        if not 0.5 < norm < 1.5:
+            raise CommandError(
+                f"arm target quaternion = {self.quaternion}: must be a unit quaternion "
+                "(w, x, y, z); its norm is {norm:.3g}"
+            )
+
+
+@dataclass(frozen=True)
+class Command:
+    """Base twist, both arms, both grippers (0 open .. 1 closed) and the head (pan, tilt)."""
+
+    base: BaseTwist = field(default_factory=BaseTwist)
+    left: ArmCommand = field(default_factory=ArmCommand)
+    right: ArmCommand = field(default_factory=ArmCommand)
+    gripper_left: float = 0.0
+    gripper_right: float = 0.0
+    head: tuple[float, float] = (0.0, 0.3)
+
+    def __post_init__(self) -> None:
+        for name, value in (("gripper_left", self.gripper_left), ("gripper_right", self.gripper_right)):
+            if not (math.isfinite(value) and 0.0 <= value <= 1.0):
+                raise CommandError(f"{name} = {value}: must be between 0 (open) and 1 (closed)")
+        _require_finite("head", self.head)

@@ -1,0 +1,60 @@
+"""Turns a :class:`Command` into actuator controls: base motion, IK, grippers and head."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.control.base_motion import BaseMotion
+from workcell.control.command import Command
+from workcell.control.ik import BimanualIK
+from workcell.sim.joints import HEAD_JOINTS, JOINT_ORDER, SIDES
+from workcell.sim.world import World
+
+_HEAD = [JOINT_ORDER.index(n) for n in HEAD_JOINTS]
+
+
+class RobotController:
+    def __init__(self, world: World) -> None:
+        self.world = world
+        self.base = BaseMotion(world.config.robot)
+        self.ik = BimanualIK(world.config, home_spine=world.config.robot.start_spine)
+        self._following = dict.fromkeys(SIDES, False)
+        c = world.config.conveyor
+        self._conveyor_center = np.array(
+            [(c.start_x + c.end_x) / 2, c.center_y, (0.15 + c.height) / 2]
+        )
+        model = world.model
+        self._head_range = np.array([model.jnt_range[model.joint(n).id] for n in HEAD_JOINTS])
+
+    @property
+    def home_joints(self) -> NDArray[np.float64]:
+        return self.ik.home.copy()
+
+    def reset(self, base_pose: tuple[float, float, float], joints: NDArray[np.float64]) -> None:
+        self.base.reset(base_pose)
+        self.ik.reset(joints)
+        self._following = dict.fromkeys(SIDES, False)
+
+    def apply(self, command: Command) -> None:
+        """Write the controls for one control period."""
+        world, dt = self.world, self.world.control_dt
+        world.data.ctrl[world.base_ctrl] = self.base.step(command.base, dt)
+        yaw = float(world.base_pose[2])
+        self.ik.place_conveyor(
+            world.to_base_frame(self._conveyor_center),
+            (math.cos(-yaw / 2), 0.0, 0.0, math.sin(-yaw / 2)),
+        )
+        for side, arm in (("l", command.left), ("r", command.right)):
+            if arm.follow:
+                self.ik.set_target(side, arm.position, arm.quaternion)
+            elif self._following[side]:
+                self.ik.hold(side)
+            self._following[side] = arm.follow
+        joints = self.ik.step(dt)
+        joints[_HEAD] = np.clip(command.head, self._head_range[:, 0], self._head_range[:, 1])
+        world.data.ctrl[world.joint_ctrl] = joints
+        world.set_gripper("l", command.gripper_left)
+        world.set_gripper("r", command.gripper_right)

@@ -1,0 +1,136 @@
+"""Differential inverse kinematics for both arms and the spine, solved with mink.
+
+The solver runs on the robot-only model (fixed base at the origin), so targets are base-frame
+TCP poses. Two frame tasks (one per TCP), a posture task, joint position and velocity limits,
+and collision avoidance between the arms and between each arm and a proxy of the conveyor
+(a mocap box placed where the conveyor is, seen from the base).
+"""
+
+from __future__ import annotations
+
+from collections.abc import Sequence
+
+import mink
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.sim import panda
+from workcell.sim.config import WorldConfig
+from workcell.sim.joints import JOINT_ORDER, SIDES, SPINE_JOINT, arm_joint_names
+from workcell.sim.scene import CONVEYOR_PROXY, build_ik_model
+
+HOME_ARM: tuple[float, ...] = (0.0, 0.2, 0.0, -1.9, 0.0, 2.1, 0.785)
+"""A relaxed arm posture with the hand in front of the shoulder."""
+HOME_ARM_RIGHT: tuple[float, ...] = HOME_ARM
+
+
+def arm_geoms(side: str) -> list[str]:
+    return [*(f"arm_{side}_geom{i}" for i in range(2, 8)), f"hand_{side}_housing", f"pad_{side}"]
+
+
+class BimanualIK:
+    """Keeps an IK configuration and moves it toward the TCP targets each control step."""
+
+    def __init__(self, config: WorldConfig, home_spine: float) -> None:
+        self.model = build_ik_model(config)
+        self.configuration = mink.Configuration(self.model)
+        self.frame_tasks = {
+            side: mink.FrameTask(
+                frame_name=f"tcp_{side}",
+                frame_type="site",
+                position_cost=1.0,
+                orientation_cost=0.3,
+                lm_damping=1e-3,
+            )
+            for side in SIDES
+        }
+        posture_cost = np.full(self.model.nv, 1e-2)
+        posture_cost[self._dof(SPINE_JOINT)] = 0.5
+        self.posture = mink.PostureTask(self.model, cost=posture_cost)
+        velocities: dict[str, float] = {SPINE_JOINT: 0.3}
+        for side in SIDES:
+            for name, vmax in zip(arm_joint_names(side), panda.VELOCITY_LIMITS, strict=True):
+                velocities[name] = vmax
+        proxy_geom = "conveyor_proxy_geom"
+        self.limits: list[mink.Limit] = [
+            mink.ConfigurationLimit(self.model),
+            mink.VelocityLimit(self.model, velocities),
+            mink.CollisionAvoidanceLimit(
+                self.model,
+                geom_pairs=[
+                    (arm_geoms("l"), arm_geoms("r")),
+                    ([*arm_geoms("l"), *arm_geoms("r")], [proxy_geom]),
+                ],
+                minimum_distance_from_collisions=0.015,
+                collision_detection_distance=0.08,
+            ),
+        ]
+        self._qadr = np.array(
+            [self.model.jnt_qposadr[self.model.joint(name).id] for name in JOINT_ORDER]
+        )
+        self._proxy = self.model.body(CONVEYOR_PROXY).mocapid[0]
+        self.home = np.zeros(len(JOINT_ORDER))
+        self.home[0] = home_spine
+        self.home[3:10] = HOME_ARM
+        self.home[10:17] = _mirror(HOME_ARM)
+        self.reset(self.home)
+
+    def _dof(self, joint: str) -> int:
+        return int(self.model.jnt_dofadr[self.model.joint(joint).id])
+
+    def reset(self, joints: NDArray[np.float64]) -> None:
+        """Put the IK configuration at ``joints`` (17, in JOINT_ORDER) and hold there."""
+        q = self.configuration.data.qpos.copy()
+        q[self._qadr] = joints
+        self.configuration.update(q)
+        self.posture.set_target(q)
+        for task in self.frame_tasks.values():
+            task.set_target_from_configuration(self.configuration)
+
+    @property
+    def joints(self) -> NDArray[np.float64]:
+        """The IK solution in JOINT_ORDER."""
+        return np.array(self.configuration.q[self._qadr])
+
+    def place_conveyor(self, position: Sequence[float], quaternion: Sequence[float]) -> None:
+        """Put the conveyor proxy at its pose in the base frame."""
+        self.configuration.data.mocap_pos[self._proxy] = position
+        self.configuration.data.mocap_quat[self._proxy] = quaternion
+
+    def tcp_pose(self, side: str) -> mink.SE3:
+        return self.configuration.get_transform_frame_to_world(f"tcp_{side}", "site")
+
+    def hold(self, side: str) -> None:
+        """Make the arm's current pose its target."""
+        self.frame_tasks[side].set_target_from_configuration(self.configuration)
+
+    def set_target(self, side: str, position: Sequence[float], quaternion: Sequence[float]) -> None:
+        pose = mink.SE3.from_rotation_and_translation(
+            mink.SO3(np.asarray(quaternion, dtype=float)), np.asarray(position, dtype=float)
+        )
+        self.frame_tasks[side].set_target(pose)
+
+    def step(self, dt: float) -> NDArray[np.float64]:
+        """One differential IK step of length ``dt``; returns the joints (JOINT_ORDER)."""
+        tasks = [*self.frame_tasks.values(), self.posture]
+        velocity = mink.solve_ik(
+            self.configuration, tasks, dt, solver="daqp", damping=1e-3, limits=self.limits
+        )
+        self.configuration.integrate_inplace(velocity, dt)
+        return self.joints
+
+    def residual(self, side: str) -> float:
+        """Position error of one TCP from its target, metres."""
+        target = self.frame_tasks[side].transform_target_to_world
+        assert target is not None
+        return float(np.linalg.norm(self.tcp_pose(side).translation() - target.translation()))
+
+
+def _mirror(arm: Sequence[float]) -> tuple[float, ...]:
+    """The right arm's posture mirroring a left-arm posture through the sagittal plane."""
+    q = list(arm)
+    for i in (0, 2, 4):
+        q[i] = -q[i]
+    q[6] = -q[6] + 1.5708
+    return tuple(q)

@@ -1,0 +1,33 @@
+"""Typed events the world emits as boxes move through the task."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+
+@dataclass(frozen=True)
+class BoxReleased:
+    """The feeder put a box on the belt start."""
+
+    t_sim: float
+    box: int
+
+
+@dataclass(frozen=True)
+class GraspChanged:
+    """Both pads closed on a box (``engaged``) or let go of it."""
+
+    t_sim: float
+    box: int
+    engaged: bool
+
+
+@dataclass(frozen=True)
+class BoxDelivered:
+    """A released box came to rest inside the delivery zone."""
+
+    t_sim: float
+    box: int
+
+
+WorldEvent = BoxReleased | GraspChanged | BoxDelivered

@@ -1,0 +1,103 @@
+"""Grasp detection and the assisted grasp.
+
+``physical``: boxes are held by the pads' contact and friction alone.
+``assisted``: when both grippers are closed and both pads touch the same box, a weld
+between the left hand and that box engages, keeping the box where it was relative to the
+hand; opening either gripper releases it. Novices get a robust grasp; the contact signal
+stays the same in both modes, so recordings are comparable.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from workcell.sim.arena import weld_name
+from workcell.sim.boxes import BoxPool, BoxSlot
+from workcell.sim.config import GraspMode
+
+CLOSED = 0.5
+"""A gripper whose close command is at least this is closed."""
+
+
+class Grasp:
+    """Tracks which box each pad touches and, in assisted mode, the weld."""
+
+    def __init__(self, model: mujoco.MjModel, pool: BoxPool, mode: GraspMode) -> None:
+        self._model = model
+        self._pool = pool
+        self.mode: GraspMode = mode
+        self._pads = (model.geom("pad_l").id, model.geom("pad_r").id)
+        self._hand_l = model.body("hand_l").id
+        self._welds = [model.equality(weld_name(s.index)).id for s in pool.slots]
+        self._box_of_geom = {s.geom: s for s in pool.slots}
+        self.contact_l: BoxSlot | None = None
+        self.contact_r: BoxSlot | None = None
+        self.attached: BoxSlot | None = None
+
+    def reset(self, data: mujoco.MjData) -> None:
+        data.eq_active[self._welds] = 0
+        self.contact_l = self.contact_r = self.attached = None
+
+    @property
+    def holding(self) -> BoxSlot | None:
+        """The box both pads touch (physical) or the welded box (assisted)."""
+        if self.attached is not None:
+            return self.attached
+        if self.contact_l is not None and self.contact_l is self.contact_r:
+            return self.contact_l
+        return None
+
+    def update(
+        self, data: mujoco.MjData, close_l: float, close_r: float
+    ) -> tuple[BoxSlot, bool] | None:
+        """Refresh contacts and the weld; returns (box, engaged) when the grasp changed."""
+        self._refresh_contacts(data)
+        before = self.holding
+        if self.mode == "assisted":
+            closed = close_l >= CLOSED and close_r >= CLOSED
+            if self.attached is not None and not closed:
+                data.eq_active[self._welds[self.attached.index]] = 0
+                self.attached = None
+            elif self.attached is None and closed:
+                both = self.contact_l
+                if both is not None and both is self.contact_r:
+                    self._engage(data, both)
+        after = self.holding
+        if after is before:
+            return None
+        if after is None:
+            assert before is not None
+            return before, False
+        return after, True
+
+    def _refresh_contacts(self, data: mujoco.MjData) -> None:
+        touching: list[BoxSlot | None] = [None, None]
+        for k in range(data.ncon):
+            contact = data.contact[k]
+            g1, g2 = int(contact.geom1), int(contact.geom2)
+            for side, pad in enumerate(self._pads):
+                other = g2 if g1 == pad else g1 if g2 == pad else -1
+                slot = self._box_of_geom.get(other)
+                if slot is not None:
+                    touching[side] = slot
+        self.contact_l, self.contact_r = touching
+
+    def _engage(self, data: mujoco.MjData, slot: BoxSlot) -> None:
+        """Weld ``slot`` to the left hand at their current relative pose."""
+        hand_pos, hand_quat = data.xpos[self._hand_l], data.xquat[self._hand_l]
+        box_pos, box_quat = data.xpos[slot.body], data.xquat[slot.body]
+        inv = np.zeros(4)
+        mujoco.mju_negQuat(inv, hand_quat)
+        rel_pos = np.zeros(3)
+        mujoco.mju_rotVecQuat(rel_pos, box_pos - hand_pos, inv)
+        rel_quat = np.zeros(4)
+        mujoco.mju_mulQuat(rel_quat, inv, box_quat)
+        eq = self._welds[slot.index]
+        self._model.eq_data[eq, 0:3] = 0.0
+        self._model.eq_data[eq, 3:6] = rel_pos
+        self._model.eq_data[eq, 6:10] = rel_quat
+        self._model.eq_data[eq, 10] = 1.0
+        self._model.eq_data[eq, 11] = 0.0
+        data.eq_active[eq] = 1
+        self.attached = slot

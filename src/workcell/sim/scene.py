@@ -1,0 +1,51 @@
+"""Compose the compiled models: the full world, and the robot-only model the IK solves on."""
+
+from __future__ import annotations
+
+import mujoco
+
+from workcell.sim.arena import build_arena
+from workcell.sim.config import WorldConfig
+from workcell.sim.robot import build_robot
+from workcell.sim.spec_utils import set_env_collision
+
+CONVEYOR_PROXY = "conveyor_proxy"
+"""Mocap body of the IK model standing in for the conveyor, in the base frame."""
+
+
+def world_spec(config: WorldConfig) -> mujoco.MjSpec:
+    spec = mujoco.MjSpec()
+    spec.modelname = "workcell"
+    spec.compiler.degree = False
+    opt = spec.option
+    opt.timestep = config.timestep
+    opt.integrator = mujoco.mjtIntegrator.mjINT_IMPLICITFAST
+    opt.cone = mujoco.mjtCone.mjCONE_ELLIPTIC
+    opt.impratio = 10.0
+    spec.visual.global_.offwidth = 1280
+    spec.visual.global_.offheight = 720
+    build_arena(spec, config)
+    build_robot(spec, mobile=True)
+    return spec
+
+
+def build_world_model(config: WorldConfig) -> mujoco.MjModel:
+    """The full scene: arena, boxes and the mobile robot with its actuators."""
+    return world_spec(config).compile()
+
+
+def build_ik_model(config: WorldConfig) -> mujoco.MjModel:
+    """The robot on a fixed base at the origin, plus a mocap proxy of the conveyor."""
+    spec = mujoco.MjSpec()
+    spec.modelname = "workcell_ik"
+    spec.compiler.degree = False
+    build_robot(spec, mobile=False)
+    c = config.conveyor
+    proxy = spec.worldbody.add_body(name=CONVEYOR_PROXY, mocap=True, pos=[0, 0, -10])
+    geom = proxy.add_geom(
+        name="conveyor_proxy_geom",
+        type=mujoco.mjtGeom.mjGEOM_BOX,
+        size=[c.length / 2, c.width / 2 + 0.03, (c.height - 0.15) / 2],
+    )
+    set_env_collision(geom)
+    return spec.compile()

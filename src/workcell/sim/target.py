@@ -1,0 +1,33 @@
+"""The delivery zone: a released box resting inside it on the table top is delivered."""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+
+from workcell.sim.boxes import BoxPool, BoxSlot
+from workcell.sim.config import WorldConfig
+
+REST_SPEED = 0.05
+"""A box moving slower than this (m/s) is at rest."""
+HEIGHT_TOLERANCE = 0.03
+
+
+class DeliveryZone:
+    def __init__(self, config: WorldConfig) -> None:
+        t, b = config.target, config.box
+        self.center = np.array(t.center)
+        self.half = np.array(t.zone) / 2
+        self.rest_z = t.table_height + b.size[2] / 2
+
+    def contains(self, position: np.ndarray) -> bool:
+        inside = bool(np.all(np.abs(position[:2] - self.center) <= self.half))
+        return inside and abs(float(position[2]) - self.rest_z) <= HEIGHT_TOLERANCE
+
+    def delivered(
+        self, data: mujoco.MjData, pool: BoxPool, slot: BoxSlot, held: BoxSlot | None
+    ) -> bool:
+        """True when ``slot`` rests in the zone and the robot no longer holds it."""
+        if slot is held:
+            return False
+        return self.contains(pool.position(data, slot)) and pool.speed(data, slot) < REST_SPEED

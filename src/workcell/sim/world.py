@@ -1,0 +1,177 @@
+"""The simulated workcell: physics, the box feeder, grasping and delivery detection.
+
+The world knows nothing about operators; :class:`workcell.simulation.Simulation` drives it
+with commands through the robot controller.
+"""
+
+from __future__ import annotations
+
+import math
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.errors import SimulationError
+from workcell.sim.boxes import BoxPool, BoxSlot, BoxState
+from workcell.sim.config import WorldConfig
+from workcell.sim.events import BoxDelivered, BoxReleased, GraspChanged, WorldEvent
+from workcell.sim.grasp import Grasp
+from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
+from workcell.sim.scene import build_world_model
+from workcell.sim.target import DeliveryZone
+
+DELIVERED_CLEAR_S = 1.0
+"""A delivered box is taken away (parked) this long after delivery."""
+FLOOR_CLEAR_S = 5.0
+"""A box lying on the floor is taken away after this long."""
+
+
+class World:
+    """One MuJoCo model and data with the task-level machinery around them."""
+
+    def __init__(self, config: WorldConfig) -> None:
+        self.config = config
+        self.model = build_world_model(config)
+        self.data = mujoco.MjData(self.model)
+        self.boxes = BoxPool(self.model, config)
+        self.grasp = Grasp(self.model, self.boxes, config.grasp)
+        self.zone = DeliveryZone(config)
+        self.substeps = config.control_substeps
+        self.control_dt = self.substeps * config.timestep
+        joint = self.model.joint
+        self._base_qpos = np.array([self.model.jnt_qposadr[joint(n).id] for n in BASE_JOINTS])
+        self._base_dof = np.array([self.model.jnt_dofadr[joint(n).id] for n in BASE_JOINTS])
+        self._joint_qpos = np.array([self.model.jnt_qposadr[joint(n).id] for n in JOINT_ORDER])
+        self._joint_dof = np.array([self.model.jnt_dofadr[joint(n).id] for n in JOINT_ORDER])
+        actuator = self.model.actuator
+        self.base_ctrl = np.array([actuator(n).id for n in BASE_JOINTS])
+        self.joint_ctrl = np.array([actuator(n).id for n in JOINT_ORDER])
+        self.finger_ctrl = {s: np.array([actuator(n).id for n in FINGER_JOINTS[s]]) for s in SIDES}
+        self._finger_qpos = {
+            s: np.array([self.model.jnt_qposadr[joint(n).id] for n in FINGER_JOINTS[s]])
+            for s in SIDES
+        }
+        self._finger_open = float(self.model.jnt_range[joint(FINGER_JOINTS["l"][0]).id][1])
+        self._next_release = 0.0
+        self._floor_since: dict[int, float] = {}
+
+    # --- lifecycle -------------------------------------------------------------------------
+
+    def reset(
+        self,
+        base_pose: tuple[float, float, float],
+        joints: NDArray[np.float64],
+    ) -> None:
+        """Start state: robot at ``base_pose`` with ``joints`` (JOINT_ORDER), boxes parked."""
+        mujoco.mj_resetData(self.model, self.data)
+        self.data.qpos[self._base_qpos] = base_pose
+        self.data.qpos[self._joint_qpos] = joints
+        self.data.ctrl[self.base_ctrl] = base_pose
+        self.data.ctrl[self.joint_ctrl] = joints
+        for side in SIDES:
+            self.data.qpos[self._finger_qpos[side]] = self._finger_open
+            self.data.ctrl[self.finger_ctrl[side]] = self._finger_open
+        self.boxes.park_all(self.data)
+        self.grasp.reset(self.data)
+        self._next_release = self.config.feeder.first_release_s
+        self._floor_since.clear()
+        mujoco.mj_forward(self.model, self.data)
+
+    def step(self, close_l: float, close_r: float) -> list[WorldEvent]:
+        """Advance one control period (ctrl already written); returns what happened."""
+        mujoco.mj_step(self.model, self.data, nstep=self.substeps)
+        if not np.isfinite(self.data.qacc).all():
+            raise SimulationError(
+                f"physics diverged at t={self.data.time:.3f} s (non-finite accelerations); "
+                "lower the timestep or the box mass"
+            )
+        return self._update_task(close_l, close_r)
+
+    def _update_task(self, close_l: float, close_r: float) -> list[WorldEvent]:
+        t = self.time
+        events: list[WorldEvent] = []
+        changed = self.grasp.update(self.data, close_l, close_r)
+        if changed is not None:
+            events.append(GraspChanged(t, changed[0].index, changed[1]))
+        held = self.grasp.holding
+        for slot in self.boxes.slots:
+            if slot.state is BoxState.ACTIVE:
+                if self.zone.delivered(self.data, self.boxes, slot, held):
+                    slot.state = BoxState.DELIVERED
+                    slot.delivered_at = t
+                    events.append(BoxDelivered(t, slot.index))
+                else:
+                    self._clear_if_on_floor(slot, t)
+            elif slot.state is BoxState.DELIVERED and t - slot.delivered_at >= DELIVERED_CLEAR_S:
+                self.boxes.park(self.data, slot)
+        if t >= self._next_release and self.boxes.feed_clear(self.data):
+            released = self.boxes.release(self.data, t)
+            if released is not None:
+                events.append(BoxReleased(t, released.index))
+                self._next_release = t + self.config.feeder.release_interval_s
+        return events
+
+    def _clear_if_on_floor(self, slot: BoxSlot, t: float) -> None:
+        on_floor = self.boxes.position(self.data, slot)[2] < self.config.box.size[2]
+        if not on_floor:
+            self._floor_since.pop(slot.index, None)
+            return
+        since = self._floor_since.setdefault(slot.index, t)
+        if t - since >= FLOOR_CLEAR_S:
+            self.boxes.park(self.data, slot)
+            del self._floor_since[slot.index]
+
+    # --- state -----------------------------------------------------------------------------
+
+    @property
+    def time(self) -> float:
+        return float(self.data.time)
+
+    @property
+    def base_pose(self) -> NDArray[np.float64]:
+        """(x, y, yaw) of the base in the world."""
+        return np.array(self.data.qpos[self._base_qpos])
+
+    @property
+    def base_velocity(self) -> NDArray[np.float64]:
+        """(vx, vy, wz) of the base in the world frame."""
+        return np.array(self.data.qvel[self._base_dof])
+
+    @property
+    def joint_positions(self) -> NDArray[np.float64]:
+        return np.array(self.data.qpos[self._joint_qpos])
+
+    @property
+    def joint_velocities(self) -> NDArray[np.float64]:
+        return np.array(self.data.qvel[self._joint_dof])
+
+    def gripper_opening(self, side: str) -> float:
+        """Finger opening, 0 closed .. 1 fully open."""
+        return float(np.mean(self.data.qpos[self._finger_qpos[side]]) / self._finger_open)
+
+    def set_gripper(self, side: str, close: float) -> None:
+        self.data.ctrl[self.finger_ctrl[side]] = self._finger_open * (1.0 - close)
+
+    def tcp_pose(self, side: str) -> tuple[NDArray[np.float64], NDArray[np.float64]]:
+        """World position and quaternion (w, x, y, z) of one TCP."""
+        site = self.data.site(f"tcp_{side}")
+        quat = np.zeros(4)
+        mujoco.mju_mat2Quat(quat, site.xmat)
+        return np.array(site.xpos), quat
+
+    def to_base_frame(self, position: NDArray[np.float64]) -> NDArray[np.float64]:
+        """A world point expressed in the base frame (origin on the floor under the base)."""
+        x, y, yaw = self.base_pose
+        c, s = math.cos(yaw), math.sin(yaw)
+        dx, dy = position[0] - x, position[1] - y
+        return np.array([c * dx + s * dy, -s * dx + c * dy, position[2]])
+
+    def to_world_frame(self, position: NDArray[np.float64]) -> NDArray[np.float64]:
+        x, y, yaw = self.base_pose
+        c, s = math.cos(yaw), math.sin(yaw)
+        return np.array([x + c * position[0] - s * position[1], y + s * position[0] + c * position[1], position[2]])
+
+    def check_finite(self) -> None:
+        if not np.isfinite(self.data.qpos).all():
+            raise SimulationError(f"non-finite state at t={self.time:.3f} s")
