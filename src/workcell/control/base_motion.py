@@ -45,3 +45,11 @@ class BaseMotion:
         vx, vy = self.twist[0], self.twist[1]
         self.pose = self.pose + dt * np.array([cos * vx - sin * vy, sin * vx + cos * vy, self.twist[2]])
         return self.pose
+
+    def limit_lead(self, measured: NDArray[np.float64], max_lead: float) -> None:
+        """Keep the reference within ``max_lead`` of the measured pose (m and rad), so a
+        blocked base does not wind up a reference that would later jump."""
+        lead = self.pose - measured
+        if np.any(np.abs(lead) > max_lead):
+            self.pose = measured + np.clip(lead, -max_lead, max_lead)
+            self.twist = np.zeros(3)

@@ -13,6 +13,9 @@ from workcell.control.ik import BimanualIK
 from workcell.sim.joints import HEAD_JOINTS, JOINT_ORDER, SIDES
 from workcell.sim.world import World
 
+MAX_BASE_LEAD = 0.15
+"""How far (m, rad) the base reference may run ahead of the measured base pose."""
+
 _HEAD = [JOINT_ORDER.index(n) for n in HEAD_JOINTS]
 
 
@@ -41,6 +44,7 @@ class RobotController:
     def apply(self, command: Command) -> None:
         """Write the controls for one control period."""
         world, dt = self.world, self.world.control_dt
+        self.base.limit_lead(world.base_pose, MAX_BASE_LEAD)
         world.data.ctrl[world.base_ctrl] = self.base.step(command.base, dt)
         yaw = float(world.base_pose[2])
         self.ik.place_conveyor(

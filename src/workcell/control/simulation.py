@@ -18,10 +18,11 @@ class Simulation:
         self.controller = RobotController(self.world)
         self.reset()
 
-    def reset(self, base_pose: tuple[float, float, float] | None = None) -> None:
+    def reset(self, seed: int = 0, base_pose: tuple[float, float, float] | None = None) -> None:
+        """Back to the start state; the same ``seed`` gives the same trial start and feed."""
         pose = base_pose if base_pose is not None else self.config.robot.start_pose
         joints = self.controller.home_joints
-        self.world.reset(pose, joints)
+        self.world.reset(pose, joints, seed)
         self.controller.reset(pose, joints)
 
     @property

@@ -90,14 +90,17 @@ class BoxPool:
                 return False
         return True
 
-    def release(self, data: mujoco.MjData, t_sim: float, yaw: float = 0.0) -> BoxSlot | None:
-        """Put the next parked box on the belt start; None when the pool is empty."""
+    def release(
+        self, data: mujoco.MjData, t_sim: float, lateral: float = 0.0, yaw: float = 0.0
+    ) -> BoxSlot | None:
+        """Put the next parked box on the belt start, ``lateral`` m off the centre line and
+        turned by ``yaw``; None when the pool is empty."""
         slot = next((s for s in self.slots if s.state is BoxState.PARKED), None)
         if slot is None:
             return None
         self._model.body_gravcomp[slot.body] = 0.0
         self._set_collision(slot, ENV_CONTYPE, ENV_CONAFFINITY)
-        data.qpos[slot.qpos : slot.qpos + 3] = self.feed_position
+        data.qpos[slot.qpos : slot.qpos + 3] = self.feed_position + (0.0, lateral, 0.0)
         data.qpos[slot.qpos + 3 : slot.qpos + 7] = (np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2))
         data.qvel[slot.qvel : slot.qvel + 6] = 0.0
         slot.state = BoxState.ACTIVE

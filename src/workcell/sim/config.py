@@ -48,6 +48,11 @@ class ConveyorConfig:
     def start_x(self) -> float:
         return self.end_x - self.length
 
+    @property
+    def direction_yaw(self) -> float:
+        """Heading of the belt's motion in the world (the belt runs along +x)."""
+        return 0.0
+
 
 @dataclass(frozen=True)
 class FeederConfig:
@@ -56,11 +61,18 @@ class FeederConfig:
     release_interval_s: float = 8.0
     first_release_s: float = 0.5
     pool_size: int = 4
+    lateral_jitter: float = 0.04
+    """Boxes land up to this far (m) either side of the belt centre line, seeded."""
+    yaw_jitter: float = 0.15
+    """Boxes land turned up to this much (rad) either way, seeded."""
 
     def __post_init__(self) -> None:
-        problems = checks.in_range(
-            "feeder.release_interval_s", self.release_interval_s, 0.5, 600.0, "s"
-        ) + checks.in_range("feeder.first_release_s", self.first_release_s, 0.0, 600.0, "s")
+        problems = (
+            checks.in_range("feeder.release_interval_s", self.release_interval_s, 0.5, 600.0, "s")
+            + checks.in_range("feeder.first_release_s", self.first_release_s, 0.0, 600.0, "s")
+            + checks.in_range("feeder.lateral_jitter", self.lateral_jitter, 0.0, 0.2, "m")
+            + checks.in_range("feeder.yaw_jitter", self.yaw_jitter, 0.0, 0.5, "rad")
+        )
         if not isinstance(self.pool_size, int) or not 1 <= self.pool_size <= 12:
             problems.append(checks.problem("feeder.pool_size", self.pool_size, "must be 1 to 12"))
         _raise_if(problems)
@@ -163,13 +175,14 @@ class WorldConfig:
                     f"{self.robot.max_grasp_span:g} m",
                 )
             )
-        if across > self.conveyor.width - 0.04:
+        room = self.conveyor.width - 0.04 - 2 * self.feeder.lateral_jitter
+        if across > room:
             problems.append(
                 checks.problem(
                     "box.size",
                     self.box.size,
-                    f"the width across the belt must be at most conveyor.width - 0.04 = "
-                    f"{self.conveyor.width - 0.04:g} m",
+                    f"the width across the belt must be at most conveyor.width - 0.04 - "
+                    f"2 * feeder.lateral_jitter = {room:g} m",
                 )
             )
         if self.box.size[0] * 1.5 > self.conveyor.length:

@@ -52,8 +52,8 @@ class Grasp:
         self, data: mujoco.MjData, close_l: float, close_r: float
     ) -> tuple[BoxSlot, bool] | None:
         """Refresh contacts and the weld; returns (box, engaged) when the grasp changed."""
-        self._refresh_contacts(data)
         before = self.holding
+        self._refresh_contacts(data)
         if self.mode == "assisted":
             closed = close_l >= CLOSED and close_r >= CLOSED
             if self.attached is not None and not closed:

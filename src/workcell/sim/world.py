@@ -54,6 +54,7 @@ class World:
         }
         self._finger_open = float(self.model.jnt_range[joint(FINGER_JOINTS["l"][0]).id][1])
         self._next_release = 0.0
+        self._rng = np.random.default_rng(0)
         self._floor_since: dict[int, float] = {}
 
     # --- lifecycle -------------------------------------------------------------------------
@@ -62,9 +63,13 @@ class World:
         self,
         base_pose: tuple[float, float, float],
         joints: NDArray[np.float64],
+        seed: int = 0,
     ) -> None:
-        """Start state: robot at ``base_pose`` with ``joints`` (JOINT_ORDER), boxes parked."""
+        """Start state: robot at ``base_pose`` with ``joints`` (JOINT_ORDER), boxes parked.
+
+        ``seed`` fixes everything random that follows (where boxes land on the belt)."""
         mujoco.mj_resetData(self.model, self.data)
+        self._rng = np.random.default_rng(seed)
         self.data.qpos[self._base_qpos] = base_pose
         self.data.qpos[self._joint_qpos] = joints
         self.data.ctrl[self.base_ctrl] = base_pose
@@ -106,7 +111,10 @@ class World:
             elif slot.state is BoxState.DELIVERED and t - slot.delivered_at >= DELIVERED_CLEAR_S:
                 self.boxes.park(self.data, slot)
         if t >= self._next_release and self.boxes.feed_clear(self.data):
-            released = self.boxes.release(self.data, t)
+            feeder = self.config.feeder
+            lateral = float(self._rng.uniform(-feeder.lateral_jitter, feeder.lateral_jitter))
+            yaw = float(self._rng.uniform(-feeder.yaw_jitter, feeder.yaw_jitter))
+            released = self.boxes.release(self.data, t, lateral, yaw)
             if released is not None:
                 events.append(BoxReleased(t, released.index))
                 self._next_release = t + self.config.feeder.release_interval_s

@@ -1,0 +1,1 @@
+"""The ``workcell`` command line; see :mod:`workcell.cli.main`."""

@@ -1,0 +1,90 @@
+"""The ``workcell`` command line: one module per command, listed once in :data:`COMMANDS`.
+
+A command module exposes ``register(subparsers)``, which adds its parser and sets
+``func=run`` on it, and ``run(args) -> int``. Command modules import MuJoCo and other heavy
+dependencies inside ``run`` only: MuJoCo chooses its OpenGL backend from ``MUJOCO_GL`` on
+first import, which :func:`main` sets (to ``egl`` unless already set) before dispatching,
+and ``--help`` stays fast.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import sys
+from collections.abc import Callable, Sequence
+from typing import NoReturn, Protocol, TypeAlias
+
+from workcell import __version__
+from workcell.cli import demo, snapshot
+from workcell.errors import ConfigError, WorkcellError
+
+PROG = "workcell"
+EXIT_USAGE = 2
+"""Exit status for bad input and every other WorkcellError."""
+EXIT_INTERRUPTED = 130
+
+Subparsers: TypeAlias = "argparse._SubParsersAction[argparse.ArgumentParser]"
+RunFunc: TypeAlias = Callable[[argparse.Namespace], int]
+
+
+class CommandModule(Protocol):
+    """What a command module provides (modules satisfy this protocol structurally)."""
+
+    def register(self, subparsers: Subparsers) -> None: ...
+
+    def run(self, args: argparse.Namespace) -> int: ...
+
+
+COMMANDS: tuple[CommandModule, ...] = (demo, snapshot)
+"""Every command of the command line, in help order."""
+
+
+class UsageError(WorkcellError):
+    """The command line itself was malformed (unknown option, missing argument, ...)."""
+
+
+class _Parser(argparse.ArgumentParser):
+    """An argument parser that reports bad input as one line instead of usage + exit."""
+
+    def error(self, message: str) -> NoReturn:
+        raise UsageError(f"{message} (see '{self.prog} --help')")
+
+
+def build_parser() -> argparse.ArgumentParser:
+    parser = _Parser(
+        prog=PROG,
+        description="Simulated factory workcell with a mobile bimanual robot.",
+    )
+    parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
+    subparsers = parser.add_subparsers(title="commands", dest="command", required=True)
+    for command in COMMANDS:
+        command.register(subparsers)
+    return parser
+
+
+def main(argv: Sequence[str] | None = None) -> int:
+    """Run the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
+    os.environ.setdefault("MUJOCO_GL", "egl")
+    parser = build_parser()
+    try:
+        args = parser.parse_args(argv)
+        run: RunFunc = args.func
+        return run(args)
+    except SystemExit as done:  # --help and --version print, then exit 0
+        return done.code if isinstance(done.code, int) else 0 if done.code is None else 1
+    except ConfigError as error:
+        for problem in error.problems:
+            _print_error(problem)
+        return EXIT_USAGE
+    except WorkcellError as error:
+        _print_error(str(error))
+        return EXIT_USAGE
+    except KeyboardInterrupt:
+        _print_error("interrupted")
+        return EXIT_INTERRUPTED
+
+
+def _print_error(message: str) -> None:
+    for line in message.splitlines() or [""]:
+        print(f"{PROG}: error: {line}", file=sys.stderr)

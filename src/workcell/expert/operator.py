@@ -1,0 +1,376 @@
+"""The scripted expert: wait, approach, grasp with both arms, carry, place, release, back off.
+
+It reads the world's state (box and robot poses) and emits nothing but :class:`Command`
+values, exactly as a human operator's input would arrive, so its trials are recorded and
+audited like anyone's.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.control.command import ArmCommand, BaseTwist, Command
+from workcell.expert.grasp_geometry import PalmTargets, palm_targets
+from workcell.expert.skill import ExpertConfig, SkillProfile
+from workcell.sim.boxes import BoxSlot, BoxState
+from workcell.sim.world import World
+
+REST_SPEED = 0.06
+ARRIVED_M = 0.015
+ARRIVED_RAD = 0.03
+HAND_TOLERANCE_M = 0.02
+PREGRASP_GAP = 0.07
+RELEASE_GAP = 0.08
+SQUEEZE = {"assisted": 0.006, "physical": 0.014}
+STANDBY_DISTANCE = 1.0
+RETREAT_DISTANCE = 0.5
+PLACE_DISTANCE = 0.8
+ARM_REACH = 0.6
+LIFT = 0.1
+PHASE_TIMEOUT_S = 12.0
+
+
+class Phase(enum.Enum):
+    WAIT = "wait"
+    APPROACH = "approach"
+    PREGRASP = "pregrasp"
+    GRASP = "grasp"
+    LIFT = "lift"
+    RETREAT = "retreat"
+    CARRY = "carry"
+    PLACE = "place"
+    RELEASE = "release"
+    BACKOFF = "backoff"
+
+
+def _wrap(angle: float) -> float:
+    return (angle + math.pi) % (2 * math.pi) - math.pi
+
+
+class ExpertOperator:
+    """Delivers boxes one after another for as long as it is asked to act."""
+
+    def __init__(self, config: ExpertConfig | None = None, seed: int = 0) -> None:
+        self.config = config or ExpertConfig()
+        self._rng = np.random.default_rng(seed)
+        self.profile = SkillProfile.draw(self.config.skill, self._rng)
+        self.phase = Phase.WAIT
+        self.deliveries = 0
+        self._box: BoxSlot | None = None
+        self._phase_start = 0.0
+        self._pause_until = 0.0
+        self._palms: PalmTargets | None = None
+        self._follow = False
+        self._close = 0.0
+        self._waypoints: list[NDArray[np.float64]] = []
+        self._grasp_attempts = 0
+
+    # --- the operator interface -------------------------------------------------------------
+
+    def act(self, world: World) -> Command:
+        """The command for the next control period."""
+        t = world.time
+        if t < self._pause_until:
+            return self._command(world, BaseTwist())
+        handler = {
+            Phase.WAIT: self._wait,
+            Phase.APPROACH: self._approach,
+            Phase.PREGRASP: self._pregrasp,
+            Phase.GRASP: self._grasp,
+            Phase.LIFT: self._lift,
+            Phase.RETREAT: self._retreat,
+            Phase.CARRY: self._carry,
+            Phase.PLACE: self._place,
+            Phase.RELEASE: self._release,
+            Phase.BACKOFF: self._backoff,
+        }[self.phase]
+        return self._command(world, handler(world))
+
+    # --- phases ------------------------------------------------------------------------------
+
+    def _wait(self, world: World) -> BaseTwist:
+        c = world.config.conveyor
+        standby = np.array([c.end_x + STANDBY_DISTANCE, c.center_y, c.direction_yaw + math.pi])
+        self._ready_arms(world)
+        box = self._resting_box(world)
+        if box is not None:
+            self._box = box
+            self._enter(world, Phase.APPROACH)
+        return self._drive(world, standby)
+
+    def _approach(self, world: World) -> BaseTwist:
+        box = self._require_box()
+        pos = world.boxes.position(world.data, box)
+        heading = world.config.conveyor.direction_yaw + math.pi
+        p = self.profile
+        back = np.array([math.cos(heading), math.sin(heading)])
+        side = np.array([-back[1], back[0]])
+        goal_xy = pos[:2] - back * p.pick_distance_m + side * p.lateral_offset_m
+        goal = np.array([goal_xy[0], goal_xy[1], heading])
+        self._ready_arms(world)
+        twist = self._drive(world, goal)
+        if self._arrived(world, goal):
+            self._enter(world, Phase.PREGRASP)
+        return twist
+
+    def _pregrasp(self, world: World) -> BaseTwist:
+        self._palms = self._around_box(world, PREGRASP_GAP)
+        self._close = 0.0
+        if self._hands_at(world, self._palms) or self._timed_out(world):
+            self._enter(world, Phase.GRASP)
+        return BaseTwist()
+
+    def _grasp(self, world: World) -> BaseTwist:
+        box = self._require_box()
+        self._palms = self._around_box(world, -SQUEEZE[world.config.grasp])
+        if self._hands_at(world, self._palms, tolerance=0.03):
+            self._close = 1.0
+        if world.grasp.holding is box and world.time - self._phase_start > 0.4:
+            self._enter(world, Phase.LIFT)
+        elif self._timed_out(world, 4.0):
+            self._grasp_attempts += 1
+            self._close = 0.0
+            self._enter(world, Phase.PREGRASP if self._grasp_attempts < 3 else Phase.BACKOFF)
+        return BaseTwist()
+
+    def _lift(self, world: World) -> BaseTwist:
+        assert self._palms is not None
+        if world.time - self._phase_start < 0.05:
+            self._palms = self._palms.shifted(np.array([-0.05, 0.0, LIFT]))
+        if self._lost_box(world):
+            return BaseTwist()
+        if self._hands_at(world, self._palms, tolerance=0.03) or self._timed_out(world, 3.0):
+            self._enter(world, Phase.RETREAT)
+        return BaseTwist()
+
+    def _retreat(self, world: World) -> BaseTwist:
+        pose = world.base_pose
+        if not self._waypoints:
+            back = np.array([math.cos(pose[2]), math.sin(pose[2])])
+            goal = pose.copy()
+            goal[:2] -= back * RETREAT_DISTANCE
+            self._waypoints = [goal]
+        if self._lost_box(world):
+            return BaseTwist()
+        goal = self._waypoints[0]
+        twist = self._drive(world, goal, tolerance=0.05)
+        if self._arrived(world, goal, tolerance=0.05):
+            self._waypoints = self._carry_route(world)
+            self._enter(world, Phase.CARRY)
+        return twist
+
+    def _carry(self, world: World) -> BaseTwist:
+        if self._lost_box(world):
+            return BaseTwist()
+        goal = self._waypoints[0]
+        last = len(self._waypoints) == 1
+        tolerance = ARRIVED_M if last else 0.1
+        twist = self._drive(world, goal, tolerance=tolerance)
+        if self._arrived(world, goal, tolerance=tolerance):
+            self._waypoints.pop(0)
+            if not self._waypoints:
+                self._enter(world, Phase.PLACE)
+        return twist
+
+    def _place(self, world: World) -> BaseTwist:
+        box = self._require_box()
+        assert self._palms is not None
+        zone = world.zone
+        if world.grasp.holding is not box:
+            # Set down early (a pad slipped as the box met the table): let go right here.
+            self._enter(world, Phase.RELEASE)
+            return BaseTwist()
+        center = world.to_base_frame(np.array([*zone.center, zone.rest_z + 0.012]))
+        held = world.to_base_frame(world.boxes.position(world.data, box))
+        reach = np.array([min(center[0], ARM_REACH + 0.05), center[1], center[2]])
+        palms_center = (self._palms.left_position + self._palms.right_position) / 2
+        # Move the palms so the box centre lands on the goal (palm centre and box centre
+        # differ by how the box sits in the hands).
+        goal_center = palms_center + (reach - held)
+        delta = goal_center - palms_center
+        step = np.clip(delta, -0.004, 0.004)
+        self._palms = self._palms.shifted(step)
+        settled = float(np.linalg.norm(delta)) < 0.01
+        if settled or self._timed_out(world, 8.0):
+            self._enter(world, Phase.RELEASE)
+        return BaseTwist()
+
+    def _release(self, world: World) -> BaseTwist:
+        self._close = 0.0
+        if world.time - self._phase_start > 0.3:
+            self._palms = self._around_box(world, RELEASE_GAP, lift=0.02)
+        if world.time - self._phase_start > 1.2:
+            box = self._require_box()
+            if box.state is BoxState.DELIVERED:
+                self.deliveries += 1
+            self._enter(world, Phase.BACKOFF)
+        return BaseTwist()
+
+    def _backoff(self, world: World) -> BaseTwist:
+        self._close = 0.0
+        pose = world.base_pose
+        if not self._waypoints:
+            back = np.array([math.cos(pose[2]), math.sin(pose[2])])
+            goal = pose.copy()
+            goal[:2] -= back * 0.4
+            self._waypoints = [goal]
+        if self._palms is not None:
+            self._palms = self._palms.shifted(np.array([0.0, 0.0, 0.004]))
+        goal = self._waypoints[0]
+        twist = self._drive(world, goal, tolerance=0.05)
+        if self._arrived(world, goal, tolerance=0.05) or self._timed_out(world, 5.0):
+            self._waypoints = []
+            self._box = None
+            self._grasp_attempts = 0
+            self._enter(world, Phase.WAIT)
+        return twist
+
+    # --- helpers -----------------------------------------------------------------------------
+
+    def _enter(self, world: World, phase: Phase) -> None:
+        self.phase = phase
+        self._phase_start = world.time
+        p = self.profile
+        if p.hesitation_probability > 0 and self._rng.random() < p.hesitation_probability:
+            self._pause_until = world.time + float(self._rng.uniform(0.0, p.max_hesitation_s))
+        if phase is not Phase.RETREAT and phase is not Phase.CARRY and phase is not Phase.BACKOFF:
+            self._waypoints = [] if phase is not Phase.PLACE else self._waypoints
+
+    def _timed_out(self, world: World, limit: float = PHASE_TIMEOUT_S) -> bool:
+        return world.time - self._phase_start > limit
+
+    def _require_box(self) -> BoxSlot:
+        if self._box is None:
+            raise RuntimeError("the expert lost track of its box")
+        return self._box
+
+    def _lost_box(self, world: World) -> bool:
+        """Dropped: give up on this box and go back to waiting for the next one."""
+        if world.grasp.holding is self._box:
+            return False
+        self._close = 0.0
+        self._waypoints = []
+        self._enter(world, Phase.BACKOFF)
+        return True
+
+    def _resting_box(self, world: World) -> BoxSlot | None:
+        c = world.config.conveyor
+        best: BoxSlot | None = None
+        for slot in world.boxes.active():
+            pos = world.boxes.position(world.data, slot)
+            on_belt = abs(pos[2] - (c.height + world.config.box.size[2] / 2)) < 0.03
+            settled = world.time - slot.released_at > 1.0
+            if on_belt and settled and world.boxes.speed(world.data, slot) < REST_SPEED:
+                if best is None or pos[0] > world.boxes.position(world.data, best)[0]:
+                    best = slot
+        return best
+
+    def _around_box(self, world: World, gap: float, lift: float = 0.0) -> PalmTargets:
+        box = self._require_box()
+        center = world.to_base_frame(world.boxes.position(world.data, box))
+        center[2] += lift
+        quat = world.boxes.quaternion(world.data, box)
+        box_yaw = 2 * math.atan2(quat[3], quat[0])
+        grasp_yaw = box_yaw + math.pi / 2 - float(world.base_pose[2])
+        half = world.config.box.size[1] / 2
+        return palm_targets(center, grasp_yaw, half, gap)
+
+    def _ready_arms(self, world: World) -> None:
+        half = world.config.box.size[1] / 2
+        center = np.array([0.5, 0.0, world.config.conveyor.height + 0.3])
+        self._palms = palm_targets(center, math.pi / 2, half, 0.1)
+        self._close = 0.0
+
+    def _hands_at(self, world: World, palms: PalmTargets, tolerance: float = HAND_TOLERANCE_M) -> bool:
+        left = world.to_base_frame(world.tcp_pose("l")[0])
+        right = world.to_base_frame(world.tcp_pose("r")[0])
+        return bool(
+            np.linalg.norm(left - palms.left_position) < tolerance
+            and np.linalg.norm(right - palms.right_position) < tolerance
+        )
+
+    def _carry_route(self, world: World) -> list[NDArray[np.float64]]:
+        pose = world.base_pose
+        zone = world.zone
+        p = self.profile
+        place_center = zone.center + np.array(p.place_offset)
+        # Face the table square-on from the side the robot is coming from.
+        to_table = place_center - pose[:2]
+        if abs(to_table[0]) > abs(to_table[1]):
+            heading = 0.0 if to_table[0] > 0 else math.pi
+        else:
+            heading = math.pi / 2 if to_table[1] > 0 else -math.pi / 2
+        heading = pose[2] + _wrap(heading - pose[2])
+        goal = np.array(
+            [
+                place_center[0] - PLACE_DISTANCE * math.cos(heading),
+                place_center[1] - PLACE_DISTANCE * math.sin(heading),
+                heading,
+            ]
+        )
+        route: list[NDArray[np.float64]] = []
+        if p.detour_m > 0.05:
+            mid = (pose + goal) / 2
+            normal = np.array([-math.sin(heading), math.cos(heading)])
+            mid[:2] += normal * p.detour_m * float(self._rng.choice([-1.0, 1.0]))
+            mid[2] = heading
+            route.append(mid)
+        route.append(goal)
+        return route
+
+    def _drive(self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M) -> BaseTwist:
+        """A saturated proportional twist toward ``goal`` (x, y, yaw in the world)."""
+        pose = world.base_pose
+        error_world = goal[:2] - pose[:2]
+        distance = float(np.linalg.norm(error_world))
+        yaw = float(pose[2])
+        c, s = math.cos(yaw), math.sin(yaw)
+        error = np.array([c * error_world[0] + s * error_world[1], -s * error_world[0] + c * error_world[1]])
+        yaw_error = _wrap(float(goal[2]) - yaw)
+        r = world.config.robot
+        vmax = r.max_linear_speed * self.profile.speed_scale
+        wmax = r.max_yaw_rate * self.profile.speed_scale
+        linear = error * 2.0
+        speed = float(np.linalg.norm(linear))
+        if speed > vmax:
+            linear *= vmax / speed
+        if distance < tolerance * 0.5:
+            linear[:] = 0.0
+        wz = float(np.clip(2.5 * yaw_error, -wmax, wmax))
+        return BaseTwist(float(linear[0]), float(linear[1]), wz)
+
+    def _arrived(self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M) -> bool:
+        pose = world.base_pose
+        close = float(np.linalg.norm(goal[:2] - pose[:2])) < tolerance
+        aligned = abs(_wrap(float(goal[2] - pose[2]))) < ARRIVED_RAD * (tolerance / ARRIVED_M)
+        slow = float(np.linalg.norm(world.base_velocity[:2])) < 0.05
+        return close and aligned and slow
+
+    def _command(self, world: World, twist: BaseTwist) -> Command:
+        palms = self._palms
+        if palms is None:
+            return Command(base=twist)
+        tremor = self._tremor(world.time)
+        return Command(
+            base=twist,
+            left=ArmCommand(
+                tuple(palms.left_position + tremor), tuple(palms.left_quaternion), True
+            ),
+            right=ArmCommand(
+                tuple(palms.right_position + tremor), tuple(palms.right_quaternion), True
+            ),
+            gripper_left=self._close,
+            gripper_right=self._close,
+        )
+
+    def _tremor(self, t: float) -> NDArray[np.float64]:
+        amplitude = self.profile.tremor_m
+        if amplitude <= 0:
+            return np.zeros(3)
+        return amplitude * np.array(
+            [math.sin(2.1 * t), math.sin(1.7 * t + 1.0), 0.5 * math.sin(2.9 * t + 2.0)]
+        )

@@ -1,0 +1,53 @@
+"""How good the expert is: a seeded draw of speeds, pauses, detours and hand noise.
+
+``skill`` 1 is the best expert (direct, brisk, steady). Lower skill hesitates between
+phases, takes detours while carrying, moves slower and adds tremor to the hands, so it also
+produces slow runs and timeouts like a human operator.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from workcell.errors import ConfigError
+from workcell.sim import checks
+
+
+@dataclass(frozen=True)
+class ExpertConfig:
+    skill: float = 1.0
+
+    def __post_init__(self) -> None:
+        problems = checks.in_range("skill", self.skill, 0.0, 1.0)
+        if problems:
+            raise ConfigError(problems)
+
+
+@dataclass(frozen=True)
+class SkillProfile:
+    """Concrete behaviour parameters drawn once per trial."""
+
+    speed_scale: float
+    hesitation_probability: float
+    max_hesitation_s: float
+    detour_m: float
+    tremor_m: float
+    lateral_offset_m: float
+    pick_distance_m: float
+    place_offset: tuple[float, float]
+
+    @staticmethod
+    def draw(skill: float, rng: np.random.Generator) -> SkillProfile:
+        clumsy = 1.0 - skill
+        return SkillProfile(
+            speed_scale=float(rng.uniform(0.85, 1.0) * (1.0 - 0.55 * clumsy)),
+            hesitation_probability=0.7 * clumsy,
+            max_hesitation_s=25.0 * clumsy,
+            detour_m=float(rng.uniform(0.0, 1.5) * clumsy),
+            tremor_m=0.012 * clumsy,
+            lateral_offset_m=float(rng.uniform(-0.03, 0.03)),
+            pick_distance_m=float(rng.uniform(0.58, 0.62)),
+            place_offset=(float(rng.uniform(-0.06, 0.06)), float(rng.uniform(-0.08, 0.08))),
+        )

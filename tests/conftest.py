@@ -1,0 +1,83 @@
+"""Fixtures shared by the simulation and control tests: real MuJoCo, no mocks."""
+
+from __future__ import annotations
+
+from collections.abc import Callable
+
+import mujoco
+import numpy as np
+import pytest
+
+from workcell.control.command import Command
+from workcell.control.simulation import Simulation
+from workcell.sim.boxes import BoxSlot, BoxState
+from workcell.sim.config import BoxConfig, FeederConfig, WorldConfig
+
+Quat = tuple[float, float, float, float]
+SettledBoxSim = Callable[..., Simulation]
+
+LEFT_TCP_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, -1.0), (0.0, 1.0, 0.0))
+"""Left TCP in the base frame: x forward, approach (z) pointing right, toward the box."""
+RIGHT_TCP_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0))
+"""Right TCP in the base frame: x forward, approach (z) pointing left, toward the box."""
+
+REST_TOLERANCE = 0.005
+"""A box whose x is this close to its end-stop position (m) has arrived there."""
+
+
+def matrix_to_quat(rotation: tuple[tuple[float, float, float], ...]) -> Quat:
+    """Unit quaternion (w, x, y, z) of a 3x3 rotation matrix."""
+    quat = np.zeros(4)
+    mujoco.mju_mat2Quat(quat, np.asarray(rotation, dtype=float).ravel())
+    w, x, y, z = (float(v) for v in quat)
+    return (w, x, y, z)
+
+
+@pytest.fixture(scope="session")
+def tcp_quats() -> dict[str, Quat]:
+    """Side-grasp TCP orientations ("l", "r") as base-frame wxyz quaternions."""
+    return {"l": matrix_to_quat(LEFT_TCP_ROTATION), "r": matrix_to_quat(RIGHT_TCP_ROTATION)}
+
+
+def rest_x(config: WorldConfig) -> float:
+    """Where a box's centre comes to rest against the end stop."""
+    return config.conveyor.end_x - config.box.size[0] / 2
+
+
+def run_until_box_rests(sim: Simulation, slot: BoxSlot, hold_s: float = 1.0) -> None:
+    """Step idle commands until ``slot`` has stayed at the end stop for ``hold_s`` seconds."""
+    config = sim.config
+    travel = config.conveyor.length / config.conveyor.speed
+    deadline = sim.time + config.feeder.first_release_s + travel + 10.0
+    target = rest_x(config)
+    since: float | None = None
+    while sim.time < deadline:
+        sim.step(Command())
+        x = sim.world.boxes.position(sim.world.data, slot)[0]
+        if slot.state is BoxState.ACTIVE and abs(x - target) < REST_TOLERANCE:
+            since = sim.time if since is None else since
+            if sim.time - since >= hold_s:
+                return
+        else:
+            since = None
+    pytest.fail(f"box {slot.index} did not come to rest at x = {target:.3f} by t = {deadline:.1f} s")
+
+
+@pytest.fixture
+def settled_box_sim() -> SettledBoxSim:
+    """Factory: a Simulation whose first box rests against the end stop.
+
+    Call it with a :class:`WorldConfig` (default: assisted grasp, 2 kg box, a pool of one
+    box so no second box arrives while the test works).
+    """
+
+    def make(config: WorldConfig | None = None) -> Simulation:
+        if config is None:
+            config = WorldConfig(
+                grasp="assisted", box=BoxConfig(mass=2.0), feeder=FeederConfig(pool_size=1)
+            )
+        sim = Simulation(config)
+        run_until_box_rests(sim, sim.world.boxes.slots[0])
+        return sim
+
+    return make
