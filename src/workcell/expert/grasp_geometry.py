@@ -45,16 +45,17 @@ def palm_targets(
     ``grasp_yaw`` is the heading of the box's grasp axis in the base frame; ``gap`` is the
     distance of each pad face from the box side (negative squeezes into the box).
     """
-    axis = np.array([math.cos(grasp_yaw), math.sin(grasp_yaw), 0.0])
-    if axis[1] < 0:
-        axis = -axis
+    c, s = math.cos(grasp_yaw), math.sin(grasp_yaw)
+    if s < 0:
+        c, s = -c, -s
+    axis = np.array([c, s, 0.0])
     offset = axis * (half_width + gap)
-    left_z, right_z = -axis, axis
-    left_y, right_y = UP, -UP
-    left_x, right_x = np.cross(left_y, left_z), np.cross(right_y, right_z)
+    # Each palm faces the box (z), keeps its y vertical (up for the left, down for the right),
+    # so x = y cross z points the same horizontal way for both: (s, -c, 0).
+    x = np.array([s, -c, 0.0])
     return PalmTargets(
         left_position=center + offset,
-        left_quaternion=_quat_from_axes(left_x, left_y, left_z),
+        left_quaternion=_quat_from_axes(x, UP, -axis),
         right_position=center - offset,
-        right_quaternion=_quat_from_axes(right_x, right_y, right_z),
+        right_quaternion=_quat_from_axes(x, -UP, axis),
     )

@@ -64,6 +64,7 @@ class ExpertOperator:
         self._phase_start = 0.0
         self._pause_until = 0.0
         self._palms: PalmTargets | None = None
+        self._ready: PalmTargets | None = None
         self._follow = False
         self._close = 0.0
         self._waypoints: list[NDArray[np.float64]] = []
@@ -280,9 +281,12 @@ class ExpertOperator:
         return palm_targets(center, grasp_yaw, half, gap)
 
     def _ready_arms(self, world: World) -> None:
-        half = world.config.box.size[1] / 2
-        center = np.array([0.5, 0.0, world.config.conveyor.height + 0.3])
-        self._palms = palm_targets(center, math.pi / 2, half, 0.1)
+        """Palms up and apart in front of the robot, clear of any box."""
+        if self._ready is None:
+            half = world.config.box.size[1] / 2
+            center = np.array([0.5, 0.0, world.config.conveyor.height + 0.3])
+            self._ready = palm_targets(center, math.pi / 2, half, 0.1)
+        self._palms = self._ready
         self._close = 0.0
 
     def _hands_at(self, world: World, palms: PalmTargets, tolerance: float = HAND_TOLERANCE_M) -> bool:

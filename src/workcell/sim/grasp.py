@@ -18,6 +18,9 @@ from workcell.sim.config import GraspMode
 
 CLOSED = 0.5
 """A gripper whose close command is at least this is closed."""
+CONTACT_MEMORY_S = 0.15
+"""A pad counts as touching a box until this long after their last contact, so that
+micro-slips of a physical squeeze grasp do not flicker the grasp signal."""
 
 
 class Grasp:
@@ -34,10 +37,12 @@ class Grasp:
         self.contact_l: BoxSlot | None = None
         self.contact_r: BoxSlot | None = None
         self.attached: BoxSlot | None = None
+        self._last_touch: list[tuple[BoxSlot | None, float]] = [(None, 0.0), (None, 0.0)]
 
     def reset(self, data: mujoco.MjData) -> None:
         data.eq_active[self._welds] = 0
         self.contact_l = self.contact_r = self.attached = None
+        self._last_touch = [(None, 0.0), (None, 0.0)]
 
     @property
     def holding(self) -> BoxSlot | None:
@@ -72,15 +77,20 @@ class Grasp:
         return after, True
 
     def _refresh_contacts(self, data: mujoco.MjData) -> None:
-        touching: list[BoxSlot | None] = [None, None]
-        for k in range(data.ncon):
-            contact = data.contact[k]
-            g1, g2 = int(contact.geom1), int(contact.geom2)
+        now = float(data.time)
+        if data.ncon:
+            pairs = data.contact.geom
             for side, pad in enumerate(self._pads):
-                other = g2 if g1 == pad else g1 if g2 == pad else -1
-                slot = self._box_of_geom.get(other)
-                if slot is not None:
-                    touching[side] = slot
+                rows = np.nonzero((pairs[:, 0] == pad) | (pairs[:, 1] == pad))[0]
+                for row in rows:
+                    g1, g2 = int(pairs[row, 0]), int(pairs[row, 1])
+                    slot = self._box_of_geom.get(g2 if g1 == pad else g1)
+                    if slot is not None:
+                        self._last_touch[side] = (slot, now)
+        touching = [
+            slot if slot is not None and now - when <= CONTACT_MEMORY_S else None
+            for slot, when in self._last_touch
+        ]
         self.contact_l, self.contact_r = touching
 
     def _engage(self, data: mujoco.MjData, slot: BoxSlot) -> None:
