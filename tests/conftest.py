@@ -10,6 +10,7 @@ import pytest
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
+from workcell.sim.arena import pickup_range_x
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.config import BoxConfig, FeederConfig, WorldConfig
 
@@ -22,7 +23,7 @@ RIGHT_TCP_ROTATION = ((1.0, 0.0, 0.0), (0.0, 0.0, 1.0), (0.0, -1.0, 0.0))
 """Right TCP in the base frame: x forward, approach (z) pointing left, toward the box."""
 
 REST_TOLERANCE = 0.005
-"""A box whose x is this close to its end-stop position (m) has arrived there."""
+"""How far (m) outside the pickup range a resting box's centre may be."""
 
 
 def matrix_to_quat(rotation: tuple[tuple[float, float, float], ...]) -> Quat:
@@ -39,33 +40,38 @@ def tcp_quats() -> dict[str, Quat]:
     return {"l": matrix_to_quat(LEFT_TCP_ROTATION), "r": matrix_to_quat(RIGHT_TCP_ROTATION)}
 
 
-def rest_x(config: WorldConfig) -> float:
-    """Where a box's centre comes to rest against the end stop."""
-    return config.conveyor.end_x - config.box.size[0] / 2
+def at_pickup(config: WorldConfig, x: float) -> bool:
+    """True when a box centre at ``x`` lies on the pickup plate."""
+    low, high = pickup_range_x(config)
+    return low - REST_TOLERANCE <= x <= high + REST_TOLERANCE
 
 
 def run_until_box_rests(sim: Simulation, slot: BoxSlot, hold_s: float = 1.0) -> None:
-    """Step idle commands until ``slot`` has stayed at the end stop for ``hold_s`` seconds."""
+    """Step idle commands until ``slot`` has rested on the pickup plate for ``hold_s`` s."""
     config = sim.config
     travel = config.conveyor.length / config.conveyor.speed
     deadline = sim.time + config.feeder.first_release_s + travel + 10.0
-    target = rest_x(config)
     since: float | None = None
+    world = sim.world
     while sim.time < deadline:
         sim.step(Command())
-        x = sim.world.boxes.position(sim.world.data, slot)[0]
-        if slot.state is BoxState.ACTIVE and abs(x - target) < REST_TOLERANCE:
+        x = world.boxes.position(world.data, slot)[0]
+        still = world.boxes.speed(world.data, slot) < 0.005
+        if slot.state is BoxState.ACTIVE and at_pickup(config, x) and still:
             since = sim.time if since is None else since
             if sim.time - since >= hold_s:
                 return
         else:
             since = None
-    pytest.fail(f"box {slot.index} did not come to rest at x = {target:.3f} by t = {deadline:.1f} s")
+    pytest.fail(
+        f"box {slot.index} did not come to rest on the pickup plate "
+        f"(x in {pickup_range_x(config)}) by t = {deadline:.1f} s"
+    )
 
 
-@pytest.fixture
+@pytest.fixture(scope="session")
 def settled_box_sim() -> SettledBoxSim:
-    """Factory: a Simulation whose first box rests against the end stop.
+    """Factory: a fresh Simulation whose first box rests against the end stop.
 
     Call it with a :class:`WorldConfig` (default: assisted grasp, 2 kg box, a pool of one
     box so no second box arrives while the test works).

@@ -60,7 +60,9 @@ def test_step_command_respects_speed_and_acceleration(command: BaseTwist) -> Non
     peak = twists[150]
     wanted = np.array([command.vx, command.vy])
     if np.linalg.norm(wanted) > 0:
-        expected = wanted / np.linalg.norm(wanted) * min(np.linalg.norm(wanted), CONFIG.max_linear_speed)
+        expected = (
+            wanted / np.linalg.norm(wanted) * min(np.linalg.norm(wanted), CONFIG.max_linear_speed)
+        )
         np.testing.assert_allclose(peak[:2], expected, atol=1e-9)
     assert peak[2] == pytest.approx(np.clip(command.wz, -CONFIG.max_yaw_rate, CONFIG.max_yaw_rate))
     np.testing.assert_allclose(twists[-1], 0.0, atol=1e-12)
@@ -109,12 +111,11 @@ def test_constant_twist_follows_the_analytic_circle(
         if k % 50 == 0:
             expected = analytic_pose(start, (vx, vy, wz), k * DT)
             np.testing.assert_allclose(motion.pose, expected, atol=1e-4)
+    # the centre lies a quarter turn from the start velocity, |v| / |wz| away
     radius = math.hypot(vx, vy) / abs(wz)
-    center = analytic_pose(start, (0.0, 0.0, wz), 0.0)[:2]
-    # centre of the circle: from the start, a quarter turn from the velocity direction
     c, s = math.cos(start[2]), math.sin(start[2])
     v_world = np.array([c * vx - s * vy, s * vx + c * vy])
-    center = center + np.array([-v_world[1], v_world[0]]) / wz
+    center = start[:2] + np.array([-v_world[1], v_world[0]]) / wz
     assert np.linalg.norm(motion.pose[:2] - center) == pytest.approx(radius, abs=1e-4)
 
 

@@ -36,7 +36,9 @@ def limit_violation(ik: BimanualIK) -> float:
     return float(values.max())
 
 
-def drive(ik: BimanualIK, left: tuple[float, ...], right: tuple[float, ...], q: dict[str, Quat]) -> float:
+def drive(
+    ik: BimanualIK, left: tuple[float, ...], right: tuple[float, ...], q: dict[str, Quat]
+) -> float:
     """Run the IK toward both targets from home; returns the worst limit violation seen."""
     ik.reset(ik.home)
     ik.set_target("l", left, q["l"])

@@ -1,4 +1,4 @@
-"""The belt carries a released box at the configured speed, flat, up to the end stop."""
+"""The belt carries a released box at the configured speed, flat, onto the pickup plate."""
 
 from __future__ import annotations
 
@@ -10,12 +10,15 @@ from numpy.typing import NDArray
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
+from workcell.sim.arena import pickup_plate_length, pickup_range_x
 from workcell.sim.boxes import BoxState
 from workcell.sim.config import ConveyorConfig, FeederConfig, WorldConfig
 
 SPEEDS = (0.15, 0.3)
 AT_STOP_S = 3.0
-"""How long the recording continues after the box reached the end stop."""
+"""How long the recording continues after the box reached the pickup plate."""
+CREEP_S = 6.0
+"""Crossing from the belt onto the still plate takes a few seconds."""
 
 
 @dataclass(frozen=True)
@@ -28,23 +31,25 @@ class BeltRun:
     released_at: float
 
     @property
-    def rest_x(self) -> float:
-        return self.config.conveyor.end_x - self.config.box.size[0] / 2
+    def pickup(self) -> tuple[float, float]:
+        return pickup_range_x(self.config)
 
     def riding(self) -> NDArray[np.bool_]:
-        """Samples on the belt: settled (1 s after release) and 0.1 m before the stop."""
-        return (self.t > self.released_at + 1.0) & (self.pos[:, 0] < self.rest_x - 0.1)
+        """Samples on the belt: settled (1 s after release), 0.05 m before the plate."""
+        belt_end = self.config.conveyor.end_x - pickup_plate_length(self.config)
+        before_plate = self.pos[:, 0] < belt_end - self.config.box.size[0] / 2 - 0.05
+        return (self.t > self.released_at + 1.0) & before_plate
 
     def at_stop(self) -> NDArray[np.bool_]:
-        """Samples from 1 s after the box reached the stop."""
-        arrived = np.flatnonzero(self.pos[:, 0] > self.rest_x - 0.005)
-        assert arrived.size, "the box never reached the end stop"
-        return self.t >= self.t[arrived[0]] + 1.0
+        """Samples from 1 s after the box came fully onto the pickup plate."""
+        arrived = np.flatnonzero(self.pos[:, 0] > self.pickup[0] - 0.005)
+        assert arrived.size, "the box never reached the pickup plate"
+        return np.asarray(self.t >= self.t[arrived[0]] + 1.0, dtype=np.bool_)
 
 
 def tilt_deg(quat: NDArray[np.float64]) -> NDArray[np.float64]:
     """Angle between each box's z axis and the world's z axis, degrees."""
-    w, x, y, z = quat.T
+    x, y = quat[:, 1], quat[:, 2]
     zz = 1.0 - 2.0 * (x * x + y * y)  # R[2, 2]
     return np.asarray(np.degrees(np.arccos(np.clip(zz, -1.0, 1.0))), dtype=float)
 
@@ -61,9 +66,9 @@ def belt_run(request: pytest.FixtureRequest) -> BeltRun:
     sim = Simulation(config)
     world = sim.world
     slot = world.boxes.slots[0]
-    rest_x = config.conveyor.end_x - config.box.size[0] / 2
+    rest_x = pickup_range_x(config)[0]
     travel = (rest_x - world.boxes.feed_position[0]) / speed
-    end = config.feeder.first_release_s + travel + 1.0 + AT_STOP_S
+    end = config.feeder.first_release_s + travel + CREEP_S + AT_STOP_S
     t, pos, quat, vel = [], [], [], []
     released_at = np.nan
     while sim.time < end:
@@ -106,22 +111,21 @@ def test_box_rides_flat_and_straight(belt_run: BeltRun) -> None:
     assert np.abs(quat @ quat[0]).min() > 1 - 1e-6  # orientation unchanged while riding
 
 
-def test_box_stops_at_end_stop(belt_run: BeltRun) -> None:
+def test_box_stops_on_the_pickup_plate(belt_run: BeltRun) -> None:
     stop = belt_run.at_stop()
     assert stop.sum() > 50
     x = belt_run.pos[stop, 0]
-    assert np.abs(x - belt_run.rest_x).max() < 0.003, (x.min(), x.max())
+    low, high = belt_run.pickup
+    assert np.all((x >= low - 0.005) & (x <= high)), (x.min(), x.max(), low, high)
+    assert np.ptp(x) < 0.001
     assert tilt_deg(belt_run.quat[stop]).max() < 1.0
-    # squared up against the stop: the box's x axis is the belt's (any yaw is gone)
-    w, x, y, z = belt_run.quat[stop].T
-    assert np.degrees(np.abs(np.arctan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z)))).max() < 1.0
     conveyor = belt_run.config.conveyor
     half_room = conveyor.width / 2 - belt_run.config.box.size[1] / 2
     assert np.abs(belt_run.pos[stop, 1] - conveyor.center_y).max() < half_room
 
 
-def test_box_at_end_stop_is_at_rest(belt_run: BeltRun) -> None:
-    """Pressed against the stop while the belt slides under it, the box should stay still."""
+def test_box_on_the_pickup_plate_is_at_rest(belt_run: BeltRun) -> None:
+    """Off the running belt, the box stays still: an expert or a human can wait for that."""
     stop = belt_run.at_stop()
     linear = np.linalg.norm(belt_run.vel[stop, :3], axis=1)
     angular = np.linalg.norm(belt_run.vel[stop, 3:], axis=1)

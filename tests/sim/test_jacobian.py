@@ -86,7 +86,9 @@ def test_tcp_jacobian_matches_finite_differences(
         jacr = np.zeros((3, model.nv))
         mujoco.mj_jacSite(model, data, jacp, jacr, site)
         names = [SPINE_JOINT, *arm_joint_names(side)]
-        names += [n for n in BASE_JOINTS if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n) >= 0]
+        names += [
+            n for n in BASE_JOINTS if mujoco.mj_name2id(model, mujoco.mjtObj.mjOBJ_JOINT, n) >= 0
+        ]
         analytic = []
         numeric = []
         for name in names:

@@ -13,7 +13,7 @@ import argparse
 import os
 import sys
 from collections.abc import Callable, Sequence
-from typing import NoReturn, Protocol, TypeAlias
+from typing import NoReturn, Protocol, TypeAlias, cast
 
 from workcell import __version__
 from workcell.cli import demo, snapshot
@@ -57,7 +57,10 @@ def build_parser() -> argparse.ArgumentParser:
         description="Simulated factory workcell with a mobile bimanual robot.",
     )
     parser.add_argument("--version", action="version", version=f"{PROG} {__version__}")
-    subparsers = parser.add_subparsers(title="commands", dest="command", required=True)
+    # Subcommand parsers are _Parser too (argparse uses the parent's class).
+    subparsers = cast(
+        Subparsers, parser.add_subparsers(title="commands", dest="command", required=True)
+    )
     for command in COMMANDS:
         command.register(subparsers)
     return parser

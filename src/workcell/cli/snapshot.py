@@ -38,7 +38,7 @@ def register(subparsers: Subparsers) -> None:
         "--seed",
         type=int,
         default=0,
-        help="seed of the world (default: 0; the current world has no randomness)",
+        help="seed of the world: where and how boxes land on the belt (default: 0)",
     )
     parser.add_argument(
         "--settle",
@@ -73,6 +73,7 @@ def run(args: argparse.Namespace) -> int:
     from workcell.sim.config import WorldConfig  # noqa: PLC0415
 
     sim = Simulation(WorldConfig())
+    sim.reset(args.seed)
     idle = Command()
     for _ in range(round(args.settle / sim.control_dt)):
         sim.step(idle)

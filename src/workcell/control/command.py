@@ -13,6 +13,9 @@ from dataclasses import dataclass, field
 
 from workcell.errors import WorkcellError
 
+QUATERNION_NORM_TOLERANCE = 1e-2
+"""How far from 1 a target quaternion's norm may be (float32 headsets land well inside)."""
+
 Vec3 = tuple[float, float, float]
 Quat = tuple[float, float, float, float]
 
@@ -50,10 +53,10 @@ class ArmCommand:
         _require_finite("arm target position", self.position)
         _require_finite("arm target quaternion", self.quaternion)
         norm = math.sqrt(sum(q * q for q in self.quaternion))
-        if not 0.5 < norm < 1.5:
+        if abs(norm - 1.0) > QUATERNION_NORM_TOLERANCE:
             raise CommandError(
                 f"arm target quaternion = {self.quaternion}: must be a unit quaternion "
-                "(w, x, y, z); its norm is {norm:.3g}"
+                f"(w, x, y, z) within {QUATERNION_NORM_TOLERANCE:g}; its norm is {norm:.6g}"
             )
 
 

@@ -46,7 +46,7 @@ class BimanualIK:
             for side in SIDES
         }
         posture_cost = np.full(self.model.nv, 1e-2)
-        posture_cost[self._dof(SPINE_JOINT)] = 0.5
+        posture_cost[self._dof(SPINE_JOINT)] = 0.05
         self.posture = mink.PostureTask(self.model, cost=posture_cost)
         velocities: dict[str, float] = {SPINE_JOINT: 0.3}
         for side in SIDES:
@@ -106,8 +106,9 @@ class BimanualIK:
         self.frame_tasks[side].set_target_from_configuration(self.configuration)
 
     def set_target(self, side: str, position: Sequence[float], quaternion: Sequence[float]) -> None:
+        wxyz = np.asarray(quaternion, dtype=float)
         pose = mink.SE3.from_rotation_and_translation(
-            mink.SO3(np.asarray(quaternion, dtype=float)), np.asarray(position, dtype=float)
+            mink.SO3(wxyz / np.linalg.norm(wxyz)), np.asarray(position, dtype=float)
         )
         self.frame_tasks[side].set_target(pose)
 

@@ -24,6 +24,7 @@ GL_HINT = (
 OVERVIEW_LOOKAT = (-0.4, 0.8, 0.4)
 OVERVIEW_DISTANCE = 5.3
 OVERVIEW_AZIMUTH = 104.0
+"""Degrees; the view direction is about +y (slightly towards -x), from the y = -4 side."""
 OVERVIEW_ELEVATION = -40.0
 
 
@@ -35,8 +36,11 @@ def camera_names(model: mujoco.MjModel) -> tuple[str, ...]:
 def overview_camera(model: mujoco.MjModel) -> mujoco.MjvCamera:
     """A free camera showing the conveyor, the robot at its start and the delivery table.
 
-    Looks from behind the robot's right across the belt towards the feeder, with the
-    delivery table on the left of the picture.
+    Looks across the belt from its right-hand side (y < 0): the conveyor with the feeder
+    gantry on the left, the robot on the right with the delivery table behind it, storage
+    racks against the far wall. The walls stand at x = -5 and y = +-5 only and there is no
+    sky, so views towards +x show black beyond x = 5; this one stays clear of that and of
+    the yellow pillar at (3.2, 3.2).
     """
     camera = mujoco.MjvCamera()
     mujoco.mjv_defaultFreeCamera(model, camera)
@@ -83,7 +87,9 @@ class OffscreenRenderer:
                 model, height=height, width=width
             )
         except Exception as error:  # the GL backend raises ImportError, FatalError, ...
-            raise RenderError(f"offscreen rendering is not available ({error}); {GL_HINT}") from error
+            raise RenderError(
+                f"offscreen rendering is not available ({error}); {GL_HINT}"
+            ) from error
         self.scene_option = mujoco.MjvOption()
         flags = self._renderer.scene.flags
         flags[mujoco.mjtRndFlag.mjRND_SHADOW] = shadows

@@ -17,7 +17,7 @@ CYLINDER = mujoco.mjtGeom.mjGEOM_CYLINDER
 
 BELT_THICKNESS = 0.04
 STOP_THICKNESS = 0.04
-PARK_Z = -3.0
+PARK_Z = -1.0
 """Parked boxes float out of sight under the floor."""
 
 FRAME_RGBA = (0.35, 0.37, 0.4, 1.0)
@@ -37,7 +37,19 @@ def weld_name(i: int) -> str:
 
 
 def parked_position(i: int) -> tuple[float, float, float]:
-    return (-4.0 + 0.8 * i, -4.0, PARK_Z)
+    return (-2.5 + 0.8 * i, -2.0, PARK_Z)
+
+
+def pickup_plate_length(config: WorldConfig) -> float:
+    """Length of the still plate between the belt's end and the end stop."""
+    return config.box.size[0] + 0.03
+
+
+def pickup_range_x(config: WorldConfig) -> tuple[float, float]:
+    """Where along x a box's centre comes to rest on the pickup plate: fully off the belt,
+    short of the end stop."""
+    c, half = config.conveyor, config.box.size[0] / 2
+    return c.end_x - pickup_plate_length(config) + half, c.end_x - half
 
 
 def build_arena(spec: mujoco.MjSpec, config: WorldConfig) -> None:
@@ -67,7 +79,19 @@ def _add_visual_assets(spec: mujoco.MjSpec) -> None:
     mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "floor_tex"
     spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
     spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
-    spec.worldbody.add_light(name="sun", pos=[0, 0, 6], dir=[0.2, 0.3, -1], diffuse=[0.6] * 3)
+    spec.add_texture(
+        name="sky",
+        type=mujoco.mjtTexture.mjTEXTURE_SKYBOX,
+        builtin=mujoco.mjtBuiltin.mjBUILTIN_GRADIENT,
+        rgb1=[0.75, 0.8, 0.85],
+        rgb2=[0.35, 0.38, 0.42],
+        width=256,
+        height=256,
+    )
+    sun = spec.worldbody.add_light(
+        name="sun", pos=[0, 0, 6], dir=[0.2, 0.3, -1], diffuse=[0.6] * 3
+    )
+    sun.type = mujoco.mjtLightType.mjLIGHT_DIRECTIONAL
     spec.worldbody.add_light(name="lamp_feed", pos=[-2, 0, 4], dir=[0, 0, -1], diffuse=[0.3] * 3)
     spec.worldbody.add_light(name="lamp_target", pos=[2, 2, 4], dir=[0, 0, -1], diffuse=[0.3] * 3)
 
@@ -76,16 +100,29 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
     c = config.conveyor
     mid_x = (c.start_x + c.end_x) / 2
     conveyor = spec.worldbody.add_body(name="conveyor", pos=[mid_x, c.center_y, 0])
+    plate = pickup_plate_length(config)
+    belt_length = c.length - plate
     belt = conveyor.add_geom(
         name="belt",
         type=BOX,
-        size=[c.length / 2, c.width / 2, BELT_THICKNESS / 2],
-        pos=[0, 0, c.height - BELT_THICKNESS / 2],
+        size=[belt_length / 2, c.width / 2, BELT_THICKNESS / 2],
+        pos=[-plate / 2, 0, c.height - BELT_THICKNESS / 2],
         rgba=list(BELT_RGBA),
         friction=[1.0, 0.005, 0.0001],
     )
     belt.surfacevel = [c.speed, 0, 0, 0, 0, 0]
     set_env_collision(belt)
+    # A still plate at the belt's end: a box slides onto it and stops at rest (pressed
+    # against a stop by a running belt, it would shake forever).
+    pickup = conveyor.add_geom(
+        name="pickup_plate",
+        type=BOX,
+        size=[plate / 2, c.width / 2, BELT_THICKNESS / 2],
+        pos=[c.length / 2 - plate / 2, 0, c.height - BELT_THICKNESS / 2],
+        rgba=[0.3, 0.3, 0.32, 1],
+        friction=[1.0, 0.005, 0.0001],
+    )
+    set_env_collision(pickup)
     frame_h = c.height - BELT_THICKNESS
     frame = conveyor.add_geom(
         name="conveyor_frame",
@@ -176,6 +213,7 @@ def _add_context(spec: mujoco.MjSpec) -> None:
         ("wall_back", (-5.0, 0.0, 1.5), (0.05, 5.0, 1.5)),
         ("wall_left", (0.0, 5.0, 1.5), (5.0, 0.05, 1.5)),
         ("wall_right", (0.0, -5.0, 1.5), (5.0, 0.05, 1.5)),
+        ("wall_front", (5.0, 0.0, 1.5), (0.05, 5.0, 1.5)),
     ):
         wall = spec.worldbody.add_geom(
             name=name, type=BOX, pos=list(pos), size=list(size), rgba=list(WALL_RGBA)

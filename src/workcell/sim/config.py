@@ -73,7 +73,7 @@ class FeederConfig:
             + checks.in_range("feeder.lateral_jitter", self.lateral_jitter, 0.0, 0.2, "m")
             + checks.in_range("feeder.yaw_jitter", self.yaw_jitter, 0.0, 0.5, "rad")
         )
-        if not isinstance(self.pool_size, int) or not 1 <= self.pool_size <= 12:
+        if type(self.pool_size) is not int or not 1 <= self.pool_size <= 12:
             problems.append(checks.problem("feeder.pool_size", self.pool_size, "must be 1 to 12"))
         _raise_if(problems)
 
@@ -87,13 +87,12 @@ class BoxConfig:
     rgba: tuple[float, float, float, float] = (0.78, 0.58, 0.35, 1.0)
 
     def __post_init__(self) -> None:
-        problems = checks.length("box.size", self.size, 3) + checks.positive("box.mass", self.mass)
+        problems = checks.length("box.size", self.size, 3)
+        problems += checks.in_range("box.mass", self.mass, 0.05, 10.0, "kg")
         if len(self.size) == 3 and not all(0.05 <= side <= 0.6 for side in self.size):
             problems.append(
                 checks.problem("box.size", self.size, "every side must be between 0.05 and 0.6 m")
             )
-        if self.mass > 10.0:
-            problems.append(checks.problem("box.mass", self.mass, "must be at most 10 kg"))
         problems += checks.length("box.rgba", self.rgba, 4)
         if len(self.rgba) == 4 and not all(0.0 <= c <= 1.0 for c in self.rgba):
             problems.append(checks.problem("box.rgba", self.rgba, "components must be in [0, 1]"))
@@ -116,7 +115,8 @@ class TargetConfig:
         problems += checks.length("target.zone", self.zone, 2)
         if len(self.zone) == 2 and not all(0.2 <= z <= 2.0 for z in self.zone):
             problems.append(checks.problem("target.zone", self.zone, "sides must be 0.2 to 2 m"))
-        if len(self.center) == 2 and not all(abs(c) <= 5.0 for c in self.center):
+        finite = all(math.isfinite(c) for c in self.center)
+        if len(self.center) == 2 and finite and not all(abs(c) <= 5.0 for c in self.center):
             problems.append(checks.problem("target.center", self.center, "must lie within 5 m"))
         _raise_if(problems)
 
@@ -163,7 +163,8 @@ class WorldConfig:
 
     def __post_init__(self) -> None:
         problems = checks.one_of("grasp", self.grasp, GRASP_MODES)
-        problems += checks.in_range("timestep", self.timestep, 0.0005, 0.005, "s")
+        timestep_problems = checks.in_range("timestep", self.timestep, 0.0005, 0.005, "s")
+        problems += timestep_problems
         across = self.box.size[1]
         if across > self.robot.max_grasp_span:
             problems.append(
@@ -189,12 +190,14 @@ class WorldConfig:
             problems.append(
                 checks.problem("box.size", self.box.size, "must be shorter than the conveyor")
             )
-        if self.robot.control_hz * self.timestep > 1.0:
+        substeps = 1.0 / (self.robot.control_hz * self.timestep) if not timestep_problems else 1
+        if substeps < 1.0 - 1e-9 or abs(substeps - round(substeps)) > 1e-6:
             problems.append(
                 checks.problem(
                     "robot.control_hz",
                     self.robot.control_hz,
-                    f"must not exceed the physics rate 1/timestep = {1 / self.timestep:g} Hz",
+                    f"must divide the physics rate 1/timestep = {1 / self.timestep:g} Hz "
+                    "into a whole number of physics steps",
                 )
             )
         if _target_overlaps_conveyor(self.target, self.conveyor, margin=0.3):

@@ -46,8 +46,8 @@ class Grasp:
 
     @property
     def holding(self) -> BoxSlot | None:
-        """The box both pads touch (physical) or the welded box (assisted)."""
-        if self.attached is not None:
+        """The welded box (assisted) or the box both pads touch (physical)."""
+        if self.mode == "assisted":
             return self.attached
         if self.contact_l is not None and self.contact_l is self.contact_r:
             return self.contact_l

@@ -213,9 +213,11 @@ def _add_link_geom(
     parent: mujoco.MjsBody, child_pos: np.ndarray, side: str, index: int, mass: float
 ) -> None:
     """A capsule from ``parent``'s origin to its child's origin, the arm's visible link."""
-    radius = 0.06 if index < 4 else 0.05
+    # Radii shrink a little link by link so that neighbouring links' rounded ends do not
+    # coincide (coincident surfaces flicker when rendered).
+    radius = 0.062 - 0.002 * index
     length = float(np.linalg.norm(child_pos))
-    rgba = ACCENT_RGBA if index % 2 else BODY_RGBA
+    rgba = ACCENT_RGBA if index in (1, 3, 5) else BODY_RGBA
     if length < 1e-6:
         geom = parent.add_geom(
             name=f"arm_{side}_geom{index}", type=SPHERE, size=[radius, 0, 0], mass=mass

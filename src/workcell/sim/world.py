@@ -110,14 +110,17 @@ class World:
                     self._clear_if_on_floor(slot, t)
             elif slot.state is BoxState.DELIVERED and t - slot.delivered_at >= DELIVERED_CLEAR_S:
                 self.boxes.park(self.data, slot)
-        if t >= self._next_release and self.boxes.feed_clear(self.data):
+        if t + 1e-6 >= self._next_release and self.boxes.feed_clear(self.data):
             feeder = self.config.feeder
             lateral = float(self._rng.uniform(-feeder.lateral_jitter, feeder.lateral_jitter))
             yaw = float(self._rng.uniform(-feeder.yaw_jitter, feeder.yaw_jitter))
             released = self.boxes.release(self.data, t, lateral, yaw)
             if released is not None:
                 events.append(BoxReleased(t, released.index))
-                self._next_release = t + self.config.feeder.release_interval_s
+                # Keep to the schedule; a release held back by a blocked feed point does
+                # not shift the ones after it.
+                while self._next_release <= t + 1e-6:
+                    self._next_release += self.config.feeder.release_interval_s
         return events
 
     def _clear_if_on_floor(self, slot: BoxSlot, t: float) -> None:

@@ -1,0 +1,82 @@
+"""The workcell command line: help, version, dispatch and one-line errors."""
+
+from __future__ import annotations
+
+import os
+import subprocess
+import sys
+
+import pytest
+
+from workcell import __version__
+from workcell.cli.main import COMMANDS, main
+
+
+@pytest.fixture(autouse=True)
+def _gl(monkeypatch: pytest.MonkeyPatch) -> None:
+    """main() sets MUJOCO_GL; keep that from leaking into other tests."""
+    monkeypatch.setenv("MUJOCO_GL", os.environ.get("MUJOCO_GL", "egl"))
+
+
+def _error_lines(err: str) -> list[str]:
+    return [line for line in err.splitlines() if line]
+
+
+def test_help_lists_the_commands(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--help"]) == 0
+    out = capsys.readouterr().out
+    assert "usage: workcell" in out
+    assert "snapshot" in out
+
+
+def test_version(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["--version"]) == 0
+    assert capsys.readouterr().out.strip() == f"workcell {__version__}"
+
+
+def test_every_command_module_has_register_and_run() -> None:
+    for module in COMMANDS:
+        assert callable(module.register)
+        assert callable(module.run)
+
+
+def test_missing_command_is_one_error_line(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main([]) == 2
+    captured = capsys.readouterr()
+    lines = _error_lines(captured.err)
+    assert len(lines) == 1
+    assert lines[0].startswith("workcell: error: ")
+    assert "command" in lines[0]
+    assert captured.out == ""
+
+
+@pytest.mark.parametrize("argv", [["fly"], ["snapshot", "--out", "a.png", "--bogus"]])
+def test_bad_arguments_are_one_error_line(
+    capsys: pytest.CaptureFixture[str], argv: list[str]
+) -> None:
+    assert main(argv) == 2
+    lines = _error_lines(capsys.readouterr().err)
+    assert len(lines) == 1
+    assert lines[0].startswith("workcell: error: ")
+    assert "--help" in lines[0]
+
+
+def test_main_chooses_egl_unless_told_otherwise(monkeypatch: pytest.MonkeyPatch) -> None:
+    monkeypatch.delenv("MUJOCO_GL")
+    assert main(["--version"]) == 0
+    assert os.environ["MUJOCO_GL"] == "egl"
+    monkeypatch.setenv("MUJOCO_GL", "osmesa")
+    assert main(["--version"]) == 0
+    assert os.environ["MUJOCO_GL"] == "osmesa"
+
+
+def test_python_dash_m_workcell() -> None:
+    done = subprocess.run(
+        [sys.executable, "-m", "workcell", "--version"],
+        capture_output=True,
+        text=True,
+        check=False,
+        timeout=60,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.strip() == f"workcell {__version__}"
