@@ -88,3 +88,16 @@ def test_close_finalises_once(tmp_path: Path) -> None:
 def test_invalid_fps_is_rejected(tmp_path: Path) -> None:
     with pytest.raises(RenderError, match="fps"):
         VideoWriter(tmp_path / "clip.mp4", WIDTH, HEIGHT, fps=0)
+
+
+def test_long_clip_of_noise_keeps_every_frame(tmp_path: Path) -> None:
+    """More frames than the encoder's look-ahead, with content that changes every frame:
+    packets then leave the encoder while frames are still being written."""
+    path = tmp_path / "noise.mp4"
+    rng = np.random.default_rng(0)
+    with VideoWriter(path, WIDTH, HEIGHT, fps=30) as video:
+        for _ in range(90):
+            video.write(rng.integers(0, 256, (HEIGHT, WIDTH, 3), dtype=np.uint8))
+    frames, stream = _read(path)
+    assert len(frames) == 90
+    assert stream.average_rate == Fraction(30)

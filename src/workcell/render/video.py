@@ -83,7 +83,9 @@ class VideoWriter:
             )
         video_frame = av.VideoFrame.from_ndarray(np.ascontiguousarray(frame), format="rgb24")
         video_frame.pts = self._frames
-        video_frame.time_base = self._stream.time_base
+        # The frame clock is 1/fps; the stream's own time base changes once the muxer has
+        # written the header, so it must not be used here.
+        video_frame.time_base = 1 / self.fps
         self._container.mux(self._stream.encode(video_frame))
         self._frames += 1
 

@@ -1,0 +1,84 @@
+"""The scripted expert delivers boxes in both grasp modes, and only ever emits Commands."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from workcell.control.command import Command
+from workcell.control.simulation import Simulation
+from workcell.errors import ConfigError
+from workcell.expert import ExpertConfig, ExpertOperator
+from workcell.expert.episode import OneBoxResult, deliver_one_box
+from workcell.sim.config import GraspMode, WorldConfig
+from workcell.sim.events import BoxDelivered
+
+SEEDS = range(20)
+REQUIRED = {"assisted": 19, "physical": 16}
+
+
+def run_seeds(grasp: GraspMode, skill: float = 1.0, seeds: range = SEEDS) -> list[OneBoxResult]:
+    sim = Simulation(WorldConfig(grasp=grasp))
+    results = []
+    for seed in seeds:
+        sim.reset(seed)
+        results.append(deliver_one_box(sim, ExpertOperator(ExpertConfig(skill), seed), 120.0))
+    return results
+
+
+@pytest.mark.parametrize("grasp", ["assisted", "physical"])
+def test_expert_delivers_within_the_time_limit_for_most_seeds(grasp: GraspMode) -> None:
+    results = run_seeds(grasp)
+    delivered = [r for r in results if r.delivered]
+    assert len(delivered) >= REQUIRED[grasp], [round(r.sim_time_s, 1) for r in results]
+    assert all(r.sim_time_s <= 120.0 for r in delivered)
+
+
+def test_seeds_vary_the_run() -> None:
+    times = {round(r.sim_time_s, 2) for r in run_seeds("assisted", seeds=range(4))}
+    assert len(times) > 1
+
+
+def test_low_skill_is_slower_and_can_time_out() -> None:
+    best = run_seeds("assisted", skill=1.0, seeds=range(3))
+    clumsy = run_seeds("assisted", skill=0.0, seeds=range(3))
+    best_mean = np.mean([r.sim_time_s for r in best])
+    clumsy_mean = np.mean([r.sim_time_s for r in clumsy])
+    assert clumsy_mean > best_mean + 10.0
+    sim = Simulation(WorldConfig())
+    sim.reset(1)
+    short = deliver_one_box(sim, ExpertOperator(ExpertConfig(skill=0.0), seed=1), 25.0)
+    assert not short.delivered
+    assert short.sim_time_s == pytest.approx(25.0, abs=sim.control_dt)
+
+
+def test_replaying_the_experts_commands_reproduces_the_delivery() -> None:
+    """The expert drives the robot through Commands alone: replayed, they do the same."""
+    sim = Simulation(WorldConfig())
+    sim.reset(7)
+    expert = ExpertOperator(ExpertConfig(), seed=7)
+    commands: list[Command] = []
+    delivered_at = None
+    while sim.time < 120.0 and delivered_at is None:
+        command = expert.act(sim.world)
+        assert isinstance(command, Command)
+        commands.append(command)
+        if any(isinstance(e, BoxDelivered) for e in sim.step(command)):
+            delivered_at = sim.time
+    assert delivered_at is not None
+    final_qpos = sim.world.data.qpos.copy()
+
+    replay = Simulation(WorldConfig())
+    replay.reset(7)
+    replay_delivered_at = None
+    for command in commands:
+        if any(isinstance(e, BoxDelivered) for e in replay.step(command)):
+            replay_delivered_at = replay.time
+    assert replay_delivered_at == delivered_at
+    np.testing.assert_allclose(replay.world.data.qpos, final_qpos, atol=1e-9)
+
+
+@pytest.mark.parametrize("skill", [-0.1, 1.5, float("nan")])
+def test_skill_outside_unit_interval_is_rejected(skill: float) -> None:
+    with pytest.raises(ConfigError, match="skill"):
+        ExpertConfig(skill=skill)
