@@ -1,3 +1,3 @@
-"""Workcell: a simulated factory workcell for collecting bimanual mobile-manipulation demonstrations."""
+"""Workcell: a simulated factory for collecting bimanual mobile-manipulation demonstrations."""
 
 __version__ = "0.1.0"

@@ -30,7 +30,17 @@ def test_demo_text_says_what_happened(capsys: pytest.CaptureFixture[str]) -> Non
 def test_demo_writes_a_video(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
     video = tmp_path / "demo.mp4"
     code = main(
-        ["demo", "--seed", "0", "--time-limit", "2", "--video", str(video), "--video-size", "160x96"]
+        [
+            "demo",
+            "--seed",
+            "0",
+            "--time-limit",
+            "2",
+            "--video",
+            str(video),
+            "--video-size",
+            "160x96",
+        ]
     )
     assert code == 0
     assert str(video) in capsys.readouterr().out

@@ -58,7 +58,9 @@ def _video_size(text: str) -> tuple[int, int]:
     try:
         width, height = (int(v) for v in text.lower().split("x"))
     except ValueError:
-        raise ConfigError([f"--video-size = {text!r}: must be WIDTHxHEIGHT, e.g. 640x360"]) from None
+        raise ConfigError(
+            [f"--video-size = {text!r}: must be WIDTHxHEIGHT, e.g. 640x360"]
+        ) from None
     if not (64 <= width <= 3840 and 64 <= height <= 2160 and width % 2 == 0 and height % 2 == 0):
         raise ConfigError(
             [f"--video-size = {text!r}: width 64..3840 and height 64..2160, both even"]

@@ -43,7 +43,9 @@ class BaseMotion:
         yaw = self.pose[2] + 0.5 * self.twist[2] * dt
         cos, sin = math.cos(yaw), math.sin(yaw)
         vx, vy = self.twist[0], self.twist[1]
-        self.pose = self.pose + dt * np.array([cos * vx - sin * vy, sin * vx + cos * vy, self.twist[2]])
+        self.pose = self.pose + dt * np.array(
+            [cos * vx - sin * vy, sin * vx + cos * vy, self.twist[2]]
+        )
         return self.pose
 
     def limit_lead(self, measured: NDArray[np.float64], max_lead: float) -> None:

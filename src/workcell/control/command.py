@@ -72,7 +72,10 @@ class Command:
     head: tuple[float, float] = (0.0, 0.3)
 
     def __post_init__(self) -> None:
-        for name, value in (("gripper_left", self.gripper_left), ("gripper_right", self.gripper_right)):
+        for name, value in (
+            ("gripper_left", self.gripper_left),
+            ("gripper_right", self.gripper_right),
+        ):
             if not (math.isfinite(value) and 0.0 <= value <= 1.0):
                 raise CommandError(f"{name} = {value}: must be between 0 (open) and 1 (closed)")
         _require_finite("head", self.head)

@@ -11,7 +11,6 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 import mink
-import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
@@ -93,7 +92,9 @@ class BimanualIK:
         """The IK solution in JOINT_ORDER."""
         return np.array(self.configuration.q[self._qadr])
 
-    def place_conveyor(self, position: Sequence[float], quaternion: Sequence[float]) -> None:
+    def place_conveyor(
+        self, position: NDArray[np.float64] | Sequence[float], quaternion: Sequence[float]
+    ) -> None:
         """Put the conveyor proxy at its pose in the base frame."""
         self.configuration.data.mocap_pos[self._proxy] = position
         self.configuration.data.mocap_quat[self._proxy] = quaternion

@@ -30,7 +30,9 @@ class PalmTargets:
         )
 
 
-def _quat_from_axes(x: NDArray[np.float64], y: NDArray[np.float64], z: NDArray[np.float64]) -> NDArray[np.float64]:
+def _quat_from_axes(
+    x: NDArray[np.float64], y: NDArray[np.float64], z: NDArray[np.float64]
+) -> NDArray[np.float64]:
     mat = np.column_stack([x, y, z])
     quat = np.zeros(4)
     mujoco.mju_mat2Quat(quat, mat.flatten())

@@ -265,9 +265,10 @@ class ExpertOperator:
             pos = world.boxes.position(world.data, slot)
             on_belt = abs(pos[2] - (c.height + world.config.box.size[2] / 2)) < 0.03
             settled = world.time - slot.released_at > 1.0
-            if on_belt and settled and world.boxes.speed(world.data, slot) < REST_SPEED:
-                if best is None or pos[0] > world.boxes.position(world.data, best)[0]:
-                    best = slot
+            still = world.boxes.speed(world.data, slot) < REST_SPEED
+            ahead = best is None or pos[0] > world.boxes.position(world.data, best)[0]
+            if on_belt and settled and still and ahead:
+                best = slot
         return best
 
     def _around_box(self, world: World, gap: float, lift: float = 0.0) -> PalmTargets:
@@ -289,7 +290,9 @@ class ExpertOperator:
         self._palms = self._ready
         self._close = 0.0
 
-    def _hands_at(self, world: World, palms: PalmTargets, tolerance: float = HAND_TOLERANCE_M) -> bool:
+    def _hands_at(
+        self, world: World, palms: PalmTargets, tolerance: float = HAND_TOLERANCE_M
+    ) -> bool:
         left = world.to_base_frame(world.tcp_pose("l")[0])
         right = world.to_base_frame(world.tcp_pose("r")[0])
         return bool(
@@ -326,14 +329,18 @@ class ExpertOperator:
         route.append(goal)
         return route
 
-    def _drive(self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M) -> BaseTwist:
+    def _drive(
+        self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M
+    ) -> BaseTwist:
         """A saturated proportional twist toward ``goal`` (x, y, yaw in the world)."""
         pose = world.base_pose
         error_world = goal[:2] - pose[:2]
         distance = float(np.linalg.norm(error_world))
         yaw = float(pose[2])
         c, s = math.cos(yaw), math.sin(yaw)
-        error = np.array([c * error_world[0] + s * error_world[1], -s * error_world[0] + c * error_world[1]])
+        error = np.array(
+            [c * error_world[0] + s * error_world[1], -s * error_world[0] + c * error_world[1]]
+        )
         yaw_error = _wrap(float(goal[2]) - yaw)
         r = world.config.robot
         vmax = r.max_linear_speed * self.profile.speed_scale
@@ -347,7 +354,9 @@ class ExpertOperator:
         wz = float(np.clip(2.5 * yaw_error, -wmax, wmax))
         return BaseTwist(float(linear[0]), float(linear[1]), wz)
 
-    def _arrived(self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M) -> bool:
+    def _arrived(
+        self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M
+    ) -> bool:
         pose = world.base_pose
         close = float(np.linalg.norm(goal[:2] - pose[:2])) < tolerance
         aligned = abs(_wrap(float(goal[2] - pose[2]))) < ARRIVED_RAD * (tolerance / ARRIVED_M)

@@ -88,9 +88,7 @@ def _add_visual_assets(spec: mujoco.MjSpec) -> None:
         width=256,
         height=256,
     )
-    sun = spec.worldbody.add_light(
-        name="sun", pos=[0, 0, 6], dir=[0.2, 0.3, -1], diffuse=[0.6] * 3
-    )
+    sun = spec.worldbody.add_light(name="sun", pos=[0, 0, 6], dir=[0.2, 0.3, -1], diffuse=[0.6] * 3)
     sun.type = mujoco.mjtLightType.mjLIGHT_DIRECTIONAL
     spec.worldbody.add_light(name="lamp_feed", pos=[-2, 0, 4], dir=[0, 0, -1], diffuse=[0.3] * 3)
     spec.worldbody.add_light(name="lamp_target", pos=[2, 2, 4], dir=[0, 0, -1], diffuse=[0.3] * 3)
@@ -224,7 +222,9 @@ def _add_context(spec: mujoco.MjSpec) -> None:
         for sx in (1.0, -1.0):
             for sy in (1.0, -1.0):
                 upright = rack.add_geom(
-                    type=BOX, size=[0.03, 0.03, 1.1], pos=[sx * 0.8, sy * 0.3, 1.1],
+                    type=BOX,
+                    size=[0.03, 0.03, 1.1],
+                    pos=[sx * 0.8, sy * 0.3, 1.1],
                     rgba=[0.2, 0.35, 0.7, 1],
                 )
                 set_visual_only(upright)
@@ -235,7 +235,9 @@ def _add_context(spec: mujoco.MjSpec) -> None:
             set_visual_only(shelf)
             for j in (-0.45, 0.1, 0.5):
                 crate = rack.add_geom(
-                    type=BOX, size=[0.15, 0.15, 0.12], pos=[j, 0, level + 0.135],
+                    type=BOX,
+                    size=[0.15, 0.15, 0.12],
+                    pos=[j, 0, level + 0.135],
                     rgba=[0.7, 0.55, 0.35, 1],
                 )
                 set_visual_only(crate)
@@ -244,7 +246,10 @@ def _add_context(spec: mujoco.MjSpec) -> None:
     )
     set_visual_only(pole)
     stripe = spec.worldbody.add_geom(
-        type=BOX, size=[2.5, 0.04, 0.001], pos=[1.5, -1.0, 0.001], rgba=list(SAFETY_RGBA),
+        type=BOX,
+        size=[2.5, 0.04, 0.001],
+        pos=[1.5, -1.0, 0.001],
+        rgba=list(SAFETY_RGBA),
     )
     set_visual_only(stripe)
 
@@ -253,9 +258,7 @@ def _add_boxes(spec: mujoco.MjSpec, config: WorldConfig) -> None:
     b = config.box
     half = [s / 2 for s in b.size]
     for i in range(config.feeder.pool_size):
-        body = spec.worldbody.add_body(
-            name=box_name(i), pos=list(parked_position(i)), gravcomp=1.0
-        )
+        body = spec.worldbody.add_body(name=box_name(i), pos=list(parked_position(i)), gravcomp=1.0)
         body.add_freejoint(name=f"{box_name(i)}_joint")
         geom = body.add_geom(
             name=f"{box_name(i)}_geom",

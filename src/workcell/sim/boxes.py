@@ -100,7 +100,7 @@ class BoxPool:
             return None
         self._model.body_gravcomp[slot.body] = 0.0
         self._set_collision(slot, ENV_CONTYPE, ENV_CONAFFINITY)
-        data.qpos[slot.qpos : slot.qpos + 3] = self.feed_position + (0.0, lateral, 0.0)
+        data.qpos[slot.qpos : slot.qpos + 3] = self.feed_position + np.array([0.0, lateral, 0.0])
         data.qpos[slot.qpos + 3 : slot.qpos + 7] = (np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2))
         data.qvel[slot.qvel : slot.qvel + 6] = 0.0
         slot.state = BoxState.ACTIVE

@@ -219,7 +219,9 @@ class WorldConfig:
         return max(1, round(1.0 / (self.robot.control_hz * self.timestep)))
 
 
-def _target_overlaps_conveyor(target: TargetConfig, conveyor: ConveyorConfig, margin: float) -> bool:
+def _target_overlaps_conveyor(
+    target: TargetConfig, conveyor: ConveyorConfig, margin: float
+) -> bool:
     half_x, half_y = target.zone[0] / 2 + margin, target.zone[1] / 2 + margin
     tx, ty = target.center
     x_overlap = tx + half_x > conveyor.start_x - 0.1 and tx - half_x < conveyor.end_x + 0.1

@@ -181,7 +181,13 @@ class World:
     def to_world_frame(self, position: NDArray[np.float64]) -> NDArray[np.float64]:
         x, y, yaw = self.base_pose
         c, s = math.cos(yaw), math.sin(yaw)
-        return np.array([x + c * position[0] - s * position[1], y + s * position[0] + c * position[1], position[2]])
+        return np.array(
+            [
+                x + c * position[0] - s * position[1],
+                y + s * position[0] + c * position[1],
+                position[2],
+            ]
+        )
 
     def check_finite(self) -> None:
         if not np.isfinite(self.data.qpos).all():
