@@ -65,6 +65,7 @@ class ExpertOperator:
         self._pause_until = 0.0
         self._palms: PalmTargets | None = None
         self._ready: PalmTargets | None = None
+        self._noticed_at: float | None = None
         self._follow = False
         self._close = 0.0
         self._waypoints: list[NDArray[np.float64]] = []
@@ -98,8 +99,13 @@ class ExpertOperator:
         standby = np.array([c.end_x + STANDBY_DISTANCE, c.center_y, c.direction_yaw + math.pi])
         self._ready_arms(world)
         box = self._resting_box(world)
-        if box is not None:
+        if box is None:
+            self._noticed_at = None
+        elif self._noticed_at is None:
+            self._noticed_at = world.time
+        elif world.time - self._noticed_at >= self.profile.reaction_s:
             self._box = box
+            self._noticed_at = None
             self._enter(world, Phase.APPROACH)
         return self._drive(world, standby)
 

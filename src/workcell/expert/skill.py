@@ -30,6 +30,8 @@ class SkillProfile:
     """Concrete behaviour parameters drawn once per trial."""
 
     speed_scale: float
+    reaction_s: float
+    """How long the expert takes to react once a box has come to rest."""
     hesitation_probability: float
     max_hesitation_s: float
     detour_m: float
@@ -43,6 +45,7 @@ class SkillProfile:
         clumsy = 1.0 - skill
         return SkillProfile(
             speed_scale=float(rng.uniform(0.85, 1.0) * (1.0 - 0.55 * clumsy)),
+            reaction_s=float(rng.uniform(0.2, 1.5) * (1.0 + 3.0 * clumsy)),
             hesitation_probability=0.7 * clumsy,
             max_hesitation_s=25.0 * clumsy,
             detour_m=float(rng.uniform(0.0, 1.5) * clumsy),

@@ -132,7 +132,7 @@ class RobotConfig:
     start_pose: tuple[float, float, float] = (1.4, 0.0, math.pi)
     start_spine: float = 0.1
     max_grasp_span: float = 0.55
-    control_hz: float = 50.0
+    control_hz: float = 40.0
 
     def __post_init__(self) -> None:
         problems = (
@@ -159,7 +159,7 @@ class WorldConfig:
     target: TargetConfig = field(default_factory=TargetConfig)
     robot: RobotConfig = field(default_factory=RobotConfig)
     grasp: GraspMode = "assisted"
-    timestep: float = 0.002
+    timestep: float = 0.0025
 
     def __post_init__(self) -> None:
         problems = checks.one_of("grasp", self.grasp, GRASP_MODES)
