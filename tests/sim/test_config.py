@@ -68,26 +68,31 @@ SINGLE_PROBLEMS: list[tuple[str, Callable[[], object], str, str]] = [
     ("target_zone_nan", lambda: TargetConfig(zone=(NAN, 0.7)), "target.zone", "(nan, 0.7)"),
     ("span_nan", lambda: RobotConfig(max_grasp_span=NAN), "robot.max_grasp_span", "nan"),
     ("start_pose_nan", lambda: RobotConfig(start_pose=(NAN, 0.0, 0.0)), "robot.start_pose", "nan"),
-    ("timestep_nan", lambda: WorldConfig(timestep=NAN), "timestep", "nan"),
+    ("timestep_nan", lambda: WorldConfig(timestep=NAN), "world.timestep", "nan"),
     (
         "target_on_conveyor",
         lambda: WorldConfig(target=TargetConfig(center=(-1.0, 0.0))),
-        "target.center",
+        "world.target.center",
         "(-1, 0)",
     ),
-    ("grasp_unknown", lambda: WorldConfig(grasp=cast(Any, "magnetic")), "grasp", "'magnetic'"),
+    (
+        "grasp_unknown",
+        lambda: WorldConfig(grasp=cast(Any, "magnetic")),
+        "world.grasp",
+        "'magnetic'",
+    ),
     (
         "box_wider_than_span",
         lambda: WorldConfig(
             conveyor=ConveyorConfig(width=0.8), box=BoxConfig(size=(0.3, 0.6, 0.3))
         ),
-        "box.size",
+        "world.box.size",
         "(0.3, 0.6, 0.3)",
     ),
     (
         "span_narrower_than_box",
         lambda: WorldConfig(robot=RobotConfig(max_grasp_span=0.25)),
-        "box.size",
+        "world.box.size",
         "(0.3, 0.3, 0.3)",
     ),
 ]
@@ -120,9 +125,9 @@ def test_box_wider_than_grasp_span_names_the_span() -> None:
     problems = caught.value.problems
     span_lines = [p for p in problems if "robot.max_grasp_span" in p]
     assert len(span_lines) == 1, problems
-    assert span_lines[0].startswith("box.size = (0.3, 0.6, 0.3)")
+    assert span_lines[0].startswith("world.box.size = (0.3, 0.6, 0.3)")
     assert "0.55" in span_lines[0]
-    assert all(p.startswith("box.size = ") for p in problems)
+    assert all(p.startswith("world.box.size = ") for p in problems)
 
 
 def test_several_problems_give_several_lines() -> None:
@@ -141,7 +146,7 @@ def test_several_world_level_problems_give_several_lines() -> None:
             target=TargetConfig(center=(-1.0, 0.0)),
         )
     fields = sorted(p.split(" = ")[0] for p in caught.value.problems)
-    assert fields == ["grasp", "target.center", "timestep"]
+    assert fields == ["world.grasp", "world.target.center", "world.timestep"]
 
 
 def test_defaults_construct_and_compile() -> None:

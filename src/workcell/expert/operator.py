@@ -56,7 +56,11 @@ class ExpertOperator:
 
     def __init__(self, config: ExpertConfig | None = None, seed: int = 0) -> None:
         self.config = config or ExpertConfig()
-        self._rng = np.random.default_rng(seed)
+        self.start_trial(seed)
+
+    def start_trial(self, trial_seed: int) -> None:
+        """Forget the last trial and draw this trial's behaviour from ``trial_seed``."""
+        self._rng = np.random.default_rng(trial_seed)
         self.profile = SkillProfile.draw(self.config.skill, self._rng)
         self.phase = Phase.WAIT
         self.deliveries = 0
@@ -66,7 +70,6 @@ class ExpertOperator:
         self._palms: PalmTargets | None = None
         self._ready: PalmTargets | None = None
         self._noticed_at: float | None = None
-        self._follow = False
         self._close = 0.0
         self._waypoints: list[NDArray[np.float64]] = []
         self._grasp_attempts = 0

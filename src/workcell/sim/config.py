@@ -1,17 +1,20 @@
 """Frozen, validated configuration of the world and the robot.
 
 Every dataclass checks its own fields on construction and raises :class:`ConfigError` with
-one line per problem, so an invalid world is rejected before any simulation starts.
+one line per problem, so an invalid world is rejected before any simulation starts. A
+problem names its field by the section the class fills (``conveyor.speed``,
+``world.grasp``), the way the TOML file spells it below its parent table.
 Lengths are metres, angles radians, times seconds, masses kilograms.
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 from typing import Literal, get_args
 
 from workcell.errors import ConfigError
+from workcell.settings import section, setting
 from workcell.sim import checks
 
 GraspMode = Literal["assisted", "physical"]
@@ -27,12 +30,12 @@ def _raise_if(problems: list[str]) -> None:
 class ConveyorConfig:
     """A straight belt along +x that ends at ``end_x`` against a stop bar."""
 
-    speed: float = 0.2
-    length: float = 3.0
-    width: float = 0.5
-    height: float = 0.75
-    end_x: float = 0.0
-    center_y: float = 0.0
+    speed: float = setting(0.2, "belt speed, m/s (0.01 to 1)")
+    length: float = setting(3.0, "belt length, m (1 to 10)")
+    width: float = setting(0.5, "belt width, m (0.2 to 1.5)")
+    height: float = setting(0.75, "height of the belt surface, m (0.4 to 1.1)")
+    end_x: float = setting(0.0, "x of the belt's end stop in the world, m (-4 to 4)")
+    center_y: float = setting(0.0, "y of the belt's centre line, m (-4 to 4)")
 
     def __post_init__(self) -> None:
         _raise_if(
@@ -58,13 +61,17 @@ class ConveyorConfig:
 class FeederConfig:
     """Boxes wait parked in a pool and are released onto the belt start at an interval."""
 
-    release_interval_s: float = 8.0
-    first_release_s: float = 0.5
-    pool_size: int = 4
-    lateral_jitter: float = 0.04
-    """Boxes land up to this far (m) either side of the belt centre line, seeded."""
-    yaw_jitter: float = 0.15
-    """Boxes land turned up to this much (rad) either way, seeded."""
+    release_interval_s: float = setting(8.0, "seconds between box releases (0.5 to 600)")
+    first_release_s: float = setting(
+        0.5, "seconds after a reset until the first release (0 to 600)"
+    )
+    pool_size: int = setting(4, "boxes in the pool the feeder draws from (1 to 12)")
+    lateral_jitter: float = setting(
+        0.04, "boxes land up to this far either side of the centre line, m (0 to 0.2), seeded"
+    )
+    yaw_jitter: float = setting(
+        0.15, "boxes land turned up to this much either way, rad (0 to 0.5), seeded"
+    )
 
     def __post_init__(self) -> None:
         problems = (
@@ -82,9 +89,13 @@ class FeederConfig:
 class BoxConfig:
     """``size`` is (along the belt, across the belt, height); the grasp axis is across."""
 
-    size: tuple[float, float, float] = (0.3, 0.3, 0.3)
-    mass: float = 2.0
-    rgba: tuple[float, float, float, float] = (0.78, 0.58, 0.35, 1.0)
+    size: tuple[float, float, float] = setting(
+        (0.3, 0.3, 0.3), "along the belt, across the belt (the grasp axis), height; m (0.05 to 0.6)"
+    )
+    mass: float = setting(2.0, "box mass, kg (0.05 to 10)")
+    rgba: tuple[float, float, float, float] = setting(
+        (0.78, 0.58, 0.35, 1.0), "box colour, red green blue alpha (0 to 1 each)"
+    )
 
     def __post_init__(self) -> None:
         problems = checks.length("box.size", self.size, 3)
@@ -103,9 +114,11 @@ class BoxConfig:
 class TargetConfig:
     """The delivery table; a box resting inside ``zone`` on its top, released, is delivered."""
 
-    center: tuple[float, float] = (1.6, 1.9)
-    table_height: float = 0.6
-    zone: tuple[float, float] = (0.7, 0.7)
+    center: tuple[float, float] = setting(
+        (1.6, 1.9), "x, y of the delivery zone's centre, m; must keep 0.3 m clear of the conveyor"
+    )
+    table_height: float = setting(0.6, "height of the delivery table top, m (0.2 to 1.1)")
+    zone: tuple[float, float] = setting((0.7, 0.7), "size of the delivery zone, m (0.2 to 2 each)")
 
     def __post_init__(self) -> None:
         problems = checks.length("target.center", self.center, 2) + checks.finite(
@@ -125,14 +138,20 @@ class TargetConfig:
 class RobotConfig:
     """Limits and start pose of the mobile bimanual robot."""
 
-    max_linear_speed: float = 0.8
-    max_yaw_rate: float = 1.2
-    linear_accel: float = 1.5
-    yaw_accel: float = 3.0
-    start_pose: tuple[float, float, float] = (1.4, 0.0, math.pi)
-    start_spine: float = 0.1
-    max_grasp_span: float = 0.55
-    control_hz: float = 40.0
+    max_linear_speed: float = setting(0.8, "base speed limit, m/s (0.05 to 2)")
+    max_yaw_rate: float = setting(1.2, "base turn-rate limit, rad/s (0.1 to 4)")
+    linear_accel: float = setting(1.5, "base acceleration limit, m/s^2 (0.1 to 10)")
+    yaw_accel: float = setting(3.0, "base angular acceleration limit, rad/s^2 (0.1 to 20)")
+    start_pose: tuple[float, float, float] = setting(
+        (1.4, 0.0, math.pi), "x, y (m) and yaw (rad) of the base at every reset"
+    )
+    start_spine: float = setting(0.1, "spine height at reset, m (0 to 0.35)")
+    max_grasp_span: float = setting(
+        0.55, "widest box the two palms can close around, m (0.2 to 0.7)"
+    )
+    control_hz: float = setting(
+        40.0, "control and IK rate, Hz; must divide the physics rate 1/timestep evenly"
+    )
 
     def __post_init__(self) -> None:
         problems = (
@@ -153,23 +172,25 @@ class RobotConfig:
 class WorldConfig:
     """Everything that defines a world; a session parameter set stores one of these."""
 
-    conveyor: ConveyorConfig = field(default_factory=ConveyorConfig)
-    feeder: FeederConfig = field(default_factory=FeederConfig)
-    box: BoxConfig = field(default_factory=BoxConfig)
-    target: TargetConfig = field(default_factory=TargetConfig)
-    robot: RobotConfig = field(default_factory=RobotConfig)
-    grasp: GraspMode = "assisted"
-    timestep: float = 0.0025
+    conveyor: ConveyorConfig = section(ConveyorConfig, "the belt that brings the boxes")
+    feeder: FeederConfig = section(FeederConfig, "how and when boxes are released")
+    box: BoxConfig = section(BoxConfig, "the boxes")
+    target: TargetConfig = section(TargetConfig, "the delivery table and its zone")
+    robot: RobotConfig = section(RobotConfig, "the mobile bimanual robot")
+    grasp: GraspMode = setting(
+        "assisted", "assisted (a weld holds a box both closed grippers touch) or physical"
+    )
+    timestep: float = setting(0.0025, "physics timestep, s (0.0005 to 0.005)")
 
     def __post_init__(self) -> None:
-        problems = checks.one_of("grasp", self.grasp, GRASP_MODES)
-        timestep_problems = checks.in_range("timestep", self.timestep, 0.0005, 0.005, "s")
+        problems = checks.one_of("world.grasp", self.grasp, GRASP_MODES)
+        timestep_problems = checks.in_range("world.timestep", self.timestep, 0.0005, 0.005, "s")
         problems += timestep_problems
         across = self.box.size[1]
         if across > self.robot.max_grasp_span:
             problems.append(
                 checks.problem(
-                    "box.size",
+                    "world.box.size",
                     self.box.size,
                     f"the width across the belt ({across:g} m) must not exceed the span the "
                     f"grippers can reach around, robot.max_grasp_span = "
@@ -180,7 +201,7 @@ class WorldConfig:
         if across > room:
             problems.append(
                 checks.problem(
-                    "box.size",
+                    "world.box.size",
                     self.box.size,
                     f"the width across the belt must be at most conveyor.width - 0.04 - "
                     f"2 * feeder.lateral_jitter = {room:g} m",
@@ -188,13 +209,13 @@ class WorldConfig:
             )
         if self.box.size[0] * 1.5 > self.conveyor.length:
             problems.append(
-                checks.problem("box.size", self.box.size, "must be shorter than the conveyor")
+                checks.problem("world.box.size", self.box.size, "must be shorter than the conveyor")
             )
         substeps = 1.0 / (self.robot.control_hz * self.timestep) if not timestep_problems else 1
         if substeps < 1.0 - 1e-9 or abs(substeps - round(substeps)) > 1e-6:
             problems.append(
                 checks.problem(
-                    "robot.control_hz",
+                    "world.robot.control_hz",
                     self.robot.control_hz,
                     f"must divide the physics rate 1/timestep = {1 / self.timestep:g} Hz "
                     "into a whole number of physics steps",
@@ -203,7 +224,7 @@ class WorldConfig:
         if _target_overlaps_conveyor(self.target, self.conveyor, margin=0.3):
             problems.append(
                 checks.problem(
-                    "target.center",
+                    "world.target.center",
                     self.target.center,
                     "the delivery zone must keep 0.3 m clear of the conveyor footprint "
                     f"(x {self.conveyor.start_x:g}..{self.conveyor.end_x:g}, "

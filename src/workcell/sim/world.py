@@ -7,6 +7,7 @@ with commands through the robot controller.
 from __future__ import annotations
 
 import math
+from typing import Protocol
 
 import mujoco
 import numpy as np
@@ -25,6 +26,19 @@ DELIVERED_CLEAR_S = 1.0
 """A delivered box is taken away (parked) this long after delivery."""
 FLOOR_CLEAR_S = 5.0
 """A box lying on the floor is taken away after this long."""
+
+
+class Sampler(Protocol):
+    """Something that samples the world at exact physics steps (the recorder)."""
+
+    @property
+    def next_step(self) -> int:
+        """The physics step count at which the next sample is due."""
+        ...
+
+    def sample(self) -> None:
+        """Take the sample due now; advances :attr:`next_step`."""
+        ...
 
 
 class World:
@@ -54,6 +68,9 @@ class World:
         }
         self._finger_open = float(self.model.jnt_range[joint(FINGER_JOINTS["l"][0]).id][1])
         self._next_release = 0.0
+        self.physics_steps = 0
+        """Physics steps since the last reset: the exact sim clock (steps x timestep)."""
+        self.sampler: Sampler | None = None
         self._rng = np.random.default_rng(0)
         self._floor_since: dict[int, float] = {}
 
@@ -69,6 +86,7 @@ class World:
 
         ``seed`` fixes everything random that follows (where boxes land on the belt)."""
         mujoco.mj_resetData(self.model, self.data)
+        self.physics_steps = 0
         self._rng = np.random.default_rng(seed)
         self.data.qpos[self._base_qpos] = base_pose
         self.data.qpos[self._joint_qpos] = joints
@@ -84,14 +102,29 @@ class World:
         mujoco.mj_forward(self.model, self.data)
 
     def step(self, close_l: float, close_r: float) -> list[WorldEvent]:
-        """Advance one control period (ctrl already written); returns what happened."""
-        mujoco.mj_step(self.model, self.data, nstep=self.substeps)
+        """Advance one control period (ctrl already written); returns what happened.
+
+        A :attr:`sampler` is called at exactly its due physics steps, even mid-period; a
+        sample due at the period's end is taken after the task state is updated."""
+        end = self.physics_steps + self.substeps
+        sampler = self.sampler
+        while self.physics_steps < end:
+            stop = end
+            if sampler is not None and self.physics_steps < sampler.next_step < end:
+                stop = sampler.next_step
+            mujoco.mj_step(self.model, self.data, nstep=stop - self.physics_steps)
+            self.physics_steps = stop
+            if sampler is not None and stop < end and stop == sampler.next_step:
+                sampler.sample()
         if not np.isfinite(self.data.qacc).all():
             raise SimulationError(
                 f"physics diverged at t={self.data.time:.3f} s (non-finite accelerations); "
                 "lower the timestep or the box mass"
             )
-        return self._update_task(close_l, close_r)
+        events = self._update_task(close_l, close_r)
+        if sampler is not None and sampler.next_step == end:
+            sampler.sample()
+        return events
 
     def _update_task(self, close_l: float, close_r: float) -> list[WorldEvent]:
         t = self.time

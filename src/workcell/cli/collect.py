@@ -1,0 +1,225 @@
+"""``workcell collect``: run a session headless with the autonomous expert at full speed."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import signal
+import sys
+from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING, Any
+
+from workcell.errors import ConfigError
+
+if TYPE_CHECKING:
+    from workcell.cli.main import Subparsers
+    from workcell.task.runner import SessionRunner, TrialResult
+
+EXIT_INTERRUPTED = 130
+COLUMNS = ("index", "mode", "round", "level", "outcome", "boxes", "score", "elapsed")
+WIDTHS = (5, 10, 5, 5, 11, 5, 6, 8)
+
+
+def register(subparsers: Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "collect",
+        help="run a session headless with the autonomous expert",
+        description=(
+            "Run practice, collection or challenge trials headless at full speed with the "
+            "scripted expert, and print one row per trial as it ends. Settings come from the "
+            "defaults, then --config FILE, then --set KEY=VALUE, then the flags below; "
+            "'workcell config --defaults' lists every setting."
+        ),
+    )
+    parser.add_argument(
+        "--operator", choices=("expert",), default="expert", help="who drives (default: expert)"
+    )
+    parser.add_argument("--mode", choices=("practice", "collection", "challenge"))
+    parser.add_argument(
+        "--trials",
+        type=int,
+        help="stop after N trials (a challenge campaign cut short ends incomplete)",
+    )
+    parser.add_argument("--config", type=Path, metavar="FILE", help="session settings (TOML)")
+    parser.add_argument("--seed", type=int, help="session seed (default: 0)")
+    parser.add_argument("--skill", type=float, default=1.0, help="expert skill in [0, 1]")
+    parser.add_argument("--operator-id", help="operator id stored with the session")
+    parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="override one setting, e.g. --set world.conveyor.speed=0.3 (repeatable)",
+    )
+    parser.add_argument("--json", action="store_true", help="one JSON object per trial per line")
+    parser.set_defaults(func=run)
+
+
+def _check(args: argparse.Namespace) -> list[str]:
+    problems = []
+    if args.trials is not None and not 1 <= args.trials <= 100_000:
+        problems.append(f"--trials = {args.trials}: must be 1 to 100000")
+    if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):
+        problems.append(f"--skill = {args.skill:g}: must be between 0 and 1")
+    return problems
+
+
+def run(args: argparse.Namespace) -> int:
+    problems = _check(args)
+    from workcell.session.load import resolve_session_config  # noqa: PLC0415
+
+    flags: dict[str, Any] = {"task.mode": args.mode, "seed": args.seed}
+    flags["operator_id"] = args.operator_id
+    if args.mode == "collection" or (args.mode is None and args.trials is not None):
+        flags["task.trials"] = args.trials
+    try:
+        config = resolve_session_config(args.config, args.set, flags)
+    except ConfigError as error:
+        problems += error.problems
+    if problems:
+        raise ConfigError(problems)
+
+    from workcell.control.simulation import Simulation  # noqa: PLC0415
+    from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
+    from workcell.task.runner import SessionRunner  # noqa: PLC0415
+
+    runner = SessionRunner(
+        config,
+        Simulation(config.world),
+        ExpertOperator(ExpertConfig(skill=args.skill)),
+        max_trials=args.trials,
+    )
+    stop = _StopOnSignal()
+    printer = _Printer(args.json)
+    printer.header()
+    runner.start()
+    shown = 0
+    with stop:
+        while runner.current is not None:
+            if stop.reason is not None:
+                runner.interrupt("application_quit")
+                break
+            runner.step()
+            printer.progress(runner)
+            for result in runner.results[shown:]:
+                printer.row(result)
+            shown = len(runner.results)
+    for result in runner.results[shown:]:
+        printer.row(result)
+    printer.summary(runner)
+    return EXIT_INTERRUPTED if stop.reason is not None else 0
+
+
+class _StopOnSignal:
+    """Turns SIGINT/SIGTERM into a request to end the session cleanly."""
+
+    def __init__(self) -> None:
+        self.reason: str | None = None
+        self._previous: dict[int, Any] = {}
+
+    def _handle(self, signum: int, frame: FrameType | None) -> None:
+        self.reason = signal.Signals(signum).name
+
+    def __enter__(self) -> _StopOnSignal:
+        for signum in (signal.SIGINT, signal.SIGTERM):
+            self._previous[signum] = signal.signal(signum, self._handle)
+        return self
+
+    def __exit__(self, *exc: object) -> None:
+        for signum, handler in self._previous.items():
+            signal.signal(signum, handler)
+
+
+class _Printer:
+    def __init__(self, as_json: bool) -> None:
+        self.as_json = as_json
+        self.live = sys.stderr.isatty()
+        self._last_progress = -1
+
+    def header(self) -> None:
+        if not self.as_json:
+            print("  ".join(c.rjust(w) for c, w in zip(COLUMNS, WIDTHS, strict=True)))
+
+    def progress(self, runner: SessionRunner) -> None:
+        if not self.live:
+            return
+        hud = runner.hud()
+        second = int(runner.sim.time)
+        if second != self._last_progress:
+            self._last_progress = second
+            where = f"round {hud.round} level {hud.level}, " if hud.round else ""
+            print(
+                f"\r  trial {hud.trial_index + 1}: {where}{hud.phase.value}, "
+                f"{hud.remaining_s:5.1f} s left, boxes {hud.boxes_delivered}/"
+                f"{hud.required_boxes}   ",
+                end="",
+                file=sys.stderr,
+                flush=True,
+            )
+
+    def row(self, result: TrialResult) -> None:
+        if self.live:
+            print("\r" + " " * 70 + "\r", end="", file=sys.stderr)
+        spec = result.spec
+        if self.as_json:
+            print(json.dumps(trial_json(result)), flush=True)
+            return
+        outcome: str = result.outcome
+        if result.interruption_reason:
+            outcome = f"{outcome}:{result.interruption_reason}"
+        values = (
+            spec.trial_index,
+            spec.mode,
+            "-" if spec.round is None else spec.round,
+            "-" if spec.level is None else spec.level,
+            outcome,
+            f"{result.boxes_delivered}/{spec.required_boxes}",
+            result.score,
+            f"{result.elapsed_s:.2f}",
+        )
+        cells = (str(v).rjust(w) for v, w in zip(values, WIDTHS, strict=True))
+        print("  ".join(cells), flush=True)
+
+    def summary(self, runner: SessionRunner) -> None:
+        results = runner.results
+        successes = sum(r.outcome == "success" for r in results)
+        total = sum(r.score for r in results)
+        line = f"{len(results)} trials, {successes} successes, total score {total}"
+        if runner.config.task.mode == "challenge":
+            last = results[-1].spec if results else None
+            complete = (
+                not runner.capped
+                and bool(results)
+                and results[-1].outcome == "success"
+                and last is not None
+                and last.round == runner.config.task.rounds
+                and last.level == runner.config.task.levels
+            )
+            if complete:
+                line = f"campaign complete: {line}"
+            elif last is not None:
+                why = "stopped by --trials" if runner.capped else "interrupted"
+                line = (
+                    f"campaign incomplete ({why}) at round {last.round} level {last.level}: {line}"
+                )
+        print(line, file=sys.stderr if self.as_json else sys.stdout)
+
+
+def trial_json(result: TrialResult) -> dict[str, Any]:
+    """The JSON line of one trial (keys are public API)."""
+    spec = result.spec
+    return {
+        "trial_index": spec.trial_index,
+        "mode": spec.mode,
+        "round": spec.round,
+        "level": spec.level,
+        "required_boxes": spec.required_boxes,
+        "time_limit_s": spec.time_limit_s,
+        "outcome": result.outcome,
+        "interruption_reason": result.interruption_reason,
+        "boxes_delivered": result.boxes_delivered,
+        "score": result.score,
+        "elapsed_s": round(result.elapsed_s, 6),
+    }

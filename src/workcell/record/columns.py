@@ -1,0 +1,185 @@
+"""Column names of the four layers: the interchange contract of DESIGN.md, defined once.
+
+The contract's columns come first, in the contract's order; further columns follow. These
+names are public API: CSV headers, SQL columns and dataset features use them verbatim.
+"""
+
+from __future__ import annotations
+
+from workcell.sim.joints import JOINT_ORDER
+
+POSE_SUFFIXES: tuple[str, ...] = ("x", "y", "z", "qw", "qx", "qy", "qz")
+
+
+def pose_columns(prefix: str) -> tuple[str, ...]:
+    """``<prefix>_x .. <prefix>_qz``: a position and a (w, x, y, z) quaternion."""
+    return tuple(f"{prefix}_{s}" for s in POSE_SUFFIXES)
+
+
+FRAME_CONTRACT_COLUMNS: tuple[str, ...] = (
+    "session_id",
+    "trial_id",
+    "frame_index",
+    "t_sim",
+    "t_wall",
+    "base_x",
+    "base_y",
+    "base_yaw",
+    "base_vx",
+    "base_vy",
+    "base_wz",
+    *pose_columns("tcp_l"),
+    *pose_columns("tcp_r"),
+    *(f"q_{j}" for j in JOINT_ORDER),
+    *(f"dq_{j}" for j in JOINT_ORDER),
+    "grip_l",
+    "grip_r",
+    "trigger_l",
+    "trigger_r",
+    "gripper_l",
+    "gripper_r",
+)
+"""frames.csv's contract columns. Units SI, radians, world frame z-up; ``t_sim`` is 0 at the
+trial start, ``t_wall`` Unix seconds; grip and trigger are the operator's input values
+(0-1), gripper the measured opening (0 closed .. 1 open). The base velocity is in the world
+frame."""
+
+FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
+    # the command the operator gave (the action)
+    "cmd_vx",
+    "cmd_vy",
+    "cmd_wz",
+    *pose_columns("target_l"),
+    *pose_columns("target_r"),
+    "follow_l",
+    "follow_r",
+    "gripper_cmd_l",
+    "gripper_cmd_r",
+    "head_cmd_pan",
+    "head_cmd_tilt",
+    # raw device state; NULL (empty in CSV) for operators without that device
+    *pose_columns("ctrl_l"),
+    *pose_columns("ctrl_r"),
+    *pose_columns("headset"),
+    "stick_l_x",
+    "stick_l_y",
+    "stick_r_x",
+    "stick_r_y",
+    "buttons_l",
+    "buttons_r",
+    # grasp signals: box index, or -1 for none
+    "contact_l",
+    "contact_r",
+    "attached",
+    # every box: JSON list of [index, state, x, y, z, qw, qx, qy, qz]
+    "boxes",
+    # diagnostics
+    "step_wall_ms",
+    "ik_residual_l",
+    "ik_residual_r",
+    "input_age_s",
+)
+"""Further frame columns after the contract's. ``target_*`` are base-frame TCP targets;
+``follow_*`` 0/1; ``buttons_*`` a bit mask; ``step_wall_ms`` the wall time of the control
+step that produced the frame; ``input_age_s`` how old the operator input was."""
+
+FRAME_COLUMNS: tuple[str, ...] = FRAME_CONTRACT_COLUMNS + FRAME_EXTRA_COLUMNS
+
+TRIAL_COLUMNS: tuple[str, ...] = (
+    "session_id",
+    "trial_id",
+    "trial_index",
+    "mode",
+    "round",
+    "level",
+    "required_boxes",
+    "time_limit_s",
+    "outcome",
+    "interruption_reason",
+    "elapsed_s",
+    "completion_time_s",
+    "boxes_delivered",
+    "score",
+    "n_frames",
+    "path_length_m",
+    "smoothness",
+    "active_ratio",
+    "hz_wall",
+    "hz_sim",
+    "max_gap_s",
+    "quality_flags",
+    "included",
+    "exclusion_reason",
+)
+"""trials.csv's columns, in the contract's order."""
+
+OUTCOMES: tuple[str, ...] = ("success", "timeout", "interrupted")
+INTERRUPTION_REASONS: tuple[str, ...] = (
+    "operator_stop",
+    "application_quit",
+    "client_lost",
+    "crash_recovered",
+    "storage_error",
+)
+
+FRAME_DEVICE_COLUMNS: tuple[str, ...] = (
+    *pose_columns("ctrl_l"),
+    *pose_columns("ctrl_r"),
+    *pose_columns("headset"),
+    "stick_l_x",
+    "stick_l_y",
+    "stick_r_x",
+    "stick_r_y",
+    "buttons_l",
+    "buttons_r",
+)
+"""Raw device state: the only frame columns that may be NULL (empty in CSV), for operators
+without that device (the scripted expert, replay)."""
+
+SESSION_COLUMNS: tuple[str, ...] = (
+    "session_id",
+    "created_wall",
+    "ended_wall",
+    "schema_version",
+    "software_version",
+    "mode",
+    "operator_id",
+    "seed",
+    "parameters_json",
+    "thresholds_json",
+    "joint_order_json",
+    "metric_definitions_json",
+    "metrics_version",
+    "status",
+)
+"""sessions.csv's columns. ``*_json`` hold JSON text; ``status`` is one of
+:data:`SESSION_STATUSES`; times are Unix seconds."""
+
+EVENT_COLUMNS: tuple[str, ...] = (
+    "event_id",
+    "session_id",
+    "trial_id",
+    "seq",
+    "t_sim",
+    "t_wall",
+    "kind",
+    "payload_json",
+)
+"""events.csv's columns. ``trial_id`` is empty for session-level events; ``seq`` counts the
+session's events from 0; ``t_sim`` is the trial's sim clock (empty for session events)."""
+
+ANNOTATION_COLUMNS: tuple[str, ...] = (
+    "annotation_id",
+    "trial_id",
+    "kind",
+    "reason",
+    "by",
+    "at_wall",
+)
+"""annotations.csv's columns: a reviewer's decision on a trial (who, when, why)."""
+
+SESSION_STATUSES: tuple[str, ...] = ("running", "completed", "interrupted", "recovered")
+"""``running`` while recording; ``completed`` or ``interrupted`` when closed by the recorder;
+``recovered`` when closed by crash recovery on the next open."""
+
+ANNOTATION_KINDS: tuple[str, ...] = ("include", "exclude", "note")

@@ -1,0 +1,1 @@
+"""The task: modes, trials, the timer, scoring and the events of every transition."""

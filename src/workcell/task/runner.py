@@ -1,0 +1,267 @@
+"""The task state machine: runs the trials of a session, one control step at a time.
+
+Each trial: reset (the world from a seed derived from the session seed and the trial
+index), countdown, running, then success, timeout or interrupted. The trial clock is the
+sim clock counted in physics steps from the end of the countdown, so limits are exact.
+Every transition is published as a typed event on the bus (the recorder and the HUD
+subscribe). The runner is step-driven so that a real-time server and a headless loop can
+both drive it.
+"""
+
+from __future__ import annotations
+
+import enum
+from collections.abc import Callable
+from dataclasses import dataclass
+
+import numpy as np
+
+from workcell.control.command import Command
+from workcell.control.simulation import Simulation
+from workcell.session.config import SessionConfig
+from workcell.sim import events as world_events
+from workcell.task import events as ev
+from workcell.task.bus import EventBus
+from workcell.task.operator import Operator
+from workcell.task.schedule import Schedule, TrialSpec
+from workcell.task.scoring import trial_score
+
+
+class Phase(enum.Enum):
+    COUNTDOWN = "countdown"
+    RUNNING = "running"
+    FINISHED = "finished"
+
+
+@dataclass(frozen=True)
+class TrialResult:
+    spec: TrialSpec
+    trial_seed: int
+    outcome: ev.Outcome
+    interruption_reason: ev.InterruptionReason | None
+    elapsed_s: float
+    completion_time_s: float | None
+    boxes_delivered: int
+    score: int
+
+
+@dataclass(frozen=True)
+class HudState:
+    """What the operator sees: mode, progress, clock and score."""
+
+    phase: Phase
+    mode: str
+    trial_index: int
+    round: int | None
+    rounds: int | None
+    level: int | None
+    boxes_delivered: int
+    required_boxes: int
+    countdown_s: float
+    remaining_s: float
+    score: int
+
+
+def trial_seed(session_seed: int, trial_index: int) -> int:
+    """The world seed of one trial: reproducible from the session seed and the index."""
+    state = np.random.SeedSequence([session_seed, trial_index]).generate_state(1, np.uint64)
+    return int(state[0] >> np.uint64(1))
+
+
+class SessionRunner:
+    def __init__(
+        self,
+        config: SessionConfig,
+        sim: Simulation,
+        operator: Operator,
+        bus: EventBus | None = None,
+        max_trials: int | None = None,
+    ) -> None:
+        self.config = config
+        self.sim = sim
+        self.operator = operator
+        self.bus = bus or EventBus()
+        self.max_trials = max_trials
+        self.schedule = Schedule(config.task)
+        self.results: list[TrialResult] = []
+        self.capped = False
+        """True when ``max_trials`` ended the session before the schedule did."""
+        self._countdown_steps = round(config.task.countdown_s / sim.control_dt)
+        self._spec: TrialSpec | None = None
+        self._seed = 0
+        self._start_step = 0
+        self._delivered = 0
+        self.phase = Phase.FINISHED
+
+    # --- driving ----------------------------------------------------------------------------
+
+    def start(self) -> None:
+        """Begin the first trial."""
+        self._begin(self.schedule.first())
+
+    def run(self, should_stop: Callable[[], str | None] | None = None) -> list[TrialResult]:
+        """Run to the end; ``should_stop`` returning a reason interrupts the session."""
+        if self._spec is None and not self.results:
+            self.start()
+        while self.phase is not Phase.FINISHED:
+            reason = should_stop() if should_stop is not None else None
+            if reason is not None:
+                self.interrupt(reason)  # type: ignore[arg-type]
+                break
+            self.step()
+        return self.results
+
+    def step(self) -> None:
+        """One control period."""
+        if self.phase is Phase.FINISHED:
+            return
+        running = self.phase is Phase.RUNNING
+        command = self.operator.act(self.sim.world) if running else Command()
+        for event in self.sim.step(command):
+            self._publish_world_event(event)
+        if self.phase is Phase.COUNTDOWN and self.sim.world.physics_steps >= self._start_step:
+            self._go()
+        elif running:
+            self._check_end()
+
+    def interrupt(self, reason: ev.InterruptionReason) -> None:
+        """End the current trial as interrupted and finish the session."""
+        if self.phase is Phase.FINISHED or self._spec is None:
+            self.phase = Phase.FINISHED
+            return
+        t = self.trial_time
+        self.bus.publish(ev.TrialInterrupted(self._spec.trial_index, t, reason))
+        self._end("interrupted", reason, max(t, 0.0))
+
+    # --- state ------------------------------------------------------------------------------
+
+    @property
+    def trial_time(self) -> float:
+        """Seconds on the trial clock; negative during the countdown."""
+        steps = self.sim.world.physics_steps - self._start_step
+        return steps * self.config.world.timestep
+
+    @property
+    def current(self) -> TrialSpec | None:
+        return self._spec if self.phase is not Phase.FINISHED else None
+
+    @property
+    def trial_start_step(self) -> int:
+        """The physics step count at which the current trial's clock started (or starts)."""
+        return self._start_step
+
+    def hud(self) -> HudState:
+        spec = self._spec
+        t = self.trial_time
+        limit = spec.time_limit_s if spec else 0.0
+        boxes = self._delivered
+        return HudState(
+            phase=self.phase,
+            mode=self.config.task.mode,
+            trial_index=spec.trial_index if spec else 0,
+            round=spec.round if spec else None,
+            rounds=self.config.task.rounds if self.config.task.mode == "challenge" else None,
+            level=spec.level if spec else None,
+            boxes_delivered=boxes,
+            required_boxes=spec.required_boxes if spec else 0,
+            countdown_s=max(0.0, -t) if self.phase is Phase.COUNTDOWN else 0.0,
+            remaining_s=max(0.0, limit - max(t, 0.0)),
+            score=trial_score(self.config.task.box_score, boxes, limit, max(t, 0.0))
+            if self.phase is Phase.RUNNING
+            else 0,
+        )
+
+    # --- transitions ------------------------------------------------------------------------
+
+    def _begin(self, spec: TrialSpec) -> None:
+        self._spec = spec
+        self._seed = trial_seed(self.config.seed, spec.trial_index)
+        self._delivered = 0
+        self.sim.reset(self._seed)
+        self.operator.start_trial(self._seed)
+        self._start_step = self._countdown_steps * self.sim.world.substeps
+        if self._countdown_steps:
+            self.phase = Phase.COUNTDOWN
+            self.bus.publish(
+                ev.CountdownStarted(spec.trial_index, self.trial_time, self.config.task.countdown_s)
+            )
+        else:
+            self._go()
+
+    def _go(self) -> None:
+        spec = self._spec
+        assert spec is not None
+        self.phase = Phase.RUNNING
+        self.bus.publish(
+            ev.TrialStarted(
+                trial_index=spec.trial_index,
+                t_sim=0.0,
+                mode=spec.mode,
+                round=spec.round,
+                level=spec.level,
+                required_boxes=spec.required_boxes,
+                time_limit_s=spec.time_limit_s,
+                trial_seed=self._seed,
+            )
+        )
+
+    def _check_end(self) -> None:
+        spec = self._spec
+        assert spec is not None
+        t = self.trial_time
+        if self._delivered >= spec.required_boxes:
+            self._end("success", None, t)
+        elif t >= spec.time_limit_s - 1e-9:
+            self.bus.publish(ev.TrialTimedOut(spec.trial_index, t))
+            self._end("timeout", None, t)
+
+    def _end(self, outcome: ev.Outcome, reason: ev.InterruptionReason | None, t: float) -> None:
+        spec = self._spec
+        assert spec is not None
+        box_score = self.config.task.box_score
+        limit = spec.time_limit_s
+        score = (
+            trial_score(box_score, self._delivered, limit, t)
+            if outcome == "success"
+            else box_score * self._delivered
+        )
+        result = TrialResult(
+            spec=spec,
+            trial_seed=self._seed,
+            outcome=outcome,
+            interruption_reason=reason,
+            elapsed_s=t,
+            completion_time_s=t if outcome == "success" else None,
+            boxes_delivered=self._delivered,
+            score=score,
+        )
+        self.results.append(result)
+        self.bus.publish(
+            ev.TrialEnded(spec.trial_index, t, outcome, reason, t, self._delivered, score)
+        )
+        following = self.schedule.next(spec, outcome)
+        capped = self.max_trials is not None and len(self.results) >= self.max_trials
+        if following is not None and capped:
+            self.capped = True
+            following = None
+        if following is None:
+            self.phase = Phase.FINISHED
+            return
+        if following.level is not None and following.round is not None:
+            repeat = (following.round, following.level) == (spec.round, spec.level)
+            self.bus.publish(
+                ev.LevelChanged(spec.trial_index, t, following.round, following.level, repeat)
+            )
+        self._begin(following)
+
+    def _publish_world_event(self, event: world_events.WorldEvent) -> None:
+        spec = self._spec
+        assert spec is not None
+        index, t = spec.trial_index, self.trial_time
+        if isinstance(event, world_events.BoxReleased):
+            self.bus.publish(ev.BoxReleased(index, t, event.box))
+        elif isinstance(event, world_events.GraspChanged):
+            self.bus.publish(ev.GraspChanged(index, t, event.box, event.engaged))
+        elif isinstance(event, world_events.BoxDelivered) and self.phase is Phase.RUNNING:
+            self._delivered += 1
+            self.bus.publish(ev.BoxDelivered(index, t, event.box, self._delivered))

@@ -1,0 +1,123 @@
+"""``workcell collect`` and ``workcell config`` end to end."""
+
+from __future__ import annotations
+
+import json
+import os
+import signal
+import subprocess
+import sys
+import time
+import tomllib
+from pathlib import Path
+
+import pytest
+
+from workcell.cli.main import main
+from workcell.session.config import SessionConfig
+from workcell.session.load import resolve_session_config
+
+JSON_KEYS = {
+    "trial_index",
+    "mode",
+    "round",
+    "level",
+    "required_boxes",
+    "time_limit_s",
+    "outcome",
+    "interruption_reason",
+    "boxes_delivered",
+    "score",
+    "elapsed_s",
+}
+
+
+def test_collection_json_lines(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["collect", "--mode", "collection", "--trials", "2", "--json"]) == 0
+    lines = capsys.readouterr().out.strip().splitlines()
+    rows = [json.loads(line) for line in lines]
+    assert len(rows) == 2
+    assert all(set(row) == JSON_KEYS for row in rows)
+    assert [row["trial_index"] for row in rows] == [0, 1]
+    assert all(row["outcome"] == "success" and row["mode"] == "collection" for row in rows)
+    assert all(row["round"] is None and row["level"] is None for row in rows)
+    assert all(row["score"] == 100 + -int(-(120 - row["elapsed_s"]) // 1) for row in rows)
+
+
+def test_challenge_capped_by_trials_ends_incomplete(capsys: pytest.CaptureFixture[str]) -> None:
+    assert main(["collect", "--mode", "challenge", "--trials", "2"]) == 0
+    out = capsys.readouterr().out.splitlines()
+    assert out[0].split() == [
+        "index",
+        "mode",
+        "round",
+        "level",
+        "outcome",
+        "boxes",
+        "score",
+        "elapsed",
+    ]
+    assert len(out) == 4  # header, two trials, summary
+    assert out[1].split()[:5] == ["0", "challenge", "1", "1", "success"]
+    assert out[2].split()[:5] == ["1", "challenge", "1", "2", "success"]
+    assert out[3].startswith("campaign incomplete (stopped by --trials) at round 1 level 2")
+
+
+def test_bad_input_fails_before_running_one_line_per_problem(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    config = tmp_path / "bad.toml"
+    config.write_text(
+        "[task]\nrounds = 0\nlevel_boxes = [1, 2]\n[recording]\nsampling_rate_hz = 0\n"
+    )
+    code = main(["collect", "--config", str(config), "--skill", "3", "--set", "task.mdoe=1"])
+    assert code == 2
+    captured = capsys.readouterr()
+    assert captured.out == ""  # nothing ran
+    errors = captured.err.strip().splitlines()
+    assert all(line.startswith("workcell: error: ") for line in errors)
+    named = sorted(
+        line.removeprefix("workcell: error: ").split(" ")[0].rstrip(":") for line in errors
+    )
+    assert named == [
+        "--skill",
+        "recording.sampling_rate_hz",
+        "task.level_time_limits_s",
+        "task.mdoe",
+        "task.rounds",
+    ]
+
+
+def test_config_defaults_is_a_loadable_complete_file(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["config", "--defaults"]) == 0
+    text = capsys.readouterr().out
+    path = tmp_path / "defaults.toml"
+    path.write_text(text)
+    assert tomllib.loads(text)["task"]["level_boxes"] == [1, 2, 3]
+    assert resolve_session_config(path) == SessionConfig()
+    assert main(["config", "--config", str(path), "--set", "task.rounds=2"]) == 0
+    assert "rounds = 2" in capsys.readouterr().out
+
+
+def test_sigint_ends_the_running_trial_as_application_quit(tmp_path: Path) -> None:
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    process = subprocess.Popen(
+        [sys.executable, "-m", "workcell", "collect", "--mode", "collection", "--json"],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env=env,
+    )
+    assert process.stdout is not None
+    first = json.loads(process.stdout.readline())  # one trial finished: it is running
+    assert first["outcome"] == "success"
+    time.sleep(0.5)
+    process.send_signal(signal.SIGINT)
+    out, err = process.communicate(timeout=60)
+    assert process.returncode == 130
+    last = json.loads(out.strip().splitlines()[-1])
+    assert (last["outcome"], last["interruption_reason"]) == ("interrupted", "application_quit")
+    assert last["trial_index"] == 1
+    assert "Traceback" not in err
