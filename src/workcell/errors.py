@@ -30,3 +30,8 @@ class SimulationError(WorkcellError):
 
 class RenderError(WorkcellError):
     """Offscreen rendering is unavailable or failed; the message says how to enable it."""
+
+
+class MetricsError(WorkcellError):
+    """Frames or counts given to the metrics are unusable (missing or ragged columns,
+    impossible success counts); the message names every offending column or value."""

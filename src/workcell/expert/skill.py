@@ -11,8 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from workcell import checks
 from workcell.errors import ConfigError
-from workcell.sim import checks
 
 
 @dataclass(frozen=True)

@@ -8,8 +8,8 @@ Build :class:`FrameArrays` from one trial's frames.csv columns, then
 
 from __future__ import annotations
 
+from workcell.errors import MetricsError
 from workcell.metrics.definitions import METRIC_DEFINITIONS, METRICS_VERSION, MetricThresholds
-from workcell.metrics.errors import MetricsError
 from workcell.metrics.frames import REQUIRED_COLUMNS, FrameArrays
 from workcell.metrics.statistics import Z_95, Descriptive, describe, wilson_interval
 from workcell.metrics.trial import TrialMetrics, compute_trial_metrics

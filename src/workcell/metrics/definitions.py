@@ -9,8 +9,8 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from workcell.checks import problem
 from workcell.errors import ConfigError
-from workcell.sim.checks import problem
 
 METRICS_VERSION = "1"
 """Bumped whenever a definition below changes meaning."""

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from workcell.metrics.errors import MetricsError
+from workcell.errors import MetricsError
 from workcell.sim.joints import arm_joint_names
 
 FloatArray = npt.NDArray[np.float64]

@@ -14,7 +14,7 @@ from typing import Any
 import numpy as np
 import numpy.typing as npt
 
-from workcell.metrics.errors import MetricsError
+from workcell.errors import MetricsError
 
 Z_95 = 1.959963984540054
 """Two-sided 95 % standard normal quantile."""

@@ -10,9 +10,9 @@ import math
 from dataclasses import dataclass
 from typing import Literal, get_args
 
+from workcell import checks
 from workcell.errors import ConfigError
 from workcell.settings import section, setting
-from workcell.sim import checks
 from workcell.sim.config import WorldConfig
 
 Mode = Literal["practice", "collection", "challenge"]

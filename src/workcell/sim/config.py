@@ -13,9 +13,9 @@ import math
 from dataclasses import dataclass
 from typing import Literal, get_args
 
+from workcell import checks
 from workcell.errors import ConfigError
 from workcell.settings import section, setting
-from workcell.sim import checks
 
 GraspMode = Literal["assisted", "physical"]
 GRASP_MODES: tuple[str, ...] = get_args(GraspMode)
