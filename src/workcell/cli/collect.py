@@ -3,21 +3,25 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import math
-import signal
 import sys
+from collections.abc import Iterator
 from pathlib import Path
-from types import FrameType
 from typing import TYPE_CHECKING, Any
 
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
+    from workcell.record.recorder import Recorder
+    from workcell.record.store import Store
     from workcell.task.runner import SessionRunner, TrialResult
 
 EXIT_INTERRUPTED = 130
+EXIT_STORAGE = 1
+DEFAULT_STORE = "workcell.sqlite"
 COLUMNS = ("index", "mode", "round", "level", "outcome", "boxes", "score", "elapsed")
 WIDTHS = (5, 10, 5, 5, 11, 5, 6, 8)
 
@@ -53,6 +57,16 @@ def register(subparsers: Subparsers) -> None:
         metavar="KEY=VALUE",
         help="override one setting, e.g. --set world.conveyor.speed=0.3 (repeatable)",
     )
+    parser.add_argument(
+        "--store",
+        type=Path,
+        default=Path(DEFAULT_STORE),
+        metavar="PATH",
+        help=f"SQLite store to record into (default: {DEFAULT_STORE}; created if absent)",
+    )
+    parser.add_argument(
+        "--no-store", action="store_true", help="do not record (only print the trials)"
+    )
     parser.add_argument("--json", action="store_true", help="one JSON object per trial per line")
     parser.set_defaults(func=run)
 
@@ -83,6 +97,7 @@ def run(args: argparse.Namespace) -> int:
 
     from workcell.control.simulation import Simulation  # noqa: PLC0415
     from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
+    from workcell.record.shutdown import ShutdownSignals  # noqa: PLC0415
     from workcell.task.runner import SessionRunner  # noqa: PLC0415
 
     runner = SessionRunner(
@@ -91,45 +106,53 @@ def run(args: argparse.Namespace) -> int:
         ExpertOperator(ExpertConfig(skill=args.skill)),
         max_trials=args.trials,
     )
-    stop = _StopOnSignal()
-    printer = _Printer(args.json)
-    printer.header()
-    runner.start()
-    shown = 0
-    with stop:
-        while runner.current is not None:
-            if stop.reason is not None:
-                runner.interrupt("application_quit")
-                break
-            runner.step()
-            printer.progress(runner)
-            for result in runner.results[shown:]:
-                printer.row(result)
-            shown = len(runner.results)
-    for result in runner.results[shown:]:
-        printer.row(result)
-    printer.summary(runner)
-    return EXIT_INTERRUPTED if stop.reason is not None else 0
+    with _open_store(None if args.no_store else args.store) as store:
+        recorder = _recorder(store, runner)
+        printer = _Printer(args.json)
+        printer.header()
+        runner.start()
+        shown = 0
+        with ShutdownSignals() as shutdown:
+            while runner.current is not None:
+                if recorder is not None and recorder.failure is not None:
+                    runner.interrupt("storage_error")
+                elif shutdown.requested is not None:
+                    runner.interrupt("application_quit")
+                else:
+                    runner.step()
+                printer.progress(runner)
+                for result in runner.results[shown:]:
+                    printer.row(result)
+                shown = len(runner.results)
+        interrupted = bool(runner.results) and runner.results[-1].outcome == "interrupted"
+        if recorder is not None:
+            recorder.close(interrupted)
+        printer.summary(runner)
+        if recorder is not None and recorder.failure is not None:
+            print(f"workcell: error: {recorder.failure}", file=sys.stderr)
+            return EXIT_STORAGE
+        if store is not None and recorder is not None:
+            printer.stored(store, recorder)
+    return EXIT_INTERRUPTED if shutdown.requested is not None else 0
 
 
-class _StopOnSignal:
-    """Turns SIGINT/SIGTERM into a request to end the session cleanly."""
+@contextlib.contextmanager
+def _open_store(path: Path | None) -> Iterator[Store | None]:
+    if path is None:
+        yield None
+        return
+    from workcell.record.store import Store  # noqa: PLC0415
 
-    def __init__(self) -> None:
-        self.reason: str | None = None
-        self._previous: dict[int, Any] = {}
+    with Store.open(path, writer=True) as store:
+        yield store
 
-    def _handle(self, signum: int, frame: FrameType | None) -> None:
-        self.reason = signal.Signals(signum).name
 
-    def __enter__(self) -> _StopOnSignal:
-        for signum in (signal.SIGINT, signal.SIGTERM):
-            self._previous[signum] = signal.signal(signum, self._handle)
-        return self
+def _recorder(store: Store | None, runner: SessionRunner) -> Recorder | None:
+    if store is None:
+        return None
+    from workcell.record.recorder import Recorder  # noqa: PLC0415
 
-    def __exit__(self, *exc: object) -> None:
-        for signum, handler in self._previous.items():
-            signal.signal(signum, handler)
+    return Recorder(store, runner)
 
 
 class _Printer:
@@ -182,11 +205,18 @@ class _Printer:
         cells = (str(v).rjust(w) for v, w in zip(values, WIDTHS, strict=True))
         print("  ".join(cells), flush=True)
 
+    def stored(self, store: Store, recorder: Recorder) -> None:
+        print(
+            f"recorded session {recorder.session_id} ({recorder.frames_written} frames) "
+            f"in {store.path}",
+            file=sys.stderr if self.as_json else sys.stdout,
+        )
+
     def summary(self, runner: SessionRunner) -> None:
         results = runner.results
         successes = sum(r.outcome == "success" for r in results)
         total = sum(r.score for r in results)
-        line = f"{len(results)} trials, {successes} successes, total score {total}"
+        line = f"{len(results)} trials, {successes} succeeded, total score {total}"
         if runner.config.task.mode == "challenge":
             last = results[-1].spec if results else None
             complete = (

@@ -132,9 +132,10 @@ FRAME_DEVICE_COLUMNS: tuple[str, ...] = (
     "stick_r_y",
     "buttons_l",
     "buttons_r",
+    "input_age_s",
 )
-"""Raw device state: the only frame columns that may be NULL (empty in CSV), for operators
-without that device (the scripted expert, replay)."""
+"""Raw device state and its age: the only frame columns that may be NULL (empty in CSV),
+for operators without that device (the scripted expert, replay)."""
 
 SESSION_COLUMNS: tuple[str, ...] = (
     "session_id",

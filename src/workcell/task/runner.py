@@ -11,6 +11,7 @@ both drive it.
 from __future__ import annotations
 
 import enum
+import time
 from collections.abc import Callable
 from dataclasses import dataclass
 
@@ -87,6 +88,11 @@ class SessionRunner:
         self.capped = False
         """True when ``max_trials`` ended the session before the schedule did."""
         self._countdown_steps = round(config.task.countdown_s / sim.control_dt)
+        self._steps_per_frame = config.physics_steps_per_frame
+        self.last_command = Command()
+        """The command of the latest control period (what the recorder stores as action)."""
+        self.last_step_wall_s = 0.0
+        """Wall time the latest control period took to compute and simulate."""
         self._spec: TrialSpec | None = None
         self._seed = 0
         self._start_step = 0
@@ -116,8 +122,12 @@ class SessionRunner:
         if self.phase is Phase.FINISHED:
             return
         running = self.phase is Phase.RUNNING
+        started = time.perf_counter()
         command = self.operator.act(self.sim.world) if running else Command()
-        for event in self.sim.step(command):
+        self.last_command = command
+        world_events_now = self.sim.step(command)
+        self.last_step_wall_s = time.perf_counter() - started
+        for event in world_events_now:
             self._publish_world_event(event)
         if self.phase is Phase.COUNTDOWN and self.sim.world.physics_steps >= self._start_step:
             self._go()
@@ -206,8 +216,12 @@ class SessionRunner:
         )
 
     def _check_end(self) -> None:
+        """Success or timeout, decided on the frame clock: a trial ends at the first frame
+        instant at or after its deciding moment, so its last frame is its end."""
         spec = self._spec
         assert spec is not None
+        if (self.sim.world.physics_steps - self._start_step) % self._steps_per_frame:
+            return
         t = self.trial_time
         if self._delivered >= spec.required_boxes:
             self._end("success", None, t)

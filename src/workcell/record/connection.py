@@ -1,0 +1,167 @@
+"""Opening a store file: the writer lock, SQLite settings and the schema check.
+
+A writer holds an exclusive ``flock`` on ``<store>.lock`` for as long as it is open; the
+operating system releases it when the process dies, however it dies. Readers take no lock
+and never write: in WAL mode they see every committed transaction while a writer writes.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import os
+import sqlite3
+import time
+import urllib.parse
+from pathlib import Path
+
+from workcell import __version__
+from workcell.record.errors import StoreError
+from workcell.record.ids import new_id
+from workcell.record.schema import (
+    APPLICATION_ID,
+    LAYOUTS,
+    SCHEMA_VERSION,
+    schema_statements,
+)
+
+BUSY_TIMEOUT_MS = 5000
+LOCK_ATTEMPTS = 10
+LOCK_RETRY_S = 0.02
+
+
+def lock_path(path: Path) -> Path:
+    return path.with_name(path.name + ".lock")
+
+
+class WriterLock:
+    """The exclusive writer lock of one store (released by :meth:`release` or by death)."""
+
+    def __init__(self, path: Path) -> None:
+        if not path.parent.is_dir():
+            raise StoreError(f"cannot open store {path}: directory {path.parent} does not exist")
+        try:
+            self._fd: int | None = os.open(lock_path(path), os.O_RDWR | os.O_CREAT, 0o644)
+        except OSError as error:
+            raise StoreError(f"cannot open store {path} for writing: {error.strerror}") from None
+        for attempt in range(LOCK_ATTEMPTS):
+            try:
+                fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
+                break
+            except BlockingIOError:
+                if attempt == LOCK_ATTEMPTS - 1:
+                    holder = os.pread(self._fd, 32, 0).decode(errors="replace").strip()
+                    self.release()
+                    raise StoreError(
+                        f"store {path} is already open for writing by another process"
+                        f"{f' (pid {holder})' if holder else ''}; close that recorder first "
+                        "or record to another store"
+                    ) from None
+                time.sleep(LOCK_RETRY_S)
+        os.ftruncate(self._fd, 0)
+        os.pwrite(self._fd, f"{os.getpid()}\n".encode(), 0)
+
+    def release(self) -> None:
+        if self._fd is not None:
+            os.close(self._fd)  # closing the only descriptor releases the flock
+            self._fd = None
+
+
+def writer_active(path: Path) -> bool:
+    """True when some process holds the writer lock of the store at ``path``."""
+    try:
+        fd = os.open(lock_path(path), os.O_RDONLY)
+    except FileNotFoundError:
+        return False
+    try:
+        fcntl.flock(fd, fcntl.LOCK_SH | fcntl.LOCK_NB)
+    except BlockingIOError:
+        return True
+    finally:
+        os.close(fd)  # also drops the shared lock taken to probe
+    return False
+
+
+def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
+    """A connection to the store at ``path`` with the schema checked (created when a writer
+    opens a new file). Transactions are explicit (``isolation_level=None``)."""
+    if not writer and not path.is_file():
+        raise StoreError(f"no store at {path}: give the path of a store a recorder wrote")
+    if writer:
+        conn = sqlite3.connect(path, isolation_level=None, timeout=BUSY_TIMEOUT_MS / 1000)
+    else:
+        uri = f"file:{urllib.parse.quote(str(path.resolve()))}?mode=ro"
+        conn = sqlite3.connect(uri, uri=True, isolation_level=None)
+    try:
+        conn.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}")
+        _check_or_create(conn, path, writer=writer)
+        conn.execute("PRAGMA foreign_keys = ON")
+        conn.execute("PRAGMA synchronous = NORMAL")
+        if not writer:
+            conn.execute("PRAGMA query_only = ON")
+    except sqlite3.DatabaseError as error:
+        conn.close()
+        raise StoreError(f"{path} is not a Workcell store ({error})") from None
+    except BaseException:
+        conn.close()
+        raise
+    return conn
+
+
+def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> None:
+    application_id = conn.execute("PRAGMA application_id").fetchone()[0]
+    version = conn.execute("PRAGMA user_version").fetchone()[0]
+    n_tables = conn.execute("SELECT count(*) FROM sqlite_schema").fetchone()[0]
+    if application_id == 0 and version == 0 and n_tables == 0:
+        if not writer:
+            raise StoreError(f"{path} is an empty database, not a Workcell store")
+        _create(conn)
+        return
+    if application_id != APPLICATION_ID:
+        raise StoreError(
+            f"{path} is an SQLite database but not a Workcell store "
+            f"(application_id {application_id:#x}, expected {APPLICATION_ID:#x})"
+        )
+    if version > SCHEMA_VERSION:
+        raise StoreError(
+            f"store {path} was written by schema version {version}; this Workcell "
+            f"({__version__}) reads up to {SCHEMA_VERSION} — upgrade Workcell"
+        )
+    if version < SCHEMA_VERSION:
+        raise StoreError(
+            f"store {path} has schema version {version}, which this Workcell cannot read "
+            f"(it reads version {SCHEMA_VERSION})"
+        )
+    mode = conn.execute("PRAGMA journal_mode").fetchone()[0]
+    if mode != "wal":
+        raise StoreError(
+            f"store {path} is not in WAL mode (journal_mode {mode}); it was "
+            "not written by Workcell or was altered"
+        )
+    tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
+    missing = sorted({"meta", *(layout.name for layout in LAYOUTS)} - tables)
+    if missing:
+        raise StoreError(f"store {path} lacks tables {', '.join(missing)}; it was altered")
+
+
+def _create(conn: sqlite3.Connection) -> None:
+    if conn.execute("PRAGMA journal_mode = WAL").fetchone()[0] != "wal":
+        raise StoreError("SQLite refused WAL mode; put the store on a local file system")
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        for statement in schema_statements():
+            conn.execute(statement)
+        conn.executemany(
+            "INSERT INTO meta (key, value) VALUES (?, ?)",
+            [
+                ("schema_version", str(SCHEMA_VERSION)),
+                ("software_version", __version__),
+                ("store_id", new_id()),
+                ("created_wall", repr(time.time())),
+            ],
+        )
+        conn.execute("COMMIT")
+    except BaseException:
+        with contextlib.suppress(sqlite3.Error):
+            conn.execute("ROLLBACK")
+        raise

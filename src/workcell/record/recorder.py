@@ -1,0 +1,221 @@
+"""The recorder: task events and frames of a running session into the store.
+
+It subscribes to the session runner's events and samples a frame at the configured rate on
+the sim clock (exactly: the world calls it at the due physics step), stamping wall time
+too. Frames are committed in batches covering at most 0.25 s of sim time, so a killed
+process loses at most that much. At each trial's end it computes the DESIGN metrics from
+the frames it wrote and closes the trial. A storage failure stops recording, is kept in
+:attr:`Recorder.failure`, and the caller interrupts the session (``storage_error``).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+import time
+from collections.abc import Callable
+from typing import Any
+
+import numpy as np
+
+from workcell.metrics import (
+    METRIC_DEFINITIONS,
+    METRICS_VERSION,
+    FrameArrays,
+    MetricThresholds,
+    compute_trial_metrics,
+)
+from workcell.metrics.frames import REQUIRED_COLUMNS
+from workcell.record.errors import StorageError
+from workcell.record.frame_builder import OperatorInput, build_frame, input_from_command
+from workcell.record.records import SessionInfo, StoredMetrics, TrialEnd, TrialStart
+from workcell.record.store import Store
+from workcell.session.config import SessionConfig
+from workcell.task import events as ev
+from workcell.task.runner import SessionRunner
+
+MAX_UNCOMMITTED_S = 0.25
+"""Sim time a commit may lag behind: what a killed process can lose at most."""
+
+InputSource = Callable[[], OperatorInput | None]
+
+
+def metric_thresholds(config: SessionConfig) -> MetricThresholds:
+    r = config.recording
+    return MetricThresholds(
+        grip_threshold=r.grip_threshold,
+        base_linear_mps=r.base_linear_threshold,
+        base_yaw_radps=r.base_yaw_threshold,
+        joint_rate_radps=r.joint_rate_threshold,
+    )
+
+
+def session_info(config: SessionConfig) -> SessionInfo:
+    """Everything a session row stores about its configuration."""
+    return SessionInfo(
+        mode=config.task.mode,
+        operator_id=config.operator_id,
+        seed=config.seed,
+        parameters=dataclasses.asdict(config),
+        thresholds=dataclasses.asdict(metric_thresholds(config)),
+        metric_definitions=dict(METRIC_DEFINITIONS),
+        metrics_version=METRICS_VERSION,
+    )
+
+
+class Recorder:
+    """Records one session of ``runner`` into ``store`` (opened as the writer)."""
+
+    def __init__(
+        self,
+        store: Store,
+        runner: SessionRunner,
+        operator_input: InputSource | None = None,
+    ) -> None:
+        self.store = store
+        self.runner = runner
+        self.config = runner.config
+        self.thresholds = metric_thresholds(self.config)
+        self._input = operator_input or (lambda: None)
+        self.session_id = store.create_session(session_info(self.config))
+        self.failure: StorageError | None = None
+        self.frames_written = 0
+        self._steps_per_frame = self.config.physics_steps_per_frame
+        rate = self.config.recording.sampling_rate_hz
+        self._frames_per_commit = max(1, math.floor(MAX_UNCOMMITTED_S * rate + 1e-9))
+        self._trial_id: str | None = None
+        self._pending_events: list[ev.TaskEvent] = []
+        self._buffer: list[dict[str, Any]] = []
+        self._columns: dict[str, list[float]] = {}
+        self.next_step = -1
+        self._unsubscribe = runner.bus.subscribe(self._on_event)
+
+    # --- the world's sampler ----------------------------------------------------------------
+
+    def sample(self) -> None:
+        """Take the frame due now (called by the world at exact physics steps)."""
+        runner = self.runner
+        world = runner.sim.world
+        command = runner.last_command
+        operator_input = self._input() or input_from_command(command)
+        row = build_frame(
+            world,
+            runner.sim.controller,
+            command,
+            operator_input,
+            t_sim=runner.trial_time,
+            t_wall=time.time(),
+            step_wall_ms=runner.last_step_wall_s * 1000.0,
+        )
+        self._buffer.append(row)
+        for name in REQUIRED_COLUMNS:
+            self._columns[name].append(row[name])
+        self.next_step += self._steps_per_frame
+        if len(self._buffer) >= self._frames_per_commit:
+            try:
+                self._flush()
+            except StorageError as error:
+                self._fail(error)
+
+    # --- events -----------------------------------------------------------------------------
+
+    def _on_event(self, event: ev.TaskEvent) -> None:
+        if self.failure is not None:
+            return
+        try:
+            if isinstance(event, ev.TrialStarted):
+                self._start_trial(event)
+            elif isinstance(event, ev.LevelChanged):
+                self._add_event(event, session_level=True)  # between two trials' clocks
+            elif self._trial_id is None:
+                self._pending_events.append(event)  # countdown: the trial row comes next
+            else:
+                self._add_event(event)
+            if isinstance(event, ev.TrialEnded):
+                self._end_trial(event)
+        except StorageError as error:
+            self._fail(error)
+
+    def _start_trial(self, event: ev.TrialStarted) -> None:
+        start = TrialStart(
+            mode=event.mode,
+            required_boxes=event.required_boxes,
+            time_limit_s=event.time_limit_s,
+            round=event.round,
+            level=event.level,
+            trial_seed=event.trial_seed,
+        )
+        self._trial_id = self.store.start_trial(self.session_id, start)
+        for pending in self._pending_events:
+            self._add_event(pending)
+        self._pending_events.clear()
+        self._add_event(event)
+        self._columns = {name: [] for name in REQUIRED_COLUMNS}
+        world = self.runner.sim.world
+        self.next_step = world.physics_steps
+        world.sampler = self
+        self.sample()  # the frame at t_sim = 0
+
+    def _add_event(self, event: ev.TaskEvent, session_level: bool = False) -> None:
+        payload = {k: v for k, v in dataclasses.asdict(event).items() if k != "t_sim"}
+        self.store.add_event(
+            self.session_id,
+            ev.event_kind(event),
+            payload,
+            trial_id=None if session_level else self._trial_id,
+            t_sim=event.t_sim,
+        )
+
+    def _end_trial(self, event: ev.TrialEnded) -> None:
+        trial_id = self._trial_id
+        if trial_id is None:  # interrupted during the countdown: nothing was started
+            self._pending_events.clear()
+            return
+        self.runner.sim.world.sampler = None
+        self._flush()
+        columns = {name: np.asarray(values, dtype=float) for name, values in self._columns.items()}
+        metrics = compute_trial_metrics(
+            FrameArrays.from_columns(columns), event.outcome == "success", self.thresholds
+        )
+        self.store.end_trial(
+            trial_id,
+            TrialEnd(
+                outcome=event.outcome,
+                interruption_reason=event.interruption_reason,
+                elapsed_s=event.elapsed_s,
+                completion_time_s=event.elapsed_s if event.outcome == "success" else None,
+                boxes_delivered=event.boxes_delivered,
+                score=event.score,
+                metrics=StoredMetrics.of(metrics),
+            ),
+        )
+        self.store.commit()
+        self._trial_id = None
+
+    def _flush(self) -> None:
+        if self._trial_id is None or not self._buffer:
+            return
+        self.store.add_frames(self._trial_id, self._buffer)
+        self.store.commit()
+        self.frames_written += len(self._buffer)
+        self._buffer = []
+
+    def _fail(self, error: StorageError) -> None:
+        self.failure = error
+        self.runner.sim.world.sampler = None
+        self._buffer = []
+        if self._trial_id is not None:
+            self.store.try_mark_interrupted(self._trial_id, "storage_error")
+            self._trial_id = None
+
+    # --- the end ----------------------------------------------------------------------------
+
+    def close(self, interrupted: bool) -> None:
+        """Close the session (its trials have ended) and stop listening."""
+        self._unsubscribe()
+        if self.failure is not None:
+            return
+        try:
+            self.store.end_session(self.session_id, "interrupted" if interrupted else "completed")
+        except StorageError as error:
+            self.failure = error

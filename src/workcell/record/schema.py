@@ -1,0 +1,274 @@
+"""Schema version 1 of a store: the five tables, their column types, and the DDL.
+
+Every table's columns are the interchange contract's names (:mod:`workcell.record.columns`)
+followed by the store's own (``checksum``, ``content_checksum``, ...). The version lives in
+``PRAGMA user_version`` and in the ``meta`` table; ``PRAGMA application_id`` marks the file
+as a Workcell store. Tables are STRICT, so a column holds only its declared type.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from functools import cached_property
+from typing import Literal
+
+from workcell.record.columns import (
+    ANNOTATION_COLUMNS,
+    EVENT_COLUMNS,
+    FRAME_COLUMNS,
+    FRAME_DEVICE_COLUMNS,
+    SESSION_COLUMNS,
+    TRIAL_COLUMNS,
+)
+
+SCHEMA_VERSION = 1
+APPLICATION_ID = 0x57434C31
+"""``PRAGMA application_id`` of every Workcell store: ASCII "WCL1"."""
+
+Kind = Literal["text", "integer", "real"]
+
+
+@dataclass(frozen=True)
+class Column:
+    """``not_null``: SQL refuses NULL. ``nullable``: NULL is a legitimate value (verify
+    accepts it; columnar reads give NaN or None); otherwise NULL marks a fault."""
+
+    name: str
+    kind: Kind
+    not_null: bool = False
+    nullable: bool = True
+
+
+@dataclass(frozen=True, eq=False)
+class TableLayout:
+    """One table: its columns in table order, its primary key and its row-checksum column."""
+
+    name: str
+    columns: tuple[Column, ...]
+    key: tuple[str, ...]
+    constraints: tuple[str, ...] = ()
+
+    @cached_property
+    def names(self) -> tuple[str, ...]:
+        """Column names in table order, without the ``checksum`` column."""
+        return tuple(c.name for c in self.columns)
+
+    def of_kind(self, kind: Kind) -> tuple[str, ...]:
+        return self._kinds[kind]
+
+    @cached_property
+    def _kinds(self) -> dict[Kind, tuple[str, ...]]:
+        kinds: tuple[Kind, ...] = ("text", "real", "integer")
+        return {k: tuple(c.name for c in self.columns if c.kind == k) for k in kinds}
+
+    @cached_property
+    def grouped(self) -> tuple[str, ...]:
+        """Text, then real, then integer columns (each in table order): the order in which
+        rows are serialized for checksums and passed to SQL by :class:`RowBatch`."""
+        return self.of_kind("text") + self.of_kind("real") + self.of_kind("integer")
+
+    def column(self, name: str) -> Column:
+        return self._by_name[name]
+
+    @cached_property
+    def _by_name(self) -> dict[str, Column]:
+        return {c.name: c for c in self.columns}
+
+
+def _of(kind: Kind, names: tuple[str, ...]) -> dict[str, Kind]:
+    return dict.fromkeys(names, kind)
+
+
+def _columns(
+    names: tuple[str, ...],
+    kinds: dict[str, Kind],
+    not_null: set[str],
+    nullable: set[str] | None = None,
+) -> tuple[Column, ...]:
+    """Columns of ``names``: real unless ``kinds`` says otherwise; NULL is legitimate in
+    ``nullable`` (default: every column SQL allows NULL in)."""
+    return tuple(
+        Column(
+            n,
+            kinds.get(n, "real"),
+            not_null=n in not_null,
+            nullable=(n not in not_null) if nullable is None else n in nullable,
+        )
+        for n in names
+    )
+
+
+FRAME_INTEGER_COLUMNS: tuple[str, ...] = (
+    "frame_index",
+    "follow_l",
+    "follow_r",
+    "buttons_l",
+    "buttons_r",
+    "contact_l",
+    "contact_r",
+    "attached",
+)
+FRAMES = TableLayout(
+    "frames",
+    _columns(
+        FRAME_COLUMNS,
+        _of("text", ("session_id", "trial_id", "boxes")) | _of("integer", FRAME_INTEGER_COLUMNS),
+        # Measured values may be NULL in SQL so that a NaN (stored as NULL by SQLite) never
+        # costs a frame; `workcell verify` reports NULLs outside the device columns.
+        {"session_id", "trial_id", "frame_index", "boxes"},
+        set(FRAME_DEVICE_COLUMNS),
+    ),
+    key=("trial_id", "frame_index"),
+    constraints=("FOREIGN KEY (session_id, trial_id) REFERENCES trials (session_id, trial_id)",),
+)
+
+TRIAL_EXTRA_COLUMNS: tuple[str, ...] = (
+    "trial_seed",
+    "started_wall",
+    "ended_wall",
+    "content_checksum",
+)
+TRIALS = TableLayout(
+    "trials",
+    _columns(
+        TRIAL_COLUMNS + TRIAL_EXTRA_COLUMNS,
+        _of(
+            "text",
+            (
+                "session_id",
+                "trial_id",
+                "mode",
+                "outcome",
+                "interruption_reason",
+                "quality_flags",
+                "exclusion_reason",
+                "content_checksum",
+            ),
+        )
+        | _of(
+            "integer",
+            (
+                "trial_index",
+                "round",
+                "level",
+                "required_boxes",
+                "boxes_delivered",
+                "score",
+                "n_frames",
+                "included",
+                "trial_seed",
+            ),
+        ),
+        {
+            "session_id",
+            "trial_id",
+            "trial_index",
+            "mode",
+            "required_boxes",
+            "time_limit_s",
+            "started_wall",
+        },
+    ),
+    key=("trial_id",),
+    constraints=(
+        "UNIQUE (session_id, trial_id)",
+        "UNIQUE (session_id, trial_index)",
+        "FOREIGN KEY (session_id) REFERENCES sessions (session_id)",
+    ),
+)
+
+SESSIONS = TableLayout(
+    "sessions",
+    _columns(
+        (*SESSION_COLUMNS, "content_checksum"),
+        _of(
+            "text",
+            (
+                *(n for n in SESSION_COLUMNS if n.endswith("_json")),
+                "session_id",
+                "software_version",
+                "mode",
+                "operator_id",
+                "metrics_version",
+                "status",
+                "content_checksum",
+            ),
+        )
+        | {"schema_version": "integer", "seed": "integer"},
+        set(SESSION_COLUMNS) - {"ended_wall"},
+    ),
+    key=("session_id",),
+)
+
+EVENTS = TableLayout(
+    "events",
+    _columns(
+        EVENT_COLUMNS,
+        _of("text", ("event_id", "session_id", "trial_id", "kind", "payload_json"))
+        | {"seq": "integer"},
+        {"event_id", "session_id", "seq", "t_wall", "kind", "payload_json"},
+    ),
+    key=("event_id",),
+    constraints=(
+        "UNIQUE (session_id, seq)",
+        "FOREIGN KEY (session_id) REFERENCES sessions (session_id)",
+        "FOREIGN KEY (session_id, trial_id) REFERENCES trials (session_id, trial_id)",
+    ),
+)
+
+ANNOTATIONS = TableLayout(
+    "annotations",
+    _columns(
+        ANNOTATION_COLUMNS,
+        _of("text", ("annotation_id", "trial_id", "kind", "reason", "by")),
+        set(ANNOTATION_COLUMNS),
+    ),
+    key=("annotation_id",),
+    constraints=("FOREIGN KEY (trial_id) REFERENCES trials (trial_id)",),
+)
+
+LAYOUTS: tuple[TableLayout, ...] = (SESSIONS, TRIALS, EVENTS, FRAMES, ANNOTATIONS)
+"""Every row table, parents before children."""
+
+CHECKSUM = "checksum"
+"""Every row table's last column: sha256 (hex) of the row's canonical serialization."""
+
+INDEXES: tuple[str, ...] = (
+    "CREATE INDEX events_by_trial ON events (trial_id, seq)",
+    "CREATE INDEX annotations_by_trial ON annotations (trial_id)",
+)
+
+
+def quote(name: str) -> str:
+    """An SQL identifier in double quotes (column names like ``by`` are keywords)."""
+    return '"' + name.replace('"', '""') + '"'
+
+
+def column_list(names: tuple[str, ...]) -> str:
+    return ", ".join(quote(n) for n in names)
+
+
+def create_table_sql(layout: TableLayout) -> str:
+    lines = [
+        f"{quote(c.name)} {c.kind.upper()}{' NOT NULL' if c.not_null else ''}"
+        for c in layout.columns
+    ]
+    lines.append(f"{quote(CHECKSUM)} TEXT NOT NULL")
+    lines.append(f"PRIMARY KEY ({column_list(layout.key)})")
+    lines.extend(layout.constraints)
+    body = ",\n    ".join(lines)
+    return f"CREATE TABLE {quote(layout.name)} (\n    {body}\n) STRICT"
+
+
+META_TABLE_SQL = "CREATE TABLE meta (key TEXT NOT NULL PRIMARY KEY, value TEXT NOT NULL) STRICT"
+
+
+def schema_statements() -> tuple[str, ...]:
+    """Every statement that creates an empty version-1 store (run in one transaction)."""
+    return (
+        META_TABLE_SQL,
+        *(create_table_sql(layout) for layout in LAYOUTS),
+        *INDEXES,
+        f"PRAGMA application_id = {APPLICATION_ID}",
+        f"PRAGMA user_version = {SCHEMA_VERSION}",
+    )

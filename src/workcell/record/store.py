@@ -1,0 +1,413 @@
+"""The store: one SQLite file (WAL mode) holding sessions, trials, events, frames and
+annotations, linked by foreign keys, every row with a content checksum.
+
+Durability contract: frames are appended with :meth:`Store.add_frames` and made durable by
+:meth:`Store.commit`. A committed batch survives the death of the recording process
+(SIGKILL included): the next writer to open the store finds it intact and closes the trial
+as ``interrupted``/``crash_recovered``. (``synchronous=NORMAL``: a power cut of the whole
+machine may lose the last commits, never corrupt earlier ones.) The recorder commits every
+5 frames (0.25 s at 20 Hz), so a crash loses at most 0.25 s. Every other write method
+commits at once, pending frames included.
+
+A failed write (disk full, file-size limit, I/O error) rolls its transaction back, raises
+:class:`StorageError` with one line naming the store and the cause, and stops the store
+from recording; :meth:`Store.try_mark_interrupted` then closes the trial as
+``storage_error`` when the disk allows. Data committed before is never touched.
+
+A Store is used from one thread.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import os
+import sqlite3
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+from types import TracebackType
+
+from workcell.record import lifecycle, rowio
+from workcell.record.batch import Columnar, RowBatch
+from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
+from workcell.record.connection import WriterLock, connect
+from workcell.record.errors import RecordError, StoreError
+from workcell.record.ids import new_id
+from workcell.record.reading import StoreReading
+from workcell.record.records import (
+    FLAG_SEPARATOR,
+    SessionInfo,
+    TrialEnd,
+    TrialStart,
+    to_json,
+)
+from workcell.record.recovery import recover
+from workcell.record.schema import ANNOTATIONS, FRAMES, SCHEMA_VERSION, SESSIONS, TRIALS
+from workcell.record.writes import WriteGuard
+
+FrameRows = Sequence[Mapping[str, object]] | Columnar
+"""Frames as rows (one mapping per frame) or as columns (name → values)."""
+
+_FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
+CLOSING_STATUSES = ("completed", "interrupted")
+
+
+@dataclass
+class _Running:
+    """A session or trial this store opened and has not closed (mutable bookkeeping)."""
+
+    session_id: str
+    next_index: int = 0
+    """trials: next frame_index; sessions: next trial_index."""
+    next_seq: int = 0
+    trial_id: str | None = None
+
+
+class Store(StoreReading):
+    """A store file opened for reading or for writing; use :meth:`open`."""
+
+    def __init__(self, path: Path, conn: sqlite3.Connection, lock: WriterLock | None) -> None:
+        self.path = path
+        self._conn = conn
+        self._lock = lock
+        self._sessions: dict[str, _Running] = {}
+        self._trials: dict[str, _Running] = {}
+        self._guard = WriteGuard(path, conn, self._resync) if lock is not None else None
+        self.recovered: tuple[str, ...] = ()
+        """Trials crash recovery closed when this writer opened the store."""
+
+    @classmethod
+    def open(cls, path: str | os.PathLike[str], *, writer: bool) -> Store:
+        """Open (a writer also creates) the store at ``path``.
+
+        A writer takes the store's writer lock and recovers what a dead writer left open.
+        Raises :class:`StoreError` for a missing file (reader), a file that is not a store,
+        a store of a newer schema, or a store another process is writing.
+        """
+        path = Path(path)
+        lock = WriterLock(path) if writer else None
+        try:
+            conn = connect(path, writer=writer)
+            store = cls(path, conn, lock)
+        except BaseException:
+            if lock is not None:
+                lock.release()
+            raise
+        if writer:
+            try:
+                store.recovered = recover(conn)
+            except sqlite3.Error as error:
+                store.close()
+                raise StoreError(
+                    f"store {path}: crash recovery could not write ({error}); free disk "
+                    "space or check the file system, then open it again"
+                ) from None
+        return store
+
+    @property
+    def writer(self) -> bool:
+        return self._lock is not None
+
+    def close(self) -> None:
+        """Commit pending frames and close. Trials still running stay open in the file;
+        the next writer recovers them."""
+        with contextlib.suppress(sqlite3.Error, StoreError):
+            if self._guard is not None and self._guard.failure is None:
+                self._guard.commit()
+        self._conn.close()
+        self._guard = None
+        if self._lock is not None:
+            self._lock.release()
+            self._lock = None
+
+    def __enter__(self) -> Store:
+        return self
+
+    def __exit__(
+        self,
+        kind: type[BaseException] | None,
+        error: BaseException | None,
+        traceback: TracebackType | None,
+    ) -> None:
+        self.close()
+
+    # ------------------------------------------------------------------ writing
+
+    def create_session(self, info: SessionInfo) -> str:
+        """Record a new session (status ``running``); returns its id."""
+        session_id = new_id()
+        row = {
+            "session_id": session_id,
+            "created_wall": time.time(),
+            "ended_wall": None,
+            "schema_version": SCHEMA_VERSION,
+            "software_version": info.software_version,
+            "mode": info.mode,
+            "operator_id": info.operator_id,
+            "seed": info.seed,
+            "parameters_json": to_json(info.parameters, "session parameters"),
+            "thresholds_json": to_json(info.thresholds, "session thresholds"),
+            "joint_order_json": to_json(list(info.joint_order), "session joint_order"),
+            "metric_definitions_json": to_json(info.metric_definitions, "metric_definitions"),
+            "metrics_version": info.metrics_version,
+            "status": "running",
+            "content_checksum": None,
+        }
+        batch = RowBatch.from_mappings(SESSIONS, [row])
+        with self._write() as conn:
+            rowio.insert(conn, batch)
+        self._sessions[session_id] = _Running(session_id)
+        return session_id
+
+    def start_trial(self, session_id: str, start: TrialStart) -> str:
+        """Record a new trial of a running session (its next trial_index); returns its id."""
+        session = self._running_session(session_id)
+        if session.trial_id is not None:
+            raise RecordError(f"trial {session.trial_id} is still running: end it first")
+        trial_id = new_id()
+        row: dict[str, object] = dict.fromkeys(TRIALS.names)
+        row |= {
+            "session_id": session_id,
+            "trial_id": trial_id,
+            "trial_index": session.next_index,
+            "mode": start.mode,
+            "round": start.round,
+            "level": start.level,
+            "required_boxes": start.required_boxes,
+            "time_limit_s": start.time_limit_s,
+            "trial_seed": start.trial_seed,
+            "started_wall": time.time(),
+        }
+        batch = RowBatch.from_mappings(TRIALS, [row])
+        with self._write() as conn:
+            rowio.insert(conn, batch)
+        session.next_index += 1
+        session.trial_id = trial_id
+        self._trials[trial_id] = _Running(session_id)
+        return trial_id
+
+    def add_event(
+        self,
+        session_id: str,
+        kind: str,
+        payload: Mapping[str, object] | None = None,
+        *,
+        trial_id: str | None = None,
+        t_sim: float | None = None,
+        t_wall: float | None = None,
+    ) -> str:
+        """Record an event of a running session (and of its running trial, if given);
+        returns its id. ``t_wall`` defaults to now."""
+        session = self._running_session(session_id)
+        if trial_id is not None and self._running_trial(trial_id).session_id != session_id:
+            raise RecordError(f"trial {trial_id} is not a trial of session {session_id}")
+        if not kind:
+            raise RecordError("event kind: must be a non-empty text")
+        event_id = new_id()
+        with self._write() as conn:
+            lifecycle.insert_event(
+                conn,
+                event_id=event_id,
+                session_id=session_id,
+                trial_id=trial_id,
+                seq=session.next_seq,
+                kind=kind,
+                payload=payload or {},
+                t_sim=t_sim,
+                t_wall=time.time() if t_wall is None else t_wall,
+            )
+        session.next_seq += 1
+        return event_id
+
+    def add_frames(self, trial_id: str, frames: FrameRows) -> int:
+        """Append frames to a running trial (not yet durable: call :meth:`commit`).
+
+        ``frames`` holds every column of ``FRAME_COLUMNS``; ``session_id``, ``trial_id``
+        and ``frame_index`` may be left out (the store fills them in); a given
+        ``frame_index`` must continue the trial's frames in steps of 1.
+        NULL (None or NaN) is legitimate in the device columns only; elsewhere it is
+        stored as given and reported by ``workcell verify``. Returns the number added.
+        """
+        trial = self._running_trial(trial_id)
+        fixed = {"session_id": trial.session_id, "trial_id": trial_id}
+        frames = _numbered(frames, trial.next_index)
+        if isinstance(frames, Mapping):
+            batch = RowBatch.from_columns(FRAMES, frames, fixed)
+        else:
+            batch = RowBatch.from_mappings(FRAMES, frames, fixed)
+        n = len(batch)
+        indices = [row[_FRAME_INDEX] for row in batch.integer]
+        if indices != list(range(trial.next_index, trial.next_index + n)):
+            raise RecordError(
+                f"frames of trial {trial_id} must continue at frame_index {trial.next_index} "
+                f"in steps of 1; got {indices[:3]}{'...' if n > 3 else ''}"
+            )
+        if n:
+            with self._write(commit=False) as conn:
+                rowio.insert(conn, batch)
+            trial.next_index += n
+        return n
+
+    def commit(self) -> None:
+        """Make everything added so far durable against the death of this process."""
+        self._writable().commit()
+
+    def end_trial(self, trial_id: str, end: TrialEnd) -> None:
+        """Close a running trial: its outcome, metrics, frame count and checksums."""
+        trial = self._running_trial(trial_id)
+        m = end.metrics
+        changes = {
+            "outcome": end.outcome,
+            "interruption_reason": end.interruption_reason,
+            "elapsed_s": end.elapsed_s,
+            "completion_time_s": end.completion_time_s,
+            "boxes_delivered": end.boxes_delivered,
+            "score": end.score,
+            "path_length_m": m.path_length_m,
+            "smoothness": m.smoothness,
+            "active_ratio": m.active_ratio,
+            "hz_wall": m.hz_wall,
+            "hz_sim": m.hz_sim,
+            "max_gap_s": m.max_gap_s,
+            "quality_flags": FLAG_SEPARATOR.join(end.quality_flags),
+            "included": int(end.included),
+            "exclusion_reason": end.exclusion_reason,
+            "ended_wall": time.time(),
+        }
+        with self._write() as conn:
+            lifecycle.close_trial(conn, trial_id, changes)
+        self._forget_trial(trial_id, trial)
+
+    def end_session(self, session_id: str, status: str = "completed") -> None:
+        """Close a running session (``completed`` or ``interrupted``); end its trial first."""
+        session = self._running_session(session_id)
+        if status not in CLOSING_STATUSES:
+            raise RecordError(f"session status {status!r}: must be one of {CLOSING_STATUSES}")
+        if session.trial_id is not None:
+            raise RecordError(f"trial {session.trial_id} is still running: end it first")
+        with self._write() as conn:
+            lifecycle.close_session(conn, session_id, status, time.time())
+        del self._sessions[session_id]
+
+    def annotate(self, trial_id: str, kind: str, reason: str, by: str) -> str:
+        """Record a reviewer's decision on a trial (who, when, why); returns its id. Raw
+        rows are never rewritten."""
+        if kind not in ANNOTATION_KINDS:
+            raise RecordError(f"annotation kind {kind!r}: must be one of {ANNOTATION_KINDS}")
+        for name, value in (("reason", reason), ("by", by)):
+            if not value:
+                raise RecordError(f"annotation {name}: must be a non-empty text")
+        annotation_id = new_id()
+        row = {
+            "annotation_id": annotation_id,
+            "trial_id": trial_id,
+            "kind": kind,
+            "reason": reason,
+            "by": by,
+            "at_wall": time.time(),
+        }
+        batch = RowBatch.from_mappings(ANNOTATIONS, [row])
+        with self._write() as conn:
+            if conn.execute("SELECT 1 FROM trials WHERE trial_id = ?", (trial_id,)).fetchone():
+                rowio.insert(conn, batch)
+            else:
+                raise RecordError(f"no trial {trial_id} in store {self.path}")
+        return annotation_id
+
+    def try_mark_interrupted(self, trial_id: str, reason: str = "storage_error") -> bool:
+        """Best effort after a failure: close the trial as interrupted (``reason``) and,
+        with no other trial running, its session as ``interrupted``. Returns whether it
+        was written; never raises for storage trouble (the next writer recovers what is
+        left open)."""
+        if reason not in INTERRUPTION_REASONS:
+            raise RecordError(f"reason {reason!r}: must be one of {INTERRUPTION_REASONS}")
+        trial = self._trials.get(trial_id)
+        if self._guard is None or trial is None:
+            return False
+        failure = self._guard.failure
+        detail = {"error": str(failure)} if failure else {}
+        if failure is None:  # keep what was added; a failing commit rolls back instead
+            with contextlib.suppress(StoreError):
+                self._guard.commit()
+        for attempt in range(2):
+            try:
+                self._guard.rollback()
+                self._conn.execute("BEGIN IMMEDIATE")
+                now = time.time()
+                lifecycle.interrupt_trial(
+                    self._conn, trial_id, reason, event_id=new_id(), now=now, detail=detail
+                )
+                close_session = not lifecycle.running_trials(self._conn, trial.session_id)
+                if close_session:
+                    lifecycle.close_session(self._conn, trial.session_id, "interrupted", now)
+                self._conn.execute("COMMIT")
+            except (sqlite3.Error, OSError):
+                self._guard.rollback()
+                if attempt == 0:  # free WAL space by moving pages into the database file
+                    with contextlib.suppress(sqlite3.Error, OSError):
+                        self._conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+                continue
+            self._forget_trial(trial_id, trial)
+            if close_session:
+                del self._sessions[trial.session_id]
+            return True
+        return False
+
+    # ------------------------------------------------------------------ internals
+
+    def _running_session(self, session_id: str) -> _Running:
+        self._writable()
+        try:
+            return self._sessions[session_id]
+        except KeyError:
+            raise RecordError(
+                f"session {session_id} is not running in this store: create it first"
+            ) from None
+
+    def _running_trial(self, trial_id: str) -> _Running:
+        self._writable()
+        try:
+            return self._trials[trial_id]
+        except KeyError:
+            raise RecordError(
+                f"trial {trial_id} is not running in this store: start it first"
+            ) from None
+
+    def _forget_trial(self, trial_id: str, trial: _Running) -> None:
+        del self._trials[trial_id]
+        self._sessions[trial.session_id].trial_id = None
+
+    def _writable(self) -> WriteGuard:
+        if self._guard is None:
+            raise StoreError(
+                f"store {self.path} is open for reading (or closed): open it as writer"
+            )
+        self._guard.require()
+        return self._guard
+
+    def _write(
+        self, *, commit: bool = True
+    ) -> contextlib.AbstractContextManager[sqlite3.Connection]:
+        return self._writable().write(commit=commit)
+
+    def _resync(self) -> None:
+        """After a rollback: counters from what is committed."""
+        for trial_id, trial in self._trials.items():
+            (trial.next_index,) = self._conn.execute(
+                "SELECT count(*) FROM frames WHERE trial_id = ?", (trial_id,)
+            ).fetchone()
+        for session_id, session in self._sessions.items():
+            session.next_seq = lifecycle.next_seq(self._conn, session_id)
+
+
+def _numbered(frames: FrameRows, start: int) -> FrameRows:
+    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
+    if isinstance(frames, Mapping):
+        if "frame_index" in frames or not frames:
+            return frames
+        n = len(next(iter(frames.values())))
+        return {**frames, "frame_index": range(start, start + n)}
+    if not frames or "frame_index" in frames[0]:
+        return frames
+    return [{**row, "frame_index": start + i} for i, row in enumerate(frames)]

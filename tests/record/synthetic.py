@@ -1,0 +1,141 @@
+"""Synthetic but deterministic records: every frame column, NULL device state in some rows.
+
+Frame ``i`` of a seed is always the same, so a test can regenerate what a writer process
+wrote and compare it with what the store holds.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.record import SessionInfo, Store, StoredMetrics, TrialEnd, TrialStart
+from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
+from workcell.record.schema import FRAME_INTEGER_COLUMNS
+
+RATE_HZ = 20.0
+T_WALL_0 = 1_750_000_000.0
+SPEEDUP = 30.0
+N_BOXES = 3
+_ID_COLUMNS = ("session_id", "trial_id")
+_REAL_COLUMNS = tuple(
+    c for c in FRAME_COLUMNS if c not in (*_ID_COLUMNS, "boxes", *FRAME_INTEGER_COLUMNS)
+)
+
+
+def session_info(seed: int = 7) -> SessionInfo:
+    return SessionInfo(
+        mode="collection",
+        operator_id="expert",
+        seed=seed,
+        parameters={"rate_hz": RATE_HZ, "grasp": "assisted", "box_score": 100},
+        thresholds={"grip": 0.5, "base_linear": 0.02, "base_yaw": 0.05, "joint_rate": 0.05},
+        metric_definitions={"path_length_m": "sum of TCP-midpoint steps"},
+        metrics_version="1",
+    )
+
+
+def trial_start(seed: int = 0) -> TrialStart:
+    return TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0, trial_seed=seed)
+
+
+def trial_end(n_frames: int) -> TrialEnd:
+    return TrialEnd(
+        outcome="success",
+        elapsed_s=n_frames / RATE_HZ,
+        completion_time_s=n_frames / RATE_HZ,
+        boxes_delivered=1,
+        score=100 + 60,
+        metrics=StoredMetrics(path_length_m=1.25, active_ratio=0.5, hz_sim=RATE_HZ),
+        quality_flags=("low_hz_wall",),
+    )
+
+
+def frames(start: int, n: int, seed: int = 0) -> dict[str, NDArray[Any]]:
+    """Frames ``start .. start+n-1`` as columns (without the id columns)."""
+    index = np.arange(start, start + n)
+    columns: dict[str, NDArray[Any]] = {"frame_index": index}
+    values = np.stack([np.random.default_rng([seed, int(i)]).normal(size=64) for i in index])
+    values = values.reshape(n, 64)
+    for j, name in enumerate(_REAL_COLUMNS):
+        columns[name] = values[:, j % 64] * (1.0 + j)
+    columns["t_sim"] = index / RATE_HZ
+    columns["t_wall"] = T_WALL_0 + index / RATE_HZ / SPEEDUP
+    columns["base_x"] = np.where(index % 7 == 3, -0.0, columns["base_x"])
+    no_device = index % 3 == 0
+    for name in FRAME_DEVICE_COLUMNS:
+        columns[name] = np.where(no_device, np.nan, columns.get(name, index % 8))
+    for name in ("follow_l", "follow_r"):
+        columns[name] = index % 2
+    for name in ("contact_l", "contact_r", "attached"):
+        columns[name] = index % 3 - 1
+    columns["boxes"] = np.array(
+        [
+            json.dumps(
+                [[b, "active", 0.1 * i, -0.2, 0.8, 1.0, 0.0, 0.0, 0.0] for b in range(N_BOXES)]
+            )
+            for i in index
+        ],
+        dtype=object,
+    )
+    return {name: columns[name] for name in FRAME_COLUMNS if name in columns}
+
+
+def frame_rows(start: int, n: int, seed: int = 0) -> list[dict[str, object]]:
+    """The same frames as one mapping per frame, with NULL device state as None."""
+    columns = frames(start, n, seed)
+    rows: list[dict[str, object]] = []
+    for i in range(n):
+        row: dict[str, object] = {}
+        for name, values in columns.items():
+            value = values[i].item() if isinstance(values[i], np.generic) else values[i]
+            row[name] = None if isinstance(value, float) and np.isnan(value) else value
+        rows.append(row)
+    return rows
+
+
+def fill_store(path: Path) -> dict[str, list[str]]:
+    """A closed store: two sessions, trials of every kind of end, events, an annotation.
+
+    Returns the ids: ``sessions`` and ``trials`` in creation order.
+    """
+    ids: dict[str, list[str]] = {"sessions": [], "trials": []}
+    with Store.open(path, writer=True) as store:
+        for s in range(2):
+            session_id = store.create_session(session_info(seed=s))
+            ids["sessions"].append(session_id)
+            store.add_event(session_id, "session_start", {"operator": "expert"})
+            for k, n in enumerate((12, 7)):
+                trial_id = store.start_trial(session_id, trial_start(seed=10 * s + k))
+                ids["trials"].append(trial_id)
+                store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
+                seed = 10 * s + k
+                store.add_frames(trial_id, frames(0, 5, seed))
+                store.add_frames(trial_id, frame_rows(5, n - 5, seed))
+                store.commit()
+                store.add_event(
+                    session_id, "delivery", {"box": 0}, trial_id=trial_id, t_sim=n / RATE_HZ
+                )
+                if k == 0:
+                    store.end_trial(trial_id, trial_end(n))
+                else:
+                    store.end_trial(trial_id, interrupted_end(n))
+            store.end_session(session_id)
+        store.annotate(ids["trials"][0], "exclude", "operator distracted", "reviewer@lab")
+    return ids
+
+
+def interrupted_end(n_frames: int) -> TrialEnd:
+    return TrialEnd(
+        outcome="interrupted",
+        interruption_reason="operator_stop",
+        elapsed_s=n_frames / RATE_HZ,
+        boxes_delivered=0,
+        score=0,
+        included=False,
+        exclusion_reason="interrupted",
+    )

@@ -1,0 +1,46 @@
+"""Row checksums: canonical (what is stored hashes as what was given) and sensitive."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from tests.record import synthetic
+from workcell.record.batch import RowBatch
+from workcell.record.schema import FRAMES, TRIALS
+
+
+def _one(**changes: object) -> str:
+    row: dict[str, object] = {**synthetic.frame_rows(3, 1)[0], **changes}
+    return RowBatch.from_mappings(FRAMES, [row], {"session_id": "s", "trial_id": "t"}).checksums()[
+        0
+    ]
+
+
+def test_stored_forms_hash_alike() -> None:
+    # SQLite keeps NaN as NULL and -0.0 as 0.0; integers given as integral floats stay ints
+    assert _one(ctrl_l_x=None) == _one(ctrl_l_x=math.nan)
+    assert _one(base_y=-0.0) == _one(base_y=0.0)
+    assert _one(contact_l=1.0) == _one(contact_l=1) == _one(contact_l=np.int64(1))
+    assert _one(buttons_l=None) == _one(buttons_l=math.nan)
+
+
+def test_every_value_matters() -> None:
+    base = _one()
+    assert _one(base_y=0.125) != _one(base_y=np.nextafter(0.125, 1.0))
+    assert _one(buttons_l=0) != _one(buttons_l=None)
+    assert _one(boxes="[]") != _one(boxes="[ ]")
+    assert len({base, _one(tcp_r_qz=0.5), _one(attached=2), _one(gripper_l=math.inf)}) == 4
+
+
+def test_every_input_form_gives_the_same_checksums() -> None:
+    fixed = {"session_id": "s", "trial_id": "t"}
+    columns = RowBatch.from_columns(FRAMES, synthetic.frames(0, 7), fixed).checksums()
+    rows = RowBatch.from_mappings(FRAMES, synthetic.frame_rows(0, 7), fixed).checksums()
+    assert columns == rows and len(set(columns)) == 7
+
+
+def test_tables_do_not_share_checksums() -> None:
+    batch = RowBatch.from_grouped(TRIALS, [])
+    assert batch.checksums() == []

@@ -1,0 +1,172 @@
+"""Recording a real ``workcell collect`` process: kills, signals, a full disk, the clock.
+
+Real SQLite, real processes, real signals, the real simulation and expert.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import random
+import resource
+import signal
+import subprocess
+import sys
+import time
+from collections.abc import Callable
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from workcell.metrics import FrameArrays, compute_trial_metrics
+from workcell.record import Store
+from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
+from workcell.record.recorder import metric_thresholds
+from workcell.record.verify import verify_store
+from workcell.session.config import SessionConfig
+
+KILLS = 20
+PARALLEL = 4
+
+
+def collect(
+    store: Path, *args: str, preexec_fn: Callable[[], None] | None = None
+) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [sys.executable, "-m", "workcell", "collect", "--store", str(store), "--json", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        preexec_fn=preexec_fn,  # noqa: PLW1509 (no threads in the test process)
+    )
+
+
+def committed_frames(store: Path) -> int:
+    """Frames a reader sees right now (what the recorder has committed)."""
+    if not store.exists():
+        return 0
+    try:
+        with Store.open(store, writer=False) as reader:
+            return reader.counts().frames
+    except Exception:  # the recorder may not have created the schema yet
+        return 0
+
+
+def test_sigkill_at_random_moments_loses_nothing_committed(tmp_path: Path) -> None:
+    rng = random.Random(20261121)
+    delays = [rng.uniform(2.5, 8.0) for _ in range(KILLS)]
+    hit_a_running_trial = 0
+    for wave in range(0, KILLS, PARALLEL):
+        runs = []
+        for k in range(wave, wave + PARALLEL):
+            store = tmp_path / f"kill{k}.sqlite"
+            runs.append((store, collect(store, "--mode", "collection"), delays[k]))
+        started = time.monotonic()
+        seen = {}
+        for store, process, delay in sorted(runs, key=lambda r: r[2]):
+            time.sleep(max(0.0, started + delay - time.monotonic()))
+            seen[store] = committed_frames(store)
+            process.send_signal(signal.SIGKILL)
+            process.wait(timeout=30)
+        for store, _, delay in runs:
+            with Store.open(store, writer=True) as writer:  # the next open recovers
+                recovered = writer.recovered
+                trials = writer.trials()
+                frames_total = writer.counts().frames
+            assert verify_store(store) == [], f"kill after {delay:.2f} s"
+            assert frames_total >= seen[store], f"kill after {delay:.2f} s"
+            orphans = [t for t in trials if t.interruption_reason == "crash_recovered"]
+            assert len(orphans) == len(recovered) <= 1, trials
+            # A kill during a countdown leaves no trial open; otherwise the last one is.
+            finished = trials[:-1] if orphans else trials
+            assert all(t.outcome == "success" for t in finished)
+            if not orphans:
+                continue
+            hit_a_running_trial += 1
+            assert orphans[0].trial_id == trials[-1].trial_id
+            with Store.open(store, writer=False) as reader:
+                frames = reader.frames(orphans[0].trial_id)
+            t_sim = frames["t_sim"]
+            # every committed frame is there, in order, on the 20 Hz grid
+            np.testing.assert_allclose(t_sim, np.arange(len(t_sim)) * 0.05, atol=1e-9)
+            assert orphans[0].n_frames == len(t_sim)
+    assert hit_a_running_trial >= KILLS // 2
+
+
+def test_sigint_and_sigterm_end_the_trial_as_application_quit(tmp_path: Path) -> None:
+    for signum in (signal.SIGINT, signal.SIGTERM):
+        store = tmp_path / f"{signum.name}.sqlite"
+        process = collect(store, "--mode", "collection")
+        assert process.stdout is not None
+        json.loads(process.stdout.readline())  # the first trial ended: the second runs
+        time.sleep(0.3)
+        process.send_signal(signum)
+        _, err = process.communicate(timeout=60)
+        assert process.returncode == 130, err
+        assert verify_store(store) == []
+        with Store.open(store, writer=False) as reader:
+            (session,) = reader.sessions()
+            trials = reader.trials()
+        assert session.status == "interrupted"
+        assert [t.outcome for t in trials] == ["success", "interrupted"]
+        assert trials[-1].interruption_reason == "application_quit"
+
+
+def _limit_file_size(limit: int) -> Callable[[], None]:
+    def apply() -> None:
+        signal.signal(signal.SIGXFSZ, signal.SIG_IGN)
+        resource.setrlimit(resource.RLIMIT_FSIZE, (limit, limit))
+
+    return apply
+
+
+def test_full_disk_stops_recording_with_storage_error(tmp_path: Path) -> None:
+    store = tmp_path / "full.sqlite"
+    process = collect(store, "--mode", "collection", preexec_fn=_limit_file_size(3_000_000))
+    out, err = process.communicate(timeout=120)
+    assert process.returncode == 1
+    errors = [line for line in err.splitlines() if line.startswith("workcell: error:")]
+    assert len(errors) == 1, err
+    assert "Traceback" not in err
+    with Store.open(store, writer=True) as writer:
+        trials = writer.trials()
+    assert trials[-1].outcome == "interrupted"
+    assert trials[-1].interruption_reason in {"storage_error", "crash_recovered"}
+    assert trials[0].outcome == "success"
+    assert [json.loads(line)["outcome"] for line in out.splitlines()][-1] == "interrupted"
+    assert verify_store(store) == []
+
+
+def test_recorded_trial_is_complete_and_consistent(tmp_path: Path) -> None:
+    store = tmp_path / "ok.sqlite"
+    process = collect(store, "--mode", "collection", "--trials", "2")
+    out, err = process.communicate(timeout=120)
+    assert process.returncode == 0, err
+    printed = [json.loads(line) for line in out.splitlines()]
+    with Store.open(store, writer=False) as reader:
+        trials = reader.trials()
+        frames = [reader.frames(t.trial_id) for t in trials]
+    thresholds = metric_thresholds(SessionConfig())
+    for trial, columns, row in zip(trials, frames, printed, strict=True):
+        t_sim = columns["t_sim"]
+        # the realized sampling rate on the sim clock is exactly the configured rate
+        assert (len(t_sim) - 1) / (t_sim[-1] - t_sim[0]) == pytest.approx(20.0, abs=1e-9)
+        np.testing.assert_allclose(np.diff(t_sim), 0.05, atol=1e-9)
+        assert np.all(np.diff(columns["t_wall"]) > 0)
+        # the trial row agrees with what collect printed and with its own frames
+        assert trial.outcome == row["outcome"] == "success"
+        assert trial.n_frames == len(t_sim)
+        assert trial.completion_time_s == pytest.approx(t_sim[-1], abs=1e-9)
+        assert trial.elapsed_s == pytest.approx(row["elapsed_s"], abs=1e-6)
+        recomputed = compute_trial_metrics(FrameArrays.from_columns(columns), True, thresholds)
+        assert trial.metrics.path_length_m == pytest.approx(recomputed.path_length_m)
+        assert trial.metrics.active_ratio == pytest.approx(recomputed.active_ratio)
+        # every non-device column is filled; the expert's grip is its follow flag
+        for name in FRAME_COLUMNS:
+            if name not in FRAME_DEVICE_COLUMNS and columns[name].dtype.kind == "f":
+                assert np.isfinite(columns[name]).all(), name
+        np.testing.assert_array_equal(columns["grip_l"], columns["follow_l"])
+        assert columns["trigger_l"].max() == 1.0  # the grippers closed at some point
+        assert (columns["attached"] >= 0).any()  # and held a box

@@ -1,0 +1,123 @@
+"""Schema version 1: tables, column names, ids, and refusing what is not a readable store."""
+
+from __future__ import annotations
+
+import re
+import sqlite3
+from pathlib import Path
+
+import pytest
+
+from tests.record import synthetic
+from workcell.record import RecordError, Store, StoreError
+from workcell.record.columns import FRAME_COLUMNS, TRIAL_COLUMNS
+from workcell.record.schema import APPLICATION_ID, SCHEMA_VERSION
+
+
+def _columns(conn: sqlite3.Connection, table: str) -> list[str]:
+    return [row[1] for row in conn.execute(f"PRAGMA table_info({table})")]
+
+
+def test_new_store_has_the_version_1_schema(tmp_path: Path) -> None:
+    path = tmp_path / "s.db"
+    synthetic.fill_store(path)
+    conn = sqlite3.connect(path)
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 1
+    assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
+    assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
+    meta = dict(conn.execute("SELECT key, value FROM meta"))
+    assert meta["schema_version"] == "1"
+    assert meta["software_version"]
+    tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
+    assert {"meta", "sessions", "trials", "events", "frames", "annotations"} <= tables
+    # the contract's names, in the contract's order, first
+    assert _columns(conn, "frames")[: len(FRAME_COLUMNS)] == list(FRAME_COLUMNS)
+    assert _columns(conn, "trials")[: len(TRIAL_COLUMNS)] == list(TRIAL_COLUMNS)
+    for table in ("sessions", "trials", "events", "frames", "annotations"):
+        assert _columns(conn, table)[-1] == "checksum"
+    children = {
+        table: {row[2] for row in conn.execute(f"PRAGMA foreign_key_list({table})")}
+        for table in ("trials", "events", "frames", "annotations")
+    }
+    assert children == {
+        "trials": {"sessions"},
+        "events": {"sessions", "trials"},
+        "frames": {"trials"},
+        "annotations": {"trials"},
+    }
+
+
+def test_ids_are_hex_and_unique_across_stores(tmp_path: Path) -> None:
+    a = synthetic.fill_store(tmp_path / "a.db")
+    b = synthetic.fill_store(tmp_path / "b.db")
+    ids = a["sessions"] + a["trials"] + b["sessions"] + b["trials"]
+    assert len(set(ids)) == len(ids)
+    assert all(re.fullmatch(r"[0-9a-f]{32}", i) for i in ids)
+    with (
+        Store.open(tmp_path / "a.db", writer=False) as one,
+        Store.open(tmp_path / "b.db", writer=False) as two,
+    ):
+        assert one.meta()["store_id"] != two.meta()["store_id"]
+        events = [e.event_id for e in one.events()] + [e.event_id for e in two.events()]
+        assert len(set(events)) == len(events)
+
+
+def test_foreign_keys_are_enforced(tmp_path: Path) -> None:
+    path = tmp_path / "s.db"
+    with Store.open(path, writer=True) as store, pytest.raises(RecordError, match="no trial"):
+        store.annotate("0" * 32, "note", "why", "me")
+    conn = sqlite3.connect(path)
+    conn.execute("PRAGMA foreign_keys = ON")
+    with pytest.raises(sqlite3.IntegrityError, match="FOREIGN KEY"):
+        conn.execute(
+            "INSERT INTO trials (session_id, trial_id, trial_index, mode, required_boxes, "
+            "time_limit_s, started_wall, checksum) VALUES ('x', 'y', 0, 'm', 1, 1.0, 0.0, 'c')"
+        )
+
+
+def test_newer_schema_is_refused(tmp_path: Path) -> None:
+    path = tmp_path / "s.db"
+    synthetic.fill_store(path)
+    conn = sqlite3.connect(path)
+    conn.execute("PRAGMA user_version = 2")
+    conn.close()
+    for writer in (False, True):
+        with pytest.raises(StoreError) as error:
+            Store.open(path, writer=writer)
+        message = str(error.value)
+        assert "schema version 2" in message and "reads up to 1" in message
+        assert "upgrade Workcell" in message and str(path) in message
+
+
+def test_files_that_are_not_stores_are_refused(tmp_path: Path) -> None:
+    text = tmp_path / "notes.txt"
+    text.write_text("hello, not a database\n" * 100)
+    other = tmp_path / "other.db"
+    conn = sqlite3.connect(other)
+    conn.execute("CREATE TABLE t (x)")
+    conn.commit()
+    conn.close()
+    for path in (text, other):
+        for writer in (False, True):
+            with pytest.raises(StoreError, match="not a Workcell store"):
+                Store.open(path, writer=writer)
+    assert other.read_bytes()  # untouched
+    with pytest.raises(StoreError, match="no store at"):
+        Store.open(tmp_path / "missing.db", writer=False)
+    with pytest.raises(StoreError, match="does not exist"):
+        Store.open(tmp_path / "no" / "dir.db", writer=True)
+
+
+def test_a_second_writer_is_refused_and_readers_are_not(tmp_path: Path) -> None:
+    path = tmp_path / "s.db"
+    with Store.open(path, writer=True) as first:
+        with pytest.raises(StoreError, match="already open for writing"):
+            Store.open(path, writer=True)
+        session_id = first.create_session(synthetic.session_info())
+        with Store.open(path, writer=False) as reader:
+            assert [s.session_id for s in reader.sessions()] == [session_id]
+            with pytest.raises(StoreError, match="open it as writer"):
+                reader.create_session(synthetic.session_info())
+        first.end_session(session_id)
+    with Store.open(path, writer=True):  # released on close
+        pass
