@@ -32,8 +32,10 @@ JSON_KEYS = {
 }
 
 
-def test_collection_json_lines(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["collect", "--mode", "collection", "--trials", "2", "--json"]) == 0
+def test_collection_json_lines(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:
+    store = tmp_path / "s.sqlite"
+    args = ["collect", "--mode", "collection", "--trials", "2", "--json", "--store", str(store)]
+    assert main(args) == 0
     lines = capsys.readouterr().out.strip().splitlines()
     rows = [json.loads(line) for line in lines]
     assert len(rows) == 2
@@ -45,7 +47,7 @@ def test_collection_json_lines(capsys: pytest.CaptureFixture[str]) -> None:
 
 
 def test_challenge_capped_by_trials_ends_incomplete(capsys: pytest.CaptureFixture[str]) -> None:
-    assert main(["collect", "--mode", "challenge", "--trials", "2"]) == 0
+    assert main(["collect", "--mode", "challenge", "--trials", "2", "--no-store"]) == 0
     out = capsys.readouterr().out.splitlines()
     assert out[0].split() == [
         "index",
@@ -104,7 +106,10 @@ def test_config_defaults_is_a_loadable_complete_file(
 def test_sigint_ends_the_running_trial_as_application_quit(tmp_path: Path) -> None:
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen(
-        [sys.executable, "-m", "workcell", "collect", "--mode", "collection", "--json"],
+        [
+            *(sys.executable, "-m", "workcell", "collect", "--mode", "collection", "--json"),
+            *("--store", str(tmp_path / "s.sqlite")),
+        ],
         stdout=subprocess.PIPE,
         stderr=subprocess.PIPE,
         text=True,
