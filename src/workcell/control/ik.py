@@ -69,6 +69,7 @@ class BimanualIK:
             [self.model.jnt_qposadr[self.model.joint(name).id] for name in JOINT_ORDER]
         )
         self._proxy = self.model.body(CONVEYOR_PROXY).mocapid[0]
+        self._tcp_sites = {side: self.model.site(f"tcp_{side}").id for side in SIDES}
         self.home = np.zeros(len(JOINT_ORDER))
         self.home[0] = home_spine
         self.home[3:10] = HOME_ARM
@@ -126,7 +127,9 @@ class BimanualIK:
         """Position error of one TCP from its target, metres."""
         target = self.frame_tasks[side].transform_target_to_world
         assert target is not None
-        return float(np.linalg.norm(self.tcp_pose(side).translation() - target.translation()))
+        site = self._tcp_sites[side]
+        error = self.configuration.data.site_xpos[site] - target.translation()
+        return float(np.sqrt(error @ error))
 
 
 def _mirror(arm: Sequence[float]) -> tuple[float, ...]:

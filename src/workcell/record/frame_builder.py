@@ -7,7 +7,6 @@ Built from the live simulation at a sample instant. Keys are the frame column na
 from __future__ import annotations
 
 import json
-import math
 from dataclasses import dataclass
 from typing import Any
 
@@ -60,10 +59,17 @@ _STATE_CODE = {
 }
 
 
+_POSE_NAMES = {
+    prefix: tuple(f"{prefix}_{s}" for s in POSE_SUFFIXES)
+    for prefix in ("tcp_l", "tcp_r", "target_l", "target_r", "ctrl_l", "ctrl_r", "headset")
+}
+_NO_POSE = {prefix: dict.fromkeys(names) for prefix, names in _POSE_NAMES.items()}
+
+
 def _pose(prefix: str, values: Any) -> dict[str, float | None]:
     if values is None:
-        return {f"{prefix}_{s}": None for s in POSE_SUFFIXES}
-    return {f"{prefix}_{s}": float(v) for s, v in zip(POSE_SUFFIXES, values, strict=True)}
+        return _NO_POSE[prefix]
+    return dict(zip(_POSE_NAMES[prefix], map(float, values), strict=True))
 
 
 def _target(prefix: str, arm: ArmCommand) -> dict[str, float | None]:
@@ -145,13 +151,11 @@ def _item(pair: tuple[float, float] | None, index: int) -> float | None:
 
 
 def _boxes_json(world: World) -> str:
-    boxes = []
-    pool, data = world.boxes, world.data
-    for slot in pool.slots:
-        position = pool.position(data, slot)
-        quaternion = pool.quaternion(data, slot)
-        values = [round(float(v), 6) for v in np.concatenate([position, quaternion])]
-        if not all(math.isfinite(v) for v in values):
-            values = [math.nan] * 7  # kept visible to verify, not silently dropped
-        boxes.append([slot.index, _STATE_CODE[slot.state], *values])
+    """``[[index, state, x, y, z, qw, qx, qy, qz], ...]``, poses to the micrometre."""
+    pool = world.boxes
+    poses = np.round(world.data.qpos[pool.pose_indices], 6).tolist()
+    boxes = [
+        [slot.index, _STATE_CODE[slot.state], *pose]
+        for slot, pose in zip(pool.slots, poses, strict=True)
+    ]
     return json.dumps(boxes, separators=(",", ":"))

@@ -57,6 +57,8 @@ class BoxPool:
                     qvel=int(model.jnt_dofadr[joint]),
                 )
             )
+        self.pose_indices = np.array([np.arange(s.qpos, s.qpos + 7) for s in self.slots])
+        """qpos indices of every box's (x, y, z, qw, qx, qy, qz), one row per box."""
         c, b = config.conveyor, config.box
         self.feed_position: NDArray[np.float64] = np.array(
             [c.start_x + 0.15 + b.size[0] / 2, c.center_y, c.height + b.size[2] / 2 + 0.002]

@@ -192,7 +192,9 @@ class World:
 
     def gripper_opening(self, side: str) -> float:
         """Finger opening, 0 closed .. 1 fully open."""
-        return float(np.mean(self.data.qpos[self._finger_qpos[side]]) / self._finger_open)
+        a, b = self._finger_qpos[side]
+        qpos = self.data.qpos
+        return float(qpos[a] + qpos[b]) / (2.0 * self._finger_open)
 
     def set_gripper(self, side: str, close: float) -> None:
         self.data.ctrl[self.finger_ctrl[side]] = self._finger_open * (1.0 - close)
