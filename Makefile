@@ -45,6 +45,7 @@ test: setup
 
 bench: setup
 	$(BIN)/python bench/sim.py
+	$(BIN)/python bench/record.py
 
 # Regenerates requirements.lock (runtime + dev + build backend, hashed) for
 # CPython 3.11 on linux x86_64. Existing pins are kept unless pyproject.toml
