@@ -67,6 +67,12 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--no-store", action="store_true", help="do not record (only print the trials)"
     )
+    parser.add_argument(
+        "--workers",
+        type=int,
+        default=1,
+        help="run K worker processes, one store shard each, merged into --store at the end",
+    )
     parser.add_argument("--json", action="store_true", help="one JSON object per trial per line")
     parser.set_defaults(func=run)
 
@@ -77,6 +83,10 @@ def _check(args: argparse.Namespace) -> list[str]:
         problems.append(f"--trials = {args.trials}: must be 1 to 100000")
     if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):
         problems.append(f"--skill = {args.skill:g}: must be between 0 and 1")
+    if not 1 <= args.workers <= 64:
+        problems.append(f"--workers = {args.workers}: must be 1 to 64")
+    if args.workers > 1 and args.no_store:
+        problems.append("--workers: workers write store shards; it cannot go with --no-store")
     return problems
 
 
@@ -94,6 +104,10 @@ def run(args: argparse.Namespace) -> int:
         problems += error.problems
     if problems:
         raise ConfigError(problems)
+    if args.workers > 1:
+        from workcell.cli.parallel_collect import run_parallel  # noqa: PLC0415
+
+        return run_parallel(args, config.seed)
 
     from workcell.control.simulation import Simulation  # noqa: PLC0415
     from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415

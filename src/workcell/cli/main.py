@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 from typing import NoReturn, Protocol, TypeAlias, cast
 
 from workcell import __version__
-from workcell.cli import collect, config, demo, export, snapshot, verify
+from workcell.cli import collect, config, demo, export, merge, snapshot, verify
 from workcell.errors import ConfigError, WorkcellError
 
 PROG = "workcell"
@@ -36,7 +36,15 @@ class CommandModule(Protocol):
     def run(self, args: argparse.Namespace) -> int: ...
 
 
-COMMANDS: tuple[CommandModule, ...] = (collect, config, demo, export, snapshot, verify)
+COMMANDS: tuple[CommandModule, ...] = (
+    collect,
+    config,
+    demo,
+    export,
+    merge,
+    snapshot,
+    verify,
+)
 """Every command of the command line, in help order."""
 
 

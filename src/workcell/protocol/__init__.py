@@ -1,0 +1,1 @@
+"""The browser protocol: message models, the single source of the TypeScript types."""

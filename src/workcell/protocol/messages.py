@@ -1,0 +1,279 @@
+"""Every message between the server and a browser client, versioned.
+
+These dataclasses are the single source of truth: the TypeScript types in
+``web/src/protocol.ts`` are generated from them (``python -m workcell.protocol.typescript``)
+and a test fails when that file is stale. Direction is part of the type: a client can only
+send a :data:`ClientMessage` and the server only sends a :data:`ServerMessage`. Every
+message is a JSON object with a ``type`` field naming it.
+
+Coordinates: poses from the browser are in the WebXR ``local-floor`` reference space
+(metres; x right, y up, -z forward) as (x, y, z, qw, qx, qy, qz); poses sent by the server
+are in the MuJoCo world frame (z up), as (x, y, z, qw, qx, qy, qz).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+PROTOCOL_VERSION = 1
+SUBPROTOCOL = f"workcell.v{PROTOCOL_VERSION}"
+"""The WebSocket subprotocol a client must offer; another version is refused."""
+
+Pose = tuple[float, float, float, float, float, float, float]
+Role = Literal["operator", "spectator"]
+InputSource = Literal["xr", "desktop", "gamepad"]
+HudPhase = Literal["countdown", "running", "finished"]
+ErrorCode = Literal[
+    "malformed", "too_large", "invalid_value", "not_allowed", "rate_limited", "protocol"
+]
+
+
+# --- client -> server -------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Hello:
+    """First message of a connection: who the client wants to be. ``resume_token`` (from
+    a previous :class:`Welcome`) takes back control of a session after a dropped link."""
+
+    role: Role
+    resume_token: str | None = None
+    type: Literal["hello"] = "hello"
+
+
+@dataclass(frozen=True)
+class StartSession:
+    """Start a session with these settings: the nested TOML structure of
+    ``workcell config --defaults`` as JSON (missing keys keep their defaults)."""
+
+    settings: dict[str, object]
+    type: Literal["start_session"] = "start_session"
+
+
+@dataclass(frozen=True)
+class ControllerState:
+    """One hand's raw device state. ``pose`` is None while the device is not tracked;
+    ``grip``, ``trigger`` in [0, 1]; ``stick`` (x right, y forward) in [-1, 1];
+    ``buttons`` a bit mask (bit 0: A/X, bit 1: B/Y, bit 2: stick press, bit 3: menu)."""
+
+    pose: Pose | None
+    grip: float
+    trigger: float
+    stick: tuple[float, float]
+    buttons: int
+
+
+@dataclass(frozen=True)
+class Input:
+    """Raw device state, sent every animation frame. ``seq`` increases by one per input;
+    older sequence numbers than the last seen are dropped. ``t_client`` is the client's
+    clock in seconds (for latency diagnostics only)."""
+
+    seq: int
+    t_client: float
+    source: InputSource
+    headset: Pose | None
+    left: ControllerState
+    right: ControllerState
+    type: Literal["input"] = "input"
+
+
+@dataclass(frozen=True)
+class Stop:
+    """The operator ends the session (the running trial ends interrupted: operator_stop)."""
+
+    type: Literal["stop"] = "stop"
+
+
+@dataclass(frozen=True)
+class Ping:
+    """Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged."""
+
+    t_client: float
+    type: Literal["ping"] = "ping"
+
+
+ClientMessage = Hello | StartSession | Input | Stop | Ping
+
+
+# --- server -> client -------------------------------------------------------------------------
+
+
+@dataclass(frozen=True)
+class Welcome:
+    """Answer to :class:`Hello`: the granted role (a second operator becomes a spectator),
+    the running session if any, and the token that resumes control after a dropped link."""
+
+    protocol: int
+    role: Role
+    session_id: str | None
+    resume_token: str | None
+    grace_s: float
+    type: Literal["welcome"] = "welcome"
+
+
+@dataclass(frozen=True)
+class GeomDescription:
+    """A primitive shape: MuJoCo geom type name (``box``, ``sphere``, ``capsule``,
+    ``cylinder``, ``plane``, ``ellipsoid``), MuJoCo ``size`` semantics, pose relative to
+    its body, colour."""
+
+    shape: str
+    size: tuple[float, float, float]
+    pos: tuple[float, float, float]
+    quat: tuple[float, float, float, float]
+    rgba: tuple[float, float, float, float]
+
+
+@dataclass(frozen=True)
+class BodyDescription:
+    """A body of the compiled model; ``index`` is its position in :class:`State` poses
+    when ``dynamic`` (it moves), else its fixed world pose is ``pose``."""
+
+    name: str
+    index: int
+    dynamic: bool
+    pose: Pose
+    geoms: tuple[GeomDescription, ...]
+
+
+@dataclass(frozen=True)
+class Scene:
+    """Everything to draw, derived from the compiled MuJoCo model. Sent on connect and
+    when a session starts."""
+
+    bodies: tuple[BodyDescription, ...]
+    head_camera_body: str
+    type: Literal["scene"] = "scene"
+
+
+@dataclass(frozen=True)
+class Hud:
+    """What the operator sees: mode, progress, clock and score."""
+
+    phase: HudPhase
+    mode: str
+    trial_index: int
+    round: int | None
+    rounds: int | None
+    level: int | None
+    boxes_delivered: int
+    required_boxes: int
+    countdown_s: float
+    remaining_s: float
+    score: int
+
+
+@dataclass(frozen=True)
+class State:
+    """The latest poses of the dynamic bodies (in :class:`BodyDescription` index order),
+    sent at up to 60 Hz; a client that falls behind gets only the newest."""
+
+    seq: int
+    t_sim: float
+    poses: tuple[Pose, ...]
+    hud: Hud | None
+    input_seq: int
+    """The last input sequence number applied to the simulation (for latency)."""
+    tcp_targets: tuple[Pose, Pose]
+    """Where the left and right TCP are asked to be (world frame), to draw as ghosts."""
+    following: tuple[bool, bool]
+    """Whether the left and right arm follow their controller (grip held)."""
+    type: Literal["state"] = "state"
+
+
+@dataclass(frozen=True)
+class TaskEventMessage:
+    """A task event (trial started, box delivered, ...): its kind and fields."""
+
+    kind: str
+    t_sim: float
+    fields: dict[str, object]
+    type: Literal["event"] = "event"
+
+
+@dataclass(frozen=True)
+class FieldProblem:
+    """One invalid setting: its dotted name (as in the TOML file) and what is allowed."""
+
+    field: str
+    message: str
+
+
+@dataclass(frozen=True)
+class ConfigRejected:
+    """A :class:`StartSession` whose settings were invalid; nothing was started."""
+
+    problems: tuple[FieldProblem, ...]
+    type: Literal["config_rejected"] = "config_rejected"
+
+
+@dataclass(frozen=True)
+class SessionStarted:
+    """A session began (sent to every client): its id and the settings it runs under."""
+
+    session_id: str
+    mode: str
+    operator_id: str
+    settings: dict[str, object]
+    type: Literal["session_started"] = "session_started"
+
+
+@dataclass(frozen=True)
+class SessionEnded:
+    """The session is over (completed, stopped, or its operator was lost)."""
+
+    session_id: str
+    reason: str
+    trials: int
+    successes: int
+    total_score: int
+    type: Literal["session_ended"] = "session_ended"
+
+
+@dataclass(frozen=True)
+class Error:
+    """A message was refused. ``code``: ``malformed``, ``too_large``, ``invalid_value``,
+    ``not_allowed``, ``rate_limited``, ``protocol``. The connection stays open unless
+    ``fatal``."""
+
+    code: ErrorCode
+    message: str
+    fatal: bool = False
+    type: Literal["error"] = "error"
+
+
+@dataclass(frozen=True)
+class Pong:
+    """Answer to :class:`Ping`: its ``t_client`` and the server's clock (Unix seconds)."""
+
+    t_client: float
+    t_server: float
+    type: Literal["pong"] = "pong"
+
+
+ServerMessage = (
+    Welcome
+    | Scene
+    | State
+    | TaskEventMessage
+    | ConfigRejected
+    | SessionStarted
+    | SessionEnded
+    | Error
+    | Pong
+)
+
+CLIENT_MESSAGES: tuple[type, ...] = (Hello, StartSession, Input, Stop, Ping)
+SERVER_MESSAGES: tuple[type, ...] = (
+    Welcome,
+    Scene,
+    State,
+    TaskEventMessage,
+    ConfigRejected,
+    SessionStarted,
+    SessionEnded,
+    Error,
+    Pong,
+)

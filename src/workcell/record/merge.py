@@ -1,0 +1,116 @@
+"""Combine store shards (one per worker) into one store, and verify the result.
+
+Ids are unique across stores, so rows are copied as they are. Shards a dead worker left
+open are recovered first, like any crashed store. Shards whose sessions disagree on what a
+frame means (joint order, metrics version) or whose schema differs are refused.
+"""
+
+from __future__ import annotations
+
+import sqlite3
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+from pathlib import Path
+
+from workcell.record.errors import StoreError
+from workcell.record.schema import SCHEMA_VERSION
+from workcell.record.store import Store
+from workcell.record.verify import verify_store
+
+TABLE_ORDER = ("sessions", "trials", "events", "frames", "annotations")
+"""Parents before children, so foreign keys hold at every step."""
+
+
+class MergeError(StoreError):
+    """Shards cannot be combined; the message names the shard and the reason."""
+
+
+@dataclass(frozen=True)
+class MergeReport:
+    shards: int
+    sessions: int
+    trials: int
+    frames: int
+    recovered_trials: int
+
+
+def _compatibility(path: Path) -> tuple[int, set[tuple[str, str]], int]:
+    """(schema version, {(joint order, metrics version)}, recovered trials) of a shard."""
+    with Store.open(path, writer=True) as store:  # a writer recovers a crashed shard
+        recovered = len(store.recovered)
+        version = int(store.meta().get("schema_version", SCHEMA_VERSION))
+    conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
+    try:
+        kinds = set(conn.execute("SELECT joint_order_json, metrics_version FROM sessions"))
+    finally:
+        conn.close()
+    return version, kinds, recovered
+
+
+def merge_stores(
+    shards: Sequence[Path], out: Path, progress: Callable[[str], None] | None = None
+) -> MergeReport:
+    """Copy every shard into ``out`` (created if absent), then verify ``out``."""
+    if not shards:
+        raise MergeError("no shards given: name at least one store to merge")
+    say = progress or (lambda _: None)
+    reference: set[tuple[str, str]] = set()
+    recovered = 0
+    for shard in shards:
+        if not Path(shard).is_file():
+            raise MergeError(f"no store at {shard}: give the paths of existing shards")
+        if Path(shard).resolve() == Path(out).resolve():
+            raise MergeError(f"shard {shard} is the output store: give a different --out")
+        version, kinds, shard_recovered = _compatibility(Path(shard))
+        recovered += shard_recovered
+        if shard_recovered:
+            say(f"{shard}: recovered {shard_recovered} trial(s) a dead writer left open")
+        if version != SCHEMA_VERSION:
+            raise MergeError(
+                f"shard {shard} has schema version {version}, this store {SCHEMA_VERSION}: "
+                "shards of different schema versions cannot be merged"
+            )
+        if reference and kinds and kinds != reference:
+            raise MergeError(
+                f"shard {shard} records frames with another joint order or metrics version "
+                "than the shards before it: they cannot share one store"
+            )
+        reference |= kinds
+        if len(reference) > 1:
+            raise MergeError(f"shard {shard} mixes joint orders or metrics versions")
+    with Store.open(out, writer=True):  # creates the schema, holds the writer lock
+        conn = sqlite3.connect(out, isolation_level=None)
+        try:
+            conn.execute("PRAGMA foreign_keys = ON")
+            for shard in shards:
+                _copy(conn, Path(shard), Path(out))
+                say(f"merged {shard}")
+        finally:
+            conn.close()
+    findings = verify_store(out)
+    if findings:
+        raise MergeError(f"merged store {out} does not verify: {findings[0]}")
+    with Store.open(out, writer=False) as merged:
+        counts = merged.counts()
+    return MergeReport(len(shards), counts.sessions, counts.trials, counts.frames, recovered)
+
+
+def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
+    conn.execute("ATTACH DATABASE ? AS shard", (f"file:{shard}?mode=ro",))
+    try:
+        clash = conn.execute(
+            "SELECT count(*) FROM shard.sessions WHERE session_id IN "
+            "(SELECT session_id FROM main.sessions)"
+        ).fetchone()[0]
+        if clash:
+            raise MergeError(f"shard {shard} holds sessions that {out} already has: merged before")
+        conn.execute("BEGIN IMMEDIATE")
+        try:
+            for table in TABLE_ORDER:
+                conn.execute(f"INSERT INTO main.{table} SELECT * FROM shard.{table}")
+            conn.execute("COMMIT")
+        except sqlite3.Error as error:
+            conn.execute("ROLLBACK")
+            raise MergeError(f"could not copy shard {shard} into {out}: {error}") from None
+    finally:
+        conn.execute("DETACH DATABASE shard")

@@ -1,0 +1,1 @@
+"""Generating data at scale: worker processes (or Ray tasks) writing store shards."""

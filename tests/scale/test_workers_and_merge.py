@@ -1,0 +1,118 @@
+"""Worker processes write shards; merge combines them, recovers crashed ones, refuses
+incompatible ones. Real processes, real SQLite."""
+
+from __future__ import annotations
+
+import json
+import os
+import shutil
+import signal
+import sqlite3
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import pytest
+
+from workcell.cli.main import main
+from workcell.record import Store, StoreError
+from workcell.record.merge import MergeError, merge_stores
+from workcell.record.verify import verify_store
+from workcell.scale.plan import plan_workers
+
+
+def collect(store: Path, *args: str) -> None:
+    code = main(["collect", "--mode", "collection", "--store", str(store), "--json", *args])
+    assert code == 0
+
+
+def test_plan_splits_trials_and_seeds() -> None:
+    plans = plan_workers(3, 7, 10, Path("shards"))
+    assert [p.trials for p in plans] == [4, 3, 3]
+    assert len({p.seed for p in plans}) == 3
+    assert plans == plan_workers(3, 7, 10, Path("shards"))  # reproducible
+    assert [p.trials for p in plan_workers(4, 0, 2, Path("s"))] == [1, 1]
+
+
+def test_two_workers_merge_into_a_store_that_verifies(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    store = tmp_path / "merged.sqlite"
+    collect(store, "--trials", "4", "--workers", "2")
+    rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert sorted(row["worker"] for row in rows) == [0, 0, 1, 1]
+    assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        sessions = reader.sessions()
+        trials = reader.trials()
+    assert len(sessions) == 2 and len(trials) == 4
+    assert len({s.seed for s in sessions}) == 2
+    assert not (tmp_path / "merged.sqlite.shards").exists()  # shards removed once merged
+
+
+def test_a_crashed_shard_is_recovered_in_the_merge(tmp_path: Path) -> None:
+    shard = tmp_path / "crashed.sqlite"
+    process = subprocess.Popen(
+        [
+            *(sys.executable, "-m", "workcell", "collect", "--mode", "collection", "--json"),
+            *("--store", str(shard)),
+        ],
+        stdout=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+    )
+    assert process.stdout is not None
+    json.loads(process.stdout.readline())  # one trial done, the next is running
+    time.sleep(0.5)
+    process.send_signal(signal.SIGKILL)
+    process.wait(timeout=30)
+    healthy = tmp_path / "healthy.sqlite"
+    collect(healthy, "--trials", "1")
+    out = tmp_path / "out.sqlite"
+    report = merge_stores([shard, healthy], out)
+    assert report.recovered_trials == 1
+    assert verify_store(out) == []
+    with Store.open(out, writer=False) as reader:
+        reasons = [t.interruption_reason for t in reader.trials()]
+    assert reasons.count("crash_recovered") == 1
+
+
+def test_merge_refuses_what_cannot_be_combined(tmp_path: Path) -> None:
+    shard = tmp_path / "a.sqlite"
+    collect(shard, "--trials", "1")
+    out = tmp_path / "out.sqlite"
+    merge_stores([shard], out)
+    with pytest.raises(MergeError, match="merged before"):
+        merge_stores([shard], out)
+
+    other = tmp_path / "b.sqlite"
+    shutil.copy(shard, other)
+    conn = sqlite3.connect(other)
+    conn.execute("UPDATE sessions SET joint_order_json = '[\"spine\"]'")
+    conn.commit()
+    conn.close()
+    fresh = tmp_path / "c.sqlite"
+    collect(fresh, "--trials", "1")
+    with pytest.raises(MergeError, match="joint order"):
+        merge_stores([fresh, other], tmp_path / "out2.sqlite")
+
+    newer = tmp_path / "newer.sqlite"
+    shutil.copy(fresh, newer)
+    conn = sqlite3.connect(newer)
+    conn.execute("PRAGMA user_version = 2")
+    conn.commit()
+    conn.close()
+    with pytest.raises(StoreError, match="schema version 2"):
+        merge_stores([newer], tmp_path / "out3.sqlite")
+
+
+def test_merge_cli_and_workers_bad_input(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert (
+        main(["merge", "--out", str(tmp_path / "o.sqlite"), str(tmp_path / "absent.sqlite")]) == 2
+    )
+    assert "workcell: error:" in capsys.readouterr().err
+    assert main(["collect", "--workers", "0", "--store", str(tmp_path / "x.sqlite")]) == 2
+    assert "--workers = 0" in capsys.readouterr().err
