@@ -2,6 +2,12 @@
 
 from __future__ import annotations
 
+import os
+
+# Offscreen rendering through EGL (Mesa) even when pytest runs outside `make test`; MuJoCo
+# reads this on its first import, which is below.
+os.environ.setdefault("MUJOCO_GL", "egl")
+
 from collections.abc import Callable
 
 import mujoco

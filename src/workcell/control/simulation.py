@@ -2,10 +2,13 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from workcell.control.command import Command
 from workcell.control.controller import RobotController
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import WorldEvent
+from workcell.sim.randomization import TrialConditions
 from workcell.sim.world import World
 
 
@@ -18,12 +21,16 @@ class Simulation:
         self.controller = RobotController(self.world)
         self.reset()
 
-    def reset(self, seed: int = 0, base_pose: tuple[float, float, float] | None = None) -> None:
-        """Back to the start state; the same ``seed`` gives the same trial start and feed."""
-        pose = base_pose if base_pose is not None else self.config.robot.start_pose
+    def reset(self, seed: int = 0) -> TrialConditions:
+        """Back to the start state; the same ``seed`` gives the same trial conditions, start
+        and feed. Returns the trial's conditions (drawn when randomization is on)."""
+        draw_stream, feed_stream = np.random.SeedSequence(seed).spawn(2)
+        conditions = TrialConditions.draw(self.config, np.random.default_rng(draw_stream))
         joints = self.controller.home_joints
-        self.world.reset(pose, joints, seed)
-        self.controller.reset(pose, joints)
+        feed_seed = int(feed_stream.generate_state(1)[0])
+        self.world.reset(joints, feed_seed, conditions)
+        self.controller.reset(conditions.start_pose, joints)
+        return conditions
 
     @property
     def time(self) -> float:

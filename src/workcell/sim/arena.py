@@ -9,6 +9,7 @@ from __future__ import annotations
 import mujoco
 
 from workcell.sim.config import WorldConfig
+from workcell.sim.randomization import longest_box
 from workcell.sim.spec_utils import set_env_collision, set_visual_only
 
 BOX = mujoco.mjtGeom.mjGEOM_BOX
@@ -42,7 +43,7 @@ def parked_position(i: int) -> tuple[float, float, float]:
 
 def pickup_plate_length(config: WorldConfig) -> float:
     """Length of the still plate between the belt's end and the end stop."""
-    return config.box.size[0] + 0.03
+    return longest_box(config) + 0.03
 
 
 def pickup_range_x(config: WorldConfig) -> tuple[float, float]:

@@ -59,9 +59,16 @@ class BoxPool:
             )
         self.pose_indices = np.array([np.arange(s.qpos, s.qpos + 7) for s in self.slots])
         """qpos indices of every box's (x, y, z, qw, qx, qy, qz), one row per box."""
-        c, b = config.conveyor, config.box
-        self.feed_position: NDArray[np.float64] = np.array(
-            [c.start_x + 0.15 + b.size[0] / 2, c.center_y, c.height + b.size[2] / 2 + 0.002]
+        self.box_size = config.box.size
+        self.feed_position: NDArray[np.float64] = np.zeros(3)
+        self.set_box_size(config.box.size)
+
+    def set_box_size(self, size: tuple[float, float, float]) -> None:
+        """The size this trial's boxes have; where they land on the belt follows from it."""
+        c = self._config.conveyor
+        self.box_size = size
+        self.feed_position = np.array(
+            [c.start_x + 0.15 + size[0] / 2, c.center_y, c.height + size[2] / 2 + 0.002]
         )
 
     def park_all(self, data: mujoco.MjData) -> None:
@@ -85,7 +92,7 @@ class BoxPool:
 
     def feed_clear(self, data: mujoco.MjData) -> bool:
         """True when no active box sits near the feed point."""
-        clearance = self._config.box.size[0] + 0.1
+        clearance = self.box_size[0] + 0.1
         for slot in self.active():
             pos = data.qpos[slot.qpos : slot.qpos + 3]
             if np.linalg.norm(pos[:2] - self.feed_position[:2]) < clearance:

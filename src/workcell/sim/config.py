@@ -16,6 +16,7 @@ from typing import Literal, get_args
 from workcell import checks
 from workcell.errors import ConfigError
 from workcell.settings import section, setting
+from workcell.sim.randomization import RandomizationConfig, longest_box, widest_box
 
 GraspMode = Literal["assisted", "physical"]
 GRASP_MODES: tuple[str, ...] = get_args(GraspMode)
@@ -177,6 +178,9 @@ class WorldConfig:
     box: BoxConfig = section(BoxConfig, "the boxes")
     target: TargetConfig = section(TargetConfig, "the delivery table and its zone")
     robot: RobotConfig = section(RobotConfig, "the mobile bimanual robot")
+    randomization: RandomizationConfig = section(
+        RandomizationConfig, "per-trial domain randomization (off: every range 0)"
+    )
     grasp: GraspMode = setting(
         "assisted", "assisted (a weld holds a box both closed grippers touch) or physical"
     )
@@ -186,7 +190,7 @@ class WorldConfig:
         problems = checks.one_of("world.grasp", self.grasp, GRASP_MODES)
         timestep_problems = checks.in_range("world.timestep", self.timestep, 0.0005, 0.005, "s")
         problems += timestep_problems
-        across = self.box.size[1]
+        across = widest_box(self)
         if across > self.robot.max_grasp_span:
             problems.append(
                 checks.problem(
@@ -207,7 +211,7 @@ class WorldConfig:
                     f"2 * feeder.lateral_jitter = {room:g} m",
                 )
             )
-        if self.box.size[0] * 1.5 > self.conveyor.length:
+        if longest_box(self) * 1.5 > self.conveyor.length:
             problems.append(
                 checks.problem("world.box.size", self.box.size, "must be shorter than the conveyor")
             )
@@ -221,12 +225,14 @@ class WorldConfig:
                     "into a whole number of physics steps",
                 )
             )
-        if _target_overlaps_conveyor(self.target, self.conveyor, margin=0.3):
+        shift = self.randomization.target_shift
+        if _target_overlaps_conveyor(self.target, self.conveyor, margin=0.3 + shift):
             problems.append(
                 checks.problem(
                     "world.target.center",
                     self.target.center,
-                    "the delivery zone must keep 0.3 m clear of the conveyor footprint "
+                    f"the delivery zone must keep 0.3 m (+ randomization.target_shift = "
+                    f"{shift:g} m) clear of the conveyor footprint "
                     f"(x {self.conveyor.start_x:g}..{self.conveyor.end_x:g}, "
                     f"y {self.conveyor.center_y - self.conveyor.width / 2:g}.."
                     f"{self.conveyor.center_y + self.conveyor.width / 2:g})",

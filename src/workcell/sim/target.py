@@ -15,10 +15,16 @@ HEIGHT_TOLERANCE = 0.03
 
 class DeliveryZone:
     def __init__(self, config: WorldConfig) -> None:
-        t, b = config.target, config.box
-        self.center = np.array(t.center)
+        t = config.target
+        self._table_height = t.table_height
         self.half = np.array(t.zone) / 2
-        self.rest_z = t.table_height + b.size[2] / 2
+        self.center = np.array(t.center)
+        self.rest_z = t.table_height + config.box.size[2] / 2
+
+    def place(self, center: tuple[float, float], box_height: float) -> None:
+        """This trial's zone centre and the height at which its boxes rest in it."""
+        self.center = np.array(center)
+        self.rest_z = self._table_height + box_height / 2
 
     def contains(self, position: np.ndarray) -> bool:
         inside = bool(np.all(np.abs(position[:2] - self.center) <= self.half))

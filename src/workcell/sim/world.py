@@ -15,10 +15,12 @@ from numpy.typing import NDArray
 
 from workcell.errors import SimulationError
 from workcell.sim.boxes import BoxPool, BoxSlot, BoxState
+from workcell.sim.conditions import apply_conditions
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import BoxDelivered, BoxReleased, GraspChanged, WorldEvent
 from workcell.sim.grasp import Grasp
 from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
+from workcell.sim.randomization import TrialConditions
 from workcell.sim.scene import build_world_model
 from workcell.sim.target import DeliveryZone
 
@@ -51,6 +53,8 @@ class World:
         self.boxes = BoxPool(self.model, config)
         self.grasp = Grasp(self.model, self.boxes, config.grasp)
         self.zone = DeliveryZone(config)
+        self.conditions = TrialConditions.nominal(config)
+        """The conditions of the current trial (see :mod:`workcell.sim.randomization`)."""
         self.substeps = config.control_substeps
         self.control_dt = self.substeps * config.timestep
         joint = self.model.joint
@@ -78,13 +82,20 @@ class World:
 
     def reset(
         self,
-        base_pose: tuple[float, float, float],
         joints: NDArray[np.float64],
         seed: int = 0,
+        conditions: TrialConditions | None = None,
     ) -> None:
-        """Start state: robot at ``base_pose`` with ``joints`` (JOINT_ORDER), boxes parked.
+        """Start state under ``conditions`` (default: the configured ones): the robot at
+        the start pose with ``joints`` (JOINT_ORDER), boxes parked.
 
         ``seed`` fixes everything random that follows (where boxes land on the belt)."""
+        if conditions is not None and conditions != self.conditions:
+            apply_conditions(self.model, self.data, self.boxes, conditions)
+            self.conditions = conditions
+            self.boxes.set_box_size(conditions.box_size)
+            self.zone.place(conditions.target_center, conditions.box_size[2])
+        base_pose = self.conditions.start_pose
         mujoco.mj_resetData(self.model, self.data)
         self.physics_steps = 0
         self._rng = np.random.default_rng(seed)
@@ -153,11 +164,11 @@ class World:
                 # Keep to the schedule; a release held back by a blocked feed point does
                 # not shift the ones after it.
                 while self._next_release <= t + 1e-6:
-                    self._next_release += self.config.feeder.release_interval_s
+                    self._next_release += self.conditions.release_interval_s
         return events
 
     def _clear_if_on_floor(self, slot: BoxSlot, t: float) -> None:
-        on_floor = self.boxes.position(self.data, slot)[2] < self.config.box.size[2]
+        on_floor = self.boxes.position(self.data, slot)[2] < self.conditions.box_size[2]
         if not on_floor:
             self._floor_since.pop(slot.index, None)
             return

@@ -31,6 +31,8 @@ class TrialStarted:
     required_boxes: int
     time_limit_s: float
     trial_seed: int
+    conditions: dict[str, object]
+    """The trial's box, belt, feed, target and start conditions (randomized or not)."""
 
 
 @dataclass(frozen=True)

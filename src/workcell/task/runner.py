@@ -95,6 +95,7 @@ class SessionRunner:
         """Wall time the latest control period took to compute and simulate."""
         self._spec: TrialSpec | None = None
         self._seed = 0
+        self._conditions: dict[str, object] = {}
         self._start_step = 0
         self._delivered = 0
         self.phase = Phase.FINISHED
@@ -187,7 +188,7 @@ class SessionRunner:
         self._spec = spec
         self._seed = trial_seed(self.config.seed, spec.trial_index)
         self._delivered = 0
-        self.sim.reset(self._seed)
+        self._conditions = self.sim.reset(self._seed).as_dict()
         self.operator.start_trial(self._seed)
         self._start_step = self._countdown_steps * self.sim.world.substeps
         if self._countdown_steps:
@@ -212,6 +213,7 @@ class SessionRunner:
                 required_boxes=spec.required_boxes,
                 time_limit_s=spec.time_limit_s,
                 trial_seed=self._seed,
+                conditions=self._conditions,
             )
         )
 
