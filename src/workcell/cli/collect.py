@@ -15,6 +15,7 @@ from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
+    from workcell.record.media import CameraOptions
     from workcell.record.recorder import Recorder
     from workcell.record.store import Store
     from workcell.task.runner import SessionRunner, TrialResult
@@ -68,6 +69,15 @@ def register(subparsers: Subparsers) -> None:
         "--no-store", action="store_true", help="do not record (only print the trials)"
     )
     parser.add_argument(
+        "--cameras",
+        metavar="NAMES",
+        help="record these cameras at the frame rate, e.g. head_cam,wrist_l_cam,wrist_r_cam "
+        "(MP4 per trial in <store>.media/)",
+    )
+    parser.add_argument(
+        "--camera-size", default="128x128", metavar="WxH", help="camera image size (128x128)"
+    )
+    parser.add_argument(
         "--workers",
         type=int,
         default=1,
@@ -102,6 +112,16 @@ def run(args: argparse.Namespace) -> int:
         config = resolve_session_config(args.config, args.set, flags)
     except ConfigError as error:
         problems += error.problems
+    cameras = None
+    if args.cameras is not None:
+        from workcell.record.media import CameraOptions  # noqa: PLC0415
+
+        try:
+            cameras = CameraOptions.parse(args.cameras, args.camera_size)
+        except ConfigError as error:
+            problems += error.problems
+        if args.no_store:
+            problems.append("--cameras: videos are recorded beside the store; drop --no-store")
     if problems:
         raise ConfigError(problems)
     if args.workers > 1:
@@ -121,7 +141,7 @@ def run(args: argparse.Namespace) -> int:
         max_trials=args.trials,
     )
     with _open_store(None if args.no_store else args.store) as store:
-        recorder = _recorder(store, runner)
+        recorder = _recorder(store, runner, cameras)
         printer = _Printer(args.json)
         printer.header()
         runner.start()
@@ -161,12 +181,20 @@ def _open_store(path: Path | None) -> Iterator[Store | None]:
         yield store
 
 
-def _recorder(store: Store | None, runner: SessionRunner) -> Recorder | None:
+def _recorder(
+    store: Store | None, runner: SessionRunner, cameras: CameraOptions | None
+) -> Recorder | None:
     if store is None:
         return None
+    from workcell.record.media import MediaRecorder, media_dir_for  # noqa: PLC0415
     from workcell.record.recorder import Recorder  # noqa: PLC0415
 
-    return Recorder(store, runner)
+    media = None
+    if cameras is not None:
+        rate = runner.config.recording.sampling_rate_hz
+        model = runner.sim.world.model
+        media = MediaRecorder(model, cameras, media_dir_for(store.path), rate)
+    return Recorder(store, runner, media=media)
 
 
 class _Printer:

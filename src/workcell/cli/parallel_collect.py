@@ -12,7 +12,7 @@ from typing import Any
 
 from workcell.errors import WorkcellError
 
-PASS_THROUGH = ("mode", "config", "skill", "operator_id")
+PASS_THROUGH = ("mode", "config", "skill", "operator_id", "cameras", "camera_size")
 
 
 def common_arguments(args: argparse.Namespace) -> list[str]:

@@ -28,6 +28,7 @@ from workcell.metrics import (
 from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.errors import StorageError
 from workcell.record.frame_builder import OperatorInput, build_frame, input_from_command
+from workcell.record.media import MediaRecorder
 from workcell.record.records import SessionInfo, StoredMetrics, TrialEnd, TrialStart
 from workcell.record.store import Store
 from workcell.session.config import SessionConfig
@@ -71,12 +72,14 @@ class Recorder:
         store: Store,
         runner: SessionRunner,
         operator_input: InputSource | None = None,
+        media: MediaRecorder | None = None,
     ) -> None:
         self.store = store
         self.runner = runner
         self.config = runner.config
         self.thresholds = metric_thresholds(self.config)
         self._input = operator_input or (lambda: None)
+        self.media = media
         self.session_id = store.create_session(session_info(self.config))
         self.failure: StorageError | None = None
         self.frames_written = 0
@@ -108,6 +111,8 @@ class Recorder:
             step_wall_ms=runner.last_step_wall_s * 1000.0,
         )
         self._buffer.append(row)
+        if self.media is not None:
+            self.media.frame(world.data)
         for name in REQUIRED_COLUMNS:
             self._columns[name].append(row[name])
         self.next_step += self._steps_per_frame
@@ -146,6 +151,8 @@ class Recorder:
             trial_seed=event.trial_seed,
         )
         self._trial_id = self.store.start_trial(self.session_id, start)
+        if self.media is not None:
+            self.media.start(self._trial_id)
         for pending in self._pending_events:
             self._add_event(pending)
         self._pending_events.clear()
@@ -173,6 +180,10 @@ class Recorder:
             return
         self.runner.sim.world.sampler = None
         self._flush()
+        if self.media is not None:
+            self.store.add_event(
+                self.session_id, "media", self.media.end(), trial_id=trial_id, t_sim=event.t_sim
+            )
         columns = {name: np.asarray(values, dtype=float) for name, values in self._columns.items()}
         metrics = compute_trial_metrics(
             FrameArrays.from_columns(columns), event.outcome == "success", self.thresholds
@@ -213,6 +224,8 @@ class Recorder:
     def close(self, interrupted: bool) -> None:
         """Close the session (its trials have ended) and stop listening."""
         self._unsubscribe()
+        if self.media is not None:
+            self.media.close()
         if self.failure is not None:
             return
         try:
