@@ -116,3 +116,16 @@ def test_merge_cli_and_workers_bad_input(
     assert "workcell: error:" in capsys.readouterr().err
     assert main(["collect", "--workers", "0", "--store", str(tmp_path / "x.sqlite")]) == 2
     assert "--workers = 0" in capsys.readouterr().err
+
+
+def test_ray_local_run_merges_into_a_store_that_verifies(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    store = tmp_path / "ray.sqlite"
+    collect(store, "--trials", "2", "--workers", "2", "--ray", "local")
+    rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert sorted(row["worker"] for row in rows) == [0, 1]
+    assert all(row["outcome"] == "success" for row in rows)
+    assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        assert reader.counts().trials == 2

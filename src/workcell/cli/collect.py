@@ -83,6 +83,11 @@ def register(subparsers: Subparsers) -> None:
         default=1,
         help="run K worker processes, one store shard each, merged into --store at the end",
     )
+    parser.add_argument(
+        "--ray",
+        metavar="ADDRESS",
+        help="run the --workers as Ray tasks on the cluster at ADDRESS ('local': start one here)",
+    )
     parser.add_argument("--json", action="store_true", help="one JSON object per trial per line")
     parser.set_defaults(func=run)
 
@@ -95,7 +100,7 @@ def _check(args: argparse.Namespace) -> list[str]:
         problems.append(f"--skill = {args.skill:g}: must be between 0 and 1")
     if not 1 <= args.workers <= 64:
         problems.append(f"--workers = {args.workers}: must be 1 to 64")
-    if args.workers > 1 and args.no_store:
+    if (args.workers > 1 or args.ray) and args.no_store:
         problems.append("--workers: workers write store shards; it cannot go with --no-store")
     return problems
 
@@ -124,7 +129,7 @@ def run(args: argparse.Namespace) -> int:
             problems.append("--cameras: videos are recorded beside the store; drop --no-store")
     if problems:
         raise ConfigError(problems)
-    if args.workers > 1:
+    if args.workers > 1 or args.ray:
         from workcell.cli.parallel_collect import run_parallel  # noqa: PLC0415
 
         return run_parallel(args, config.seed)

@@ -38,10 +38,8 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
     shard_dir.mkdir(parents=True, exist_ok=False)
     plans = plan_workers(args.workers, seed, args.trials, shard_dir)
     out = sys.stderr if args.json else sys.stdout
-    print(
-        f"{len(plans)} workers writing shards in {shard_dir}",
-        file=sys.stderr,
-    )
+    where = f"Ray tasks on {args.ray}" if args.ray else "worker processes"
+    print(f"{len(plans)} {where} writing shards in {shard_dir}", file=sys.stderr)
     counts = {"trials": 0, "successes": 0}
 
     def on_trial(worker: int, row: dict[str, Any]) -> None:
@@ -58,9 +56,14 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
             )
 
     with ShutdownSignals() as shutdown:
-        exits = run_local_workers(
-            plans, common_arguments(args), on_trial, lambda: shutdown.requested is not None
-        )
+        if args.ray:
+            from workcell.scale.ray_tasks import run_ray_workers  # noqa: PLC0415
+
+            exits = run_ray_workers(args.ray, plans, common_arguments(args), on_trial)
+        else:
+            exits = run_local_workers(
+                plans, common_arguments(args), on_trial, lambda: shutdown.requested is not None
+            )
     for exit_ in exits:
         if exit_.returncode not in (0, 130):
             print(
