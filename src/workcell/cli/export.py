@@ -1,4 +1,4 @@
-"""``workcell export``: write a store's records in an interchange format."""
+"""``workcell export``: write a store's records in an interchange or dataset format."""
 
 from __future__ import annotations
 
@@ -11,21 +11,26 @@ from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
+    from workcell.export.options import ExportOptions
 
-FORMATS = ("csv",)
-PLANNED_FORMATS = ("lerobot", "hdf5", "rerun")
+FORMATS = ("csv", "lerobot", "hdf5")
+DATASET_FORMATS = ("lerobot", "hdf5")
+PLANNED_FORMATS = ("rerun",)
 PROGRESS_STEPS = 10
 
 
 def register(subparsers: Subparsers) -> None:
     parser = subparsers.add_parser(
         "export",
-        help="export a store (CSV with the interchange contract's columns)",
+        help="export a store (CSV, LeRobot v3.0 dataset, robomimic HDF5)",
         description=(
-            "Write a store's sessions, trials, events and frames into a new directory: "
-            "sessions.csv, trials.csv, events.csv, frames.csv, annotations.csv and "
-            "manifest.json (parameters, thresholds, joint order, metric definitions and "
-            "the sha256 of every file). Check it later with 'workcell verify --csv DIR'."
+            "Write a store's records into a new or empty directory. csv: sessions.csv, "
+            "trials.csv, events.csv, frames.csv, annotations.csv and manifest.json (check it "
+            "later with 'workcell verify --csv DIR'). lerobot: a LeRobotDataset v3.0 (meta/, "
+            "data/, videos/) with a provenance sidecar meta/workcell_provenance.parquet|json. "
+            "hdf5: a robomimic-style workcell.hdf5 with masks for outcome and inclusion. "
+            "Dataset exports take included trials only unless --all, refuse a store that "
+            "fails 'workcell verify', and render --cameras from the recorded states."
         ),
     )
     parser.add_argument(
@@ -35,16 +40,92 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--out", required=True, type=Path, metavar="DIR", help="new or empty directory"
     )
+    parser.add_argument(
+        "--all",
+        action="store_true",
+        help="lerobot/hdf5: every closed trial, not only included ones (interrupted, "
+        "excluded); the provenance marks each",
+    )
+    parser.add_argument(
+        "--cameras",
+        metavar="NAMES",
+        help="lerobot/hdf5: render these robot cameras from the recorded states, "
+        "comma-separated (head_cam, wrist_l_cam, wrist_r_cam)",
+    )
+    parser.add_argument(
+        "--size",
+        metavar="WxH",
+        help="lerobot/hdf5: camera image size (default 320x240; even numbers)",
+    )
     parser.set_defaults(func=run)
 
 
 def run(args: argparse.Namespace) -> int:
     if args.format in PLANNED_FORMATS:
         raise ConfigError(
-            [f"--format {args.format}: {args.format} export is not available yet; use csv"]
+            [
+                f"--format {args.format}: {args.format} export is not available yet; "
+                f"use {', '.join(FORMATS)}"
+            ]
         )
     if args.format not in FORMATS:
         raise ConfigError([f"--format {args.format!r}: must be one of {', '.join(FORMATS)}"])
+    if args.format == "csv":
+        return _run_csv(args)
+    options = dataset_options(args)
+    from workcell.export.hdf5_export import export_hdf5  # noqa: PLC0415
+    from workcell.export.lerobot_export import export_lerobot  # noqa: PLC0415
+
+    export = export_lerobot if args.format == "lerobot" else export_hdf5
+    summary = export(args.store, args.out, options, _print_progress)
+    rate = summary.frames / summary.seconds if summary.seconds > 0 else float("inf")
+    videos = f", {summary.videos} camera streams" if summary.videos else ""
+    print(
+        f"exported {summary.episodes} episodes, {summary.frames} frames{videos} as "
+        f"{args.format} to {args.out} ({summary.seconds:.1f} s, {rate:.0f} frames/s)"
+    )
+    return 0
+
+
+def dataset_options(args: argparse.Namespace) -> ExportOptions:
+    """The dataset export options of the command line (ConfigError on bad values)."""
+    from workcell.export.options import ExportOptions, ImageSize, parse_cameras  # noqa: PLC0415
+
+    problems: list[str] = []
+    cameras: tuple[str, ...] = ()
+    size = ImageSize()
+    try:
+        cameras = parse_cameras(args.cameras) if args.cameras is not None else ()
+    except ConfigError as error:
+        problems += error.problems
+    try:
+        size = ImageSize.parse(args.size) if args.size is not None else size
+    except ConfigError as error:
+        problems += error.problems
+    if args.size is not None and not cameras:
+        problems.append("--size applies to rendered cameras: give --cameras too")
+    if problems:
+        raise ConfigError(problems)
+    return ExportOptions(include_all=args.all, cameras=cameras, size=size)
+
+
+def _run_csv(args: argparse.Namespace) -> int:
+    given = [
+        option
+        for option, value in (
+            ("--all", args.all),
+            ("--cameras", args.cameras),
+            ("--size", args.size),
+        )
+        if value not in (None, False)
+    ]
+    if given:
+        raise ConfigError(
+            [
+                f"{option}: applies to the {' and '.join(DATASET_FORMATS)} formats"
+                for option in given
+            ]
+        )
     from workcell.record.export_csv import export_csv  # noqa: PLC0415
 
     manifest = export_csv(args.store, args.out, _Progress())
@@ -54,6 +135,10 @@ def run(args: argparse.Namespace) -> int:
         f"trials, {files['frames.csv']['rows']} frames to {args.out}"
     )
     return 0
+
+
+def _print_progress(line: str) -> None:
+    print(line, file=sys.stderr, flush=True)
 
 
 class _Progress:

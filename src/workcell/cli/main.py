@@ -16,7 +16,7 @@ from collections.abc import Callable, Sequence
 from typing import NoReturn, Protocol, TypeAlias, cast
 
 from workcell import __version__
-from workcell.cli import collect, config, demo, export, merge, snapshot, verify
+from workcell.cli import collect, config, demo, export, merge, render, snapshot, verify
 from workcell.errors import ConfigError, WorkcellError
 
 PROG = "workcell"
@@ -42,6 +42,7 @@ COMMANDS: tuple[CommandModule, ...] = (
     demo,
     export,
     merge,
+    render,
     snapshot,
     verify,
 )

@@ -10,6 +10,7 @@ import json
 from dataclasses import dataclass
 from typing import Any
 
+import mujoco
 import numpy as np
 
 from workcell.control.command import ArmCommand, Command
@@ -87,6 +88,9 @@ def build_frame(
     step_wall_ms: float,
 ) -> dict[str, Any]:
     """Every frame column except ``session_id``, ``trial_id`` and ``frame_index``."""
+    # After mj_step the body and site poses are those of the step's start; bring them up to
+    # the joint positions so that every pose in the frame belongs to the same instant.
+    mujoco.mj_kinematics(world.model, world.data)
     base = world.base_pose
     velocity = world.base_velocity
     row: dict[str, Any] = {

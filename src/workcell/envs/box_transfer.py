@@ -1,0 +1,144 @@
+"""``workcell/BoxTransfer-v0``: carry boxes from the conveyor to the delivery table.
+
+One step is one recorded frame period (1/20 s of sim time by default: several control
+steps), driven by the :class:`Command` the action vector stands for, the only way to move
+the robot. ``reset(seed=s)`` is the deterministic world reset of a recorded trial whose
+``trial_seed`` is ``s`` (followed by the same idle countdown), so replaying that trial's
+exported actions from ``reset(seed=trial_seed)`` retraces it. Rewards and ends follow the
+export (:mod:`workcell.export.episode_data`): 1.0 per box delivered in the step;
+terminated once ``required_boxes`` are delivered, truncated at the time limit.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any
+
+import gymnasium
+import numpy as np
+from gymnasium import spaces
+from numpy.typing import NDArray
+
+from workcell.control.command import Command
+from workcell.control.simulation import Simulation
+from workcell.envs.actions import command_from_action
+from workcell.envs.config import BoxTransferConfig
+from workcell.envs.spaces import action_space, observation_space
+from workcell.errors import ConfigError
+from workcell.export.boxes import parse_boxes
+from workcell.export.features import STATE_NAMES
+from workcell.record.frame_builder import build_frame, input_from_command
+from workcell.render.renderer import OffscreenRenderer
+from workcell.sim.events import BoxDelivered
+
+Observation = dict[str, NDArray[np.float32]]
+MAX_SEED = 2**63 - 1
+
+
+class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
+    metadata: dict[str, Any] = {"render_modes": ["rgb_array"], "render_fps": 20}  # noqa: RUF012
+    observation_space: spaces.Dict
+    action_space: spaces.Box
+
+    def __init__(
+        self,
+        config: BoxTransferConfig | None = None,
+        render_mode: str | None = None,
+        session_parameters: Mapping[str, Any] | None = None,
+    ) -> None:
+        """``config``, or the ``session_parameters`` a store recorded (as in the HDF5
+        export's ``env_args``), or the defaults."""
+        if config is None:
+            config = (
+                BoxTransferConfig()
+                if session_parameters is None
+                else BoxTransferConfig.from_parameters(session_parameters)
+            )
+        if render_mode not in (None, *self.metadata["render_modes"]):
+            raise ConfigError([f"render_mode {render_mode!r}: must be None or 'rgb_array'"])
+        self.config = config
+        self.render_mode = render_mode
+        self.metadata = {**self.metadata, "render_fps": config.fps}
+        self.sim = Simulation(config.session.world)
+        self.pool_size = config.session.world.feeder.pool_size
+        self.observation_space = observation_space(self.pool_size)
+        self.action_space = action_space(config, self.sim.world)
+        self._renderer: OffscreenRenderer | None = None
+        self._command = Command()
+        self._frames = 0
+        self._delivered = 0
+        self._world_seed = 0
+
+    # --- gymnasium API --------------------------------------------------------------------
+
+    def reset(
+        self, *, seed: int | None = None, options: dict[str, Any] | None = None
+    ) -> tuple[Observation, dict[str, Any]]:
+        super().reset(seed=seed)
+        world_seed = seed if seed is not None else int(self.np_random.integers(MAX_SEED))
+        self._world_seed = world_seed
+        self.sim.reset(world_seed)
+        self._command = Command()
+        for _ in range(self.config.countdown_steps):
+            self.sim.step(self._command)
+        self._frames = 0
+        self._delivered = 0
+        return self._observe(), self._info()
+
+    def step(self, action: NDArray[Any]) -> tuple[Observation, float, bool, bool, dict[str, Any]]:
+        space = self.action_space
+        clipped = np.clip(np.asarray(action, dtype=np.float64), space.low, space.high)
+        self._command = command_from_action(clipped)
+        reward = 0.0
+        for _ in range(self.config.control_steps_per_frame):
+            events = self.sim.step(self._command)
+            reward += sum(1.0 for event in events if isinstance(event, BoxDelivered))
+        self._frames += 1
+        self._delivered += int(reward)
+        terminated = self._delivered >= self.config.required_boxes
+        truncated = not terminated and self.t_sim >= self.config.limit_s - 1e-9
+        return self._observe(), reward, terminated, truncated, self._info()
+
+    def render(self) -> NDArray[np.uint8] | None:
+        if self.render_mode != "rgb_array":
+            return None
+        if self._renderer is None:
+            size = self.config.render_size
+            self._renderer = OffscreenRenderer(self.sim.world.model, size.width, size.height)
+        return self._renderer.render(self.sim.world.data, self.config.render_camera)
+
+    def close(self) -> None:
+        if self._renderer is not None:
+            self._renderer.close()
+            self._renderer = None
+
+    # --- state ----------------------------------------------------------------------------
+
+    @property
+    def t_sim(self) -> float:
+        """Seconds since the episode started (the trial clock)."""
+        return self._frames / self.config.fps
+
+    def _observe(self) -> Observation:
+        """The dataset features of the current state, through the recorder's own frame
+        builder, so that they mean exactly what the exported columns mean."""
+        world = self.sim.world
+        row = build_frame(
+            world,
+            self.sim.controller,
+            self._command,
+            input_from_command(self._command),
+            t_sim=self.t_sim,
+            t_wall=0.0,
+            step_wall_ms=0.0,
+        )
+        state = np.array([row[name] for name in STATE_NAMES], dtype=np.float32)
+        boxes = parse_boxes([row["boxes"]], self.pool_size).features()[0]
+        return {"state": state, "environment_state": boxes.astype(np.float32)}
+
+    def _info(self) -> dict[str, Any]:
+        return {
+            "t_sim": self.t_sim,
+            "boxes_delivered": self._delivered,
+            "world_seed": self._world_seed,
+        }

@@ -1,0 +1,73 @@
+"""What the environment simulates: a session configuration and the task of an episode."""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from typing import Any
+
+from workcell.errors import ConfigError
+from workcell.export.options import ROBOT_CAMERAS, ImageSize
+from workcell.session.config import SessionConfig
+from workcell.session.toml_io import from_mapping
+
+
+@dataclass(frozen=True)
+class BoxTransferConfig:
+    """The world, frame rate and countdown come from ``session``; an episode ends when
+    ``required_boxes`` are delivered (terminated) or at the time limit (truncated)."""
+
+    session: SessionConfig = field(default_factory=SessionConfig)
+    required_boxes: int = 1
+    time_limit_s: float | None = None
+    """Seconds of sim time per episode; None: the session's ``task.time_limit_s``."""
+    render_camera: str = "head_cam"
+    render_size: ImageSize = field(default_factory=ImageSize)
+
+    def __post_init__(self) -> None:
+        problems = []
+        pool = self.session.world.feeder.pool_size
+        if type(self.required_boxes) is not int or not 1 <= self.required_boxes <= pool:
+            problems.append(
+                f"required_boxes = {self.required_boxes!r}: must be 1 to the pool size {pool}"
+            )
+        limit = self.time_limit_s
+        if limit is not None and not (math.isfinite(limit) and limit > 0):
+            problems.append(f"time_limit_s = {limit!r}: must be > 0 seconds (or None)")
+        if self.render_camera not in ROBOT_CAMERAS:
+            problems.append(
+                f"render_camera = {self.render_camera!r}: must be one of {', '.join(ROBOT_CAMERAS)}"
+            )
+        rate = self.session.recording.sampling_rate_hz
+        per_frame = self.session.world.robot.control_hz / rate
+        if abs(rate - round(rate)) > 1e-9 or abs(per_frame - round(per_frame)) > 1e-9:
+            problems.append(
+                f"recording.sampling_rate_hz = {rate:g}: the environment steps whole frames, "
+                "so it must be a whole number dividing world.robot.control_hz"
+            )
+        if problems:
+            raise ConfigError(problems)
+
+    @classmethod
+    def from_parameters(cls, parameters: Mapping[str, Any], **options: Any) -> BoxTransferConfig:
+        """The environment of a recorded session: ``parameters`` as a store keeps them
+        (``SessionRecord.parameters``); ``options`` are the other fields."""
+        return cls(session=from_mapping(SessionConfig, parameters), **options)
+
+    @property
+    def fps(self) -> int:
+        return round(self.session.recording.sampling_rate_hz)
+
+    @property
+    def control_steps_per_frame(self) -> int:
+        return round(self.session.world.robot.control_hz / self.session.recording.sampling_rate_hz)
+
+    @property
+    def limit_s(self) -> float:
+        return self.session.task.time_limit_s if self.time_limit_s is None else self.time_limit_s
+
+    @property
+    def countdown_steps(self) -> int:
+        """Control steps of idling before an episode starts, as before a recorded trial."""
+        return round(self.session.task.countdown_s * self.session.world.robot.control_hz)

@@ -1,0 +1,63 @@
+"""Observation and action spaces: the dataset features, with the controller's limits.
+
+Observations are ``{"state": observation.state, "environment_state":
+observation.environment_state}`` (float32, unbounded). Actions are the ``action`` feature
+(float32); its bounds are what the controller would apply anyway (base speed and turn
+rate, gripper 0..1, head joint ranges) or generous reach limits for the TCP targets, so
+clipping an action to the space does not change what the robot does with it.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+from gymnasium import spaces
+
+from workcell.envs.config import BoxTransferConfig
+from workcell.export.boxes import box_feature_names
+from workcell.export.features import ACTION_NAMES, STATE_NAMES
+from workcell.sim.world import World
+
+TARGET_REACH_M = 2.0
+"""TCP targets (base frame) lie within this distance of the base centre in x and y."""
+TARGET_HEIGHT_M = (0.0, 2.5)
+
+
+def observation_space(pool_size: int) -> spaces.Dict:
+    def unbounded(size: int) -> spaces.Box:
+        return spaces.Box(-np.inf, np.inf, shape=(size,), dtype=np.float32)
+
+    return spaces.Dict(
+        {
+            "state": unbounded(len(STATE_NAMES)),
+            "environment_state": unbounded(len(box_feature_names(pool_size))),
+        }
+    )
+
+
+def action_bounds(config: BoxTransferConfig, world: World) -> dict[str, tuple[float, float]]:
+    """Lower and upper bound of every action dimension, by name."""
+    robot = config.session.world.robot
+    model = world.model
+    bounds: dict[str, tuple[float, float]] = {
+        "cmd_vx": (-robot.max_linear_speed, robot.max_linear_speed),
+        "cmd_vy": (-robot.max_linear_speed, robot.max_linear_speed),
+        "cmd_wz": (-robot.max_yaw_rate, robot.max_yaw_rate),
+    }
+    for side in ("l", "r"):
+        prefix = f"target_{side}"
+        bounds[f"{prefix}_x"] = bounds[f"{prefix}_y"] = (-TARGET_REACH_M, TARGET_REACH_M)
+        bounds[f"{prefix}_z"] = TARGET_HEIGHT_M
+        for part in ("qw", "qx", "qy", "qz"):
+            bounds[f"{prefix}_{part}"] = (-1.0, 1.0)
+        bounds[f"follow_{side}"] = bounds[f"gripper_cmd_{side}"] = (0.0, 1.0)
+    for name, joint in (("head_cmd_pan", "head_pan"), ("head_cmd_tilt", "head_tilt")):
+        low, high = model.jnt_range[model.joint(joint).id]
+        bounds[name] = (float(low), float(high))
+    return bounds
+
+
+def action_space(config: BoxTransferConfig, world: World) -> spaces.Box:
+    bounds = action_bounds(config, world)
+    low = np.array([bounds[name][0] for name in ACTION_NAMES], dtype=np.float32)
+    high = np.array([bounds[name][1] for name in ACTION_NAMES], dtype=np.float32)
+    return spaces.Box(low, high, dtype=np.float32)

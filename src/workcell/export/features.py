@@ -1,0 +1,69 @@
+"""The dataset features, defined once for every export and the Gymnasium environment.
+
+Names are frame column names of :mod:`workcell.record.columns` (public API, no '/'), so a
+dataset value traces back to its recorded column:
+
+- ``observation.state`` (39): base pose (x, y, yaw) and world-frame velocity, both TCP poses
+  (world position and w, x, y, z quaternion), the 17 joints in manifest order, both gripper
+  openings (0 closed .. 1 open);
+- ``action`` (23): the operator's command: base twist (base frame), both TCP targets (base
+  frame), both follow flags (0/1), both gripper commands (0 open .. 1 closed), head pan and
+  tilt;
+- ``observation.environment_state`` (8 per box): every box's pose and state code, see
+  :mod:`workcell.export.boxes`.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.record.columns import pose_columns
+from workcell.sim.joints import JOINT_ORDER
+
+STATE_KEY = "observation.state"
+ACTION_KEY = "action"
+ENVIRONMENT_KEY = "observation.environment_state"
+IMAGE_PREFIX = "observation.images."
+
+STATE_NAMES: tuple[str, ...] = (
+    "base_x",
+    "base_y",
+    "base_yaw",
+    "base_vx",
+    "base_vy",
+    "base_wz",
+    *pose_columns("tcp_l"),
+    *pose_columns("tcp_r"),
+    *(f"q_{joint}" for joint in JOINT_ORDER),
+    "gripper_l",
+    "gripper_r",
+)
+ACTION_NAMES: tuple[str, ...] = (
+    "cmd_vx",
+    "cmd_vy",
+    "cmd_wz",
+    *pose_columns("target_l"),
+    *pose_columns("target_r"),
+    "follow_l",
+    "follow_r",
+    "gripper_cmd_l",
+    "gripper_cmd_r",
+    "head_cmd_pan",
+    "head_cmd_tilt",
+)
+
+
+def image_key(camera: str) -> str:
+    """``observation.images.<camera>``."""
+    return IMAGE_PREFIX + camera
+
+
+def column_matrix(
+    columns: Mapping[str, Sequence[Any] | NDArray[Any]], names: Sequence[str]
+) -> NDArray[np.float64]:
+    """(frames, len(names)) of the named columns, as float64."""
+    return np.column_stack([np.asarray(columns[name], dtype=np.float64) for name in names])

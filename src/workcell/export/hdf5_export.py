@@ -1,0 +1,153 @@
+"""``export_hdf5``: a store's trials as a robomimic-style HDF5 file (``workcell.hdf5``).
+
+::
+
+    data                 attrs: env_args (JSON: env_name, type, env_kwargs), total, fps,
+                         names of the state / environment_state / action dimensions,
+                         conventions (JSON)
+    data/demo_<i>        attrs: num_samples, model_file (the world's MJCF XML), and the
+                         episode's provenance (trial id, session id, outcome, flags, ...)
+        states           (n, nq + nv) restored MuJoCo qpos and qvel (see .restore)
+        actions          (n, 23)   rewards (n,)   dones (n,)
+        obs/state        (n, 39)   obs/environment_state (n, 8 per box)
+        obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for
+    mask/<filter>        demo names: success, timeout, interrupted, included, excluded
+    workcell_provenance  the export-level provenance document (JSON text; a dataset, as
+                         it outgrows HDF5's 64 KiB attribute limit with many demos)
+
+Rows, actions, rewards and dones follow :mod:`workcell.export.episode_data` (``dones`` is
+1 on the last row of every demo). ``env_args`` makes ``gymnasium.make`` build the
+matching environment: ``env_kwargs`` holds the first session's stored parameters.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import time
+from typing import Any
+
+import h5py  # type: ignore[import-untyped, unused-ignore]
+import numpy as np
+
+from workcell.envs.registration import ENV_ID
+from workcell.export.boxes import box_feature_names
+from workcell.export.episode_data import CONVENTIONS
+from workcell.export.features import ACTION_NAMES, STATE_NAMES
+from workcell.export.loading import ExportSummary, LoadedEpisode, Progress, load_episodes
+from workcell.export.manifest import provenance_document
+from workcell.export.options import ExportOptions
+from workcell.export.provenance import Provenance
+from workcell.export.replay_world import WorldPool
+from workcell.export.source import ExportSource, check_output, open_source
+from workcell.record.store import Store
+from workcell.sim.scene import world_spec
+
+HDF5_NAME = "workcell.hdf5"
+PROVENANCE_NAME = "workcell_provenance"
+ENV_NAME = ENV_ID
+"""The environment that ``env_args`` names (see :mod:`workcell.envs`)."""
+GYM_ENV_TYPE = 2
+"""robomimic's ``EnvType.GYM_TYPE``."""
+FILTERS: tuple[str, ...] = ("success", "timeout", "interrupted", "included", "excluded")
+
+
+def export_hdf5(
+    store_path: str | os.PathLike[str],
+    out_dir: str | os.PathLike[str],
+    options: ExportOptions | None = None,
+    progress: Progress | None = None,
+) -> ExportSummary:
+    """Export the store's selected trials into ``out_dir/workcell.hdf5`` (``out_dir`` new
+    or empty)."""
+    started = time.perf_counter()
+    options = options or ExportOptions()
+    out = check_output(out_dir)
+    source = open_source(store_path, options.include_all)
+    out.mkdir(parents=True, exist_ok=True)
+    records: list[Provenance] = []
+    frames = 0
+    models: dict[str, str] = {}
+    with (
+        WorldPool(options.size) as worlds,
+        Store.open(source.path, writer=False) as store,
+        h5py.File(out / HDF5_NAME, "w") as file,
+    ):
+        data = file.create_group("data")
+        for episode in load_episodes(store, source, worlds, progress):
+            session_id = episode.source.session.session_id
+            if session_id not in models:
+                models[session_id] = world_spec(source.configs[session_id].world).to_xml()
+            _write_demo(data, episode, models[session_id], options)
+            records.append(episode.provenance)
+            frames += episode.arrays.length
+        _write_header(data, source, frames)
+        _write_masks(file, records)
+        document = provenance_document(source, options, records)
+        file.create_dataset(PROVENANCE_NAME, data=json.dumps(document))
+    return ExportSummary(
+        out, len(records), frames, len(options.cameras), time.perf_counter() - started
+    )
+
+
+def demo_name(index: int) -> str:
+    return f"demo_{index}"
+
+
+def _write_demo(data: Any, episode: LoadedEpisode, model_xml: str, options: ExportOptions) -> None:
+    assert episode.world is not None
+    arrays = episode.arrays
+    demo = data.create_group(demo_name(episode.index))
+    demo.attrs["num_samples"] = arrays.length
+    demo.attrs["model_file"] = model_xml
+    for name, value in episode.provenance.as_attributes().items():
+        demo.attrs[name] = value
+    demo.create_dataset("states", data=episode.world.mujoco_states(episode.states))
+    demo.create_dataset("actions", data=arrays.action)
+    demo.create_dataset("rewards", data=arrays.reward)
+    demo.create_dataset("dones", data=arrays.done.astype(np.int64))
+    obs = demo.create_group("obs")
+    obs.create_dataset("state", data=arrays.state)
+    obs.create_dataset("environment_state", data=arrays.environment)
+    if options.cameras:
+        size = options.size
+        images = {
+            camera: obs.create_dataset(
+                f"{camera}_image",
+                shape=(arrays.length, size.height, size.width, 3),
+                dtype=np.uint8,
+                chunks=(1, size.height, size.width, 3),
+            )
+            for camera in options.cameras
+        }
+        for i, frame in enumerate(episode.world.images(episode.states, options.cameras)):
+            for camera, image in frame.items():
+                images[camera][i] = image
+
+
+def _write_header(data: Any, source: ExportSource, frames: int) -> None:
+    first = source.sessions[0]
+    data.attrs["env_args"] = json.dumps(
+        {
+            "env_name": ENV_NAME,
+            "type": GYM_ENV_TYPE,
+            "env_kwargs": {"session_parameters": first.parameters},
+        }
+    )
+    data.attrs["total"] = frames
+    data.attrs["state_names"] = json.dumps(list(STATE_NAMES))
+    data.attrs["action_names"] = json.dumps(list(ACTION_NAMES))
+    data.attrs["environment_state_names"] = json.dumps(list(box_feature_names(source.pool_size)))
+    data.attrs["conventions"] = json.dumps(CONVENTIONS)
+    data.attrs["fps"] = source.fps
+
+
+def _write_masks(file: Any, records: list[Provenance]) -> None:
+    members: dict[str, list[str]] = {name: [] for name in FILTERS}
+    for record in records:
+        name = demo_name(record.episode_index)
+        members[record.outcome].append(name)
+        members["included" if record.included else "excluded"].append(name)
+    mask = file.create_group("mask")
+    for name, demos in members.items():
+        mask.create_dataset(name, data=np.array(demos, dtype="S"))

@@ -1,0 +1,74 @@
+"""The export-level provenance document shared by every dataset format.
+
+It names the store, the exported sessions with every stored parameter, the selection, the
+conventions of the dataset fields and each episode's :class:`Provenance`.
+"""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Sequence
+from typing import Any
+
+from workcell import __version__
+from workcell.export.boxes import BOX_STATE_CODES, box_feature_names
+from workcell.export.episode_data import CONVENTIONS
+from workcell.export.features import ACTION_NAMES, STATE_NAMES
+from workcell.export.options import ExportOptions
+from workcell.export.provenance import Provenance
+from workcell.export.source import ExportSource
+
+FORMAT = "workcell-dataset-provenance"
+FORMAT_VERSION = 1
+
+
+def provenance_document(
+    source: ExportSource, options: ExportOptions, records: Sequence[Provenance]
+) -> dict[str, Any]:
+    selection = source.selection
+    return {
+        "format": FORMAT,
+        "format_version": FORMAT_VERSION,
+        "software_version": __version__,
+        "exported_wall": time.time(),
+        "store": {
+            "path": str(source.path),
+            "store_id": source.meta.get("store_id"),
+            "software_version": source.meta.get("software_version"),
+            "schema_version": source.meta.get("schema_version"),
+        },
+        "selection": {
+            "include_all": options.include_all,
+            "closed_trials": selection.closed,
+            "exported": len(selection.episodes),
+            "left_out_not_included": selection.excluded,
+            "left_out_without_frames": selection.without_frames,
+        },
+        "cameras": list(options.cameras),
+        "image_size": [options.size.width, options.size.height] if options.cameras else None,
+        "conventions": CONVENTIONS,
+        "names": {
+            "state": list(STATE_NAMES),
+            "action": list(ACTION_NAMES),
+            "environment_state": list(box_feature_names(source.pool_size)),
+            "box_state_codes": BOX_STATE_CODES,
+        },
+        "sessions": {
+            s.session_id: {
+                "mode": s.mode,
+                "operator_id": s.operator_id,
+                "seed": s.seed,
+                "status": s.status,
+                "created_wall": s.created_wall,
+                "software_version": s.software_version,
+                "schema_version": s.schema_version,
+                "parameters": s.parameters,
+                "thresholds": s.thresholds,
+                "metric_definitions": s.metric_definitions,
+                "metrics_version": s.metrics_version,
+                "joint_order": list(s.joint_order),
+            }
+            for s in source.sessions
+        },
+        "episodes": [record.as_dict() for record in records],
+    }

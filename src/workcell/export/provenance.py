@@ -1,0 +1,113 @@
+"""Each exported episode's place in the four-layer record, so provenance survives export.
+
+One :class:`Provenance` per episode: its session and trial, outcome and interruption
+reason, quality flags, inclusion (and the reviewer decision behind it), score and frame
+range. Every dataset format carries the same fields (LeRobot: a sidecar table next to
+``meta/``; HDF5: attributes of each demo).
+"""
+
+from __future__ import annotations
+
+import json
+from dataclasses import asdict, dataclass
+from typing import Any
+
+from workcell.export.selection import EpisodeSource
+
+TASK_ONE = "Carry the box from the conveyor to the delivery table."
+TASK_MANY = "Carry {n} boxes from the conveyor to the delivery table."
+
+
+def task_text(required_boxes: int) -> str:
+    """The natural-language task of a trial that must deliver ``required_boxes``."""
+    return TASK_ONE if required_boxes == 1 else TASK_MANY.format(n=required_boxes)
+
+
+@dataclass(frozen=True)
+class Provenance:
+    """Where one episode comes from and how it was judged (None: not recorded)."""
+
+    episode_index: int
+    session_id: str
+    trial_id: str
+    trial_index: int
+    trial_seed: int | None
+    operator_id: str
+    mode: str
+    round: int | None
+    level: int | None
+    required_boxes: int
+    time_limit_s: float
+    outcome: str
+    interruption_reason: str | None
+    elapsed_s: float | None
+    completion_time_s: float | None
+    boxes_delivered: int | None
+    score: int | None
+    n_frames: int
+    quality_flags: tuple[str, ...]
+    included: bool
+    """The effective inclusion (see :mod:`workcell.export.selection`)."""
+    exclusion_reason: str | None
+    recorded_included: bool | None
+    """The trial row's own ``included`` column."""
+    review_kind: str | None
+    review_by: str | None
+    review_reason: str | None
+    review_at_wall: float | None
+    software_version: str
+    task: str
+
+    @classmethod
+    def of(cls, episode_index: int, source: EpisodeSource) -> Provenance:
+        trial, session, inclusion = source.trial, source.session, source.inclusion
+        review = inclusion.review
+        assert trial.outcome is not None and trial.n_frames is not None
+        return cls(
+            episode_index=episode_index,
+            session_id=trial.session_id,
+            trial_id=trial.trial_id,
+            trial_index=trial.trial_index,
+            trial_seed=trial.trial_seed,
+            operator_id=session.operator_id,
+            mode=trial.mode,
+            round=trial.round,
+            level=trial.level,
+            required_boxes=trial.required_boxes,
+            time_limit_s=trial.time_limit_s,
+            outcome=trial.outcome,
+            interruption_reason=trial.interruption_reason,
+            elapsed_s=trial.elapsed_s,
+            completion_time_s=trial.completion_time_s,
+            boxes_delivered=trial.boxes_delivered,
+            score=trial.score,
+            n_frames=trial.n_frames,
+            quality_flags=trial.quality_flags,
+            included=inclusion.included,
+            exclusion_reason=inclusion.reason,
+            recorded_included=trial.included,
+            review_kind=review.kind if review else None,
+            review_by=review.by if review else None,
+            review_reason=review.reason if review else None,
+            review_at_wall=review.at_wall if review else None,
+            software_version=session.software_version,
+            task=task_text(trial.required_boxes),
+        )
+
+    def as_dict(self) -> dict[str, Any]:
+        values = asdict(self)
+        values["quality_flags"] = list(self.quality_flags)
+        return values
+
+    def as_attributes(self) -> dict[str, Any]:
+        """HDF5 attributes: fields that are None are left out (HDF5 has no null); the
+        quality flags as JSON text."""
+        attributes: dict[str, Any] = {}
+        for name, value in self.as_dict().items():
+            if value is None:
+                continue  # absent attribute = not recorded
+            attributes[name] = json.dumps(value) if isinstance(value, list) else value
+        return attributes
+
+
+PROVENANCE_FIELDS: tuple[str, ...] = tuple(Provenance.__dataclass_fields__)
