@@ -102,6 +102,6 @@ def test_options_that_do_not_apply(
     assert line.endswith("--size applies to rendered cameras: give --cameras too")
     line = _fails(["--format", "lerobot", "--cameras", "tail_cam", *base], capsys)
     assert "name one or more of head_cam, wrist_l_cam, wrist_r_cam" in line
-    line = _fails(["--format", "rerun", *base], capsys)
-    assert "rerun export is not available yet" in line
+    line = _fails(["--format", "rerun", "--cameras", "head_cam", *base], capsys)
+    assert line.endswith("--cameras: applies to the lerobot and hdf5 formats")
     assert not (tmp_path / "o").exists()

@@ -13,24 +13,33 @@ if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
     from workcell.export.options import ExportOptions
 
-FORMATS = ("csv", "lerobot", "hdf5")
-DATASET_FORMATS = ("lerobot", "hdf5")
-PLANNED_FORMATS = ("rerun",)
+FORMATS = ("csv", "lerobot", "hdf5", "rerun")
+DATASET_FORMATS = ("lerobot", "hdf5", "rerun")
+"""Formats that export the selected trials (see workcell.export.selection)."""
+CAMERA_FORMATS = ("lerobot", "hdf5")
+"""Formats that render robot cameras from the recorded states."""
+OPTION_FORMATS: dict[str, tuple[str, ...]] = {
+    "--all": DATASET_FORMATS,
+    "--cameras": CAMERA_FORMATS,
+    "--size": CAMERA_FORMATS,
+}
 PROGRESS_STEPS = 10
 
 
 def register(subparsers: Subparsers) -> None:
     parser = subparsers.add_parser(
         "export",
-        help="export a store (CSV, LeRobot v3.0 dataset, robomimic HDF5)",
+        help="export a store (CSV, LeRobot v3.0 dataset, robomimic HDF5, Rerun recordings)",
         description=(
             "Write a store's records into a new or empty directory. csv: sessions.csv, "
             "trials.csv, events.csv, frames.csv, annotations.csv and manifest.json (check it "
             "later with 'workcell verify --csv DIR'). lerobot: a LeRobotDataset v3.0 (meta/, "
             "data/, videos/) with a provenance sidecar meta/workcell_provenance.parquet|json. "
             "hdf5: a robomimic-style workcell.hdf5 with masks for outcome and inclusion. "
-            "Dataset exports take included trials only unless --all, refuse a store that "
-            "fails 'workcell verify', and render --cameras from the recorded states."
+            "rerun: one .rrd recording per trial for the Rerun viewer (rerun-sdk 0.41) and "
+            "workcell_provenance.json. Dataset exports (lerobot, hdf5, rerun) take included "
+            "trials only unless --all and refuse a store that fails 'workcell verify'; "
+            "lerobot and hdf5 render --cameras from the recorded states."
         ),
     )
     parser.add_argument(
@@ -43,7 +52,7 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--all",
         action="store_true",
-        help="lerobot/hdf5: every closed trial, not only included ones (interrupted, "
+        help="lerobot/hdf5/rerun: every closed trial, not only included ones (interrupted, "
         "excluded); the provenance marks each",
     )
     parser.add_argument(
@@ -61,22 +70,17 @@ def register(subparsers: Subparsers) -> None:
 
 
 def run(args: argparse.Namespace) -> int:
-    if args.format in PLANNED_FORMATS:
-        raise ConfigError(
-            [
-                f"--format {args.format}: {args.format} export is not available yet; "
-                f"use {', '.join(FORMATS)}"
-            ]
-        )
     if args.format not in FORMATS:
         raise ConfigError([f"--format {args.format!r}: must be one of {', '.join(FORMATS)}"])
+    _refuse_options_that_do_not_apply(args)
     if args.format == "csv":
         return _run_csv(args)
     options = dataset_options(args)
     from workcell.export.hdf5_export import export_hdf5  # noqa: PLC0415
     from workcell.export.lerobot_export import export_lerobot  # noqa: PLC0415
+    from workcell.export.rerun_export import export_rerun  # noqa: PLC0415
 
-    export = export_lerobot if args.format == "lerobot" else export_hdf5
+    export = {"lerobot": export_lerobot, "hdf5": export_hdf5, "rerun": export_rerun}[args.format]
     summary = export(args.store, args.out, options, _print_progress)
     rate = summary.frames / summary.seconds if summary.seconds > 0 else float("inf")
     videos = f", {summary.videos} camera streams" if summary.videos else ""
@@ -109,23 +113,23 @@ def dataset_options(args: argparse.Namespace) -> ExportOptions:
     return ExportOptions(include_all=args.all, cameras=cameras, size=size)
 
 
-def _run_csv(args: argparse.Namespace) -> int:
-    given = [
-        option
-        for option, value in (
-            ("--all", args.all),
-            ("--cameras", args.cameras),
-            ("--size", args.size),
-        )
-        if value not in (None, False)
+def _refuse_options_that_do_not_apply(args: argparse.Namespace) -> None:
+    problems = [
+        f"{option}: applies to the {_listed(formats)} formats"
+        for option, formats in OPTION_FORMATS.items()
+        if getattr(args, option.removeprefix("--")) not in (None, False)
+        and args.format not in formats
     ]
-    if given:
-        raise ConfigError(
-            [
-                f"{option}: applies to the {' and '.join(DATASET_FORMATS)} formats"
-                for option in given
-            ]
-        )
+    if problems:
+        raise ConfigError(problems)
+
+
+def _listed(names: tuple[str, ...]) -> str:
+    """``a, b and c``."""
+    return " and ".join(names) if len(names) < 3 else f"{', '.join(names[:-1])} and {names[-1]}"
+
+
+def _run_csv(args: argparse.Namespace) -> int:
     from workcell.record.export_csv import export_csv  # noqa: PLC0415
 
     manifest = export_csv(args.store, args.out, _Progress())
