@@ -16,7 +16,18 @@ from collections.abc import Callable, Sequence
 from typing import NoReturn, Protocol, TypeAlias, cast
 
 from workcell import __version__
-from workcell.cli import collect, config, demo, export, merge, render, snapshot, verify
+from workcell.cli import (
+    annotate,
+    audit,
+    collect,
+    config,
+    demo,
+    export,
+    merge,
+    render,
+    snapshot,
+    verify,
+)
 from workcell.errors import ConfigError, WorkcellError
 
 PROG = "workcell"
@@ -38,6 +49,8 @@ class CommandModule(Protocol):
 
 COMMANDS: tuple[CommandModule, ...] = (
     collect,
+    audit,
+    annotate,
     config,
     demo,
     export,

@@ -1,0 +1,62 @@
+"""The audit's parameters, one frozen value written whole into every report."""
+
+from __future__ import annotations
+
+import inspect
+from dataclasses import asdict, dataclass, field
+from types import ModuleType
+from typing import Any
+
+from workcell.audit import crosscheck, disposition, nonfinite, oscillation, sampling
+from workcell.audit.crosscheck import CROSSCHECKED, Tolerance
+from workcell.audit.nonfinite import NONFINITE_VERSION, NonfiniteParams
+from workcell.audit.oscillation import OSCILLATION_VERSION, OscillationParams
+from workcell.audit.sampling import SAMPLING_VERSION, SamplingParams
+from workcell.errors import ConfigError
+
+AUDIT_VERSION = "1"
+"""Bumped whenever dispositions, statistics or the report's files change meaning."""
+
+
+def _doc(module: ModuleType) -> str:
+    return inspect.cleandoc(module.__doc__ or "")
+
+
+DEFINITIONS: dict[str, str] = {
+    "crosscheck": _doc(crosscheck),
+    "arm_oscillation": _doc(oscillation),
+    "sampling": _doc(sampling),
+    "nonfinite": _doc(nonfinite),
+    "dispositions": _doc(disposition),
+}
+"""The written definition of every check and rule, as in their modules (versioned there)."""
+
+
+@dataclass(frozen=True)
+class AuditConfig:
+    """Cross-check tolerance, detector parameters and how many successful trials the
+    trajectory figure draws (temporally stratified)."""
+
+    tolerance: Tolerance = field(default_factory=Tolerance)
+    oscillation: OscillationParams = field(default_factory=OscillationParams)
+    sampling: SamplingParams = field(default_factory=SamplingParams)
+    nonfinite: NonfiniteParams = field(default_factory=NonfiniteParams)
+    trajectories: int = 30
+
+    def __post_init__(self) -> None:
+        if not 1 <= self.trajectories <= 1000:
+            raise ConfigError([f"trajectories = {self.trajectories}: must be 1 to 1000"])
+
+    def describe(self) -> dict[str, Any]:
+        """Every parameter with its definition's version (for summary.json and the report)."""
+        return {
+            "audit_version": AUDIT_VERSION,
+            "crosscheck": {"metrics": list(CROSSCHECKED), **asdict(self.tolerance)},
+            "detectors": {
+                "arm_oscillation": {"version": OSCILLATION_VERSION, **asdict(self.oscillation)},
+                "sampling": {"version": SAMPLING_VERSION, **asdict(self.sampling)},
+                "nonfinite": {"version": NONFINITE_VERSION, **asdict(self.nonfinite)},
+            },
+            "trajectories": self.trajectories,
+            "definitions": DEFINITIONS,
+        }

@@ -1,0 +1,58 @@
+"""Every figure of the report, in report order."""
+
+from __future__ import annotations
+
+from workcell.audit.counts import DispositionCounts
+from workcell.audit.figures.canvas import RenderedFigure
+from workcell.audit.figures.distributions import draw_distributions
+from workcell.audit.figures.flow import draw_flow
+from workcell.audit.figures.outcomes import draw_outcomes
+from workcell.audit.figures.sampling import draw_sampling
+from workcell.audit.figures.trajectories import draw_trajectories
+from workcell.audit.run import AuditResult
+from workcell.audit.stats import SuccessRate
+
+
+def render_figures(result: AuditResult) -> list[RenderedFigure]:
+    trials = result.trials
+    gap_periods = result.config.sampling.gap_periods
+    return [
+        RenderedFigure(
+            "flow",
+            "Trial disposition",
+            "Raw trials to valid trials (paper Fig. 4): incomplete trials are excluded, "
+            "successes with a disqualifying flag are excluded as low quality, timeouts are "
+            "kept as valid failures (flagged ones marked); reviewer decisions are shown apart.",
+            draw_flow(DispositionCounts.of(trials)),
+        ),
+        RenderedFigure(
+            "outcomes",
+            "Outcomes and success rate",
+            "Outcome counts of the valid trials and the success rate with its Wilson 95 % "
+            "confidence interval (paper Fig. 5A).",
+            draw_outcomes(SuccessRate.of(trials)),
+        ),
+        RenderedFigure(
+            "distributions",
+            "Successful-trial metrics",
+            "Recomputed metrics of the valid successful trials: boxes show the median and "
+            "IQR, whiskers the 1.5-IQR rule, points individual trials (paper Fig. 5B-E).",
+            draw_distributions(trials),
+        ),
+        RenderedFigure(
+            "trajectories",
+            "Trajectory morphology",
+            f"Start-aligned floor-plane (x-y) TCP-midpoint paths of up to "
+            f"{result.config.trajectories} temporally stratified valid successful trials "
+            "(translated only), and their path lengths (paper Fig. 6).",
+            draw_trajectories(result.trajectories, trials),
+        ),
+        RenderedFigure(
+            "sampling",
+            "Sampling continuity",
+            "Realized sampling rate (wall and sim clock) and largest wall-clock gap of every "
+            "trial in session order; hollow or grey points are excluded trials "
+            "(paper §V-D).",
+            draw_sampling(trials, gap_periods),
+        ),
+    ]

@@ -1,0 +1,120 @@
+"""What the audit reads besides frames: sessions, trials and reviewer annotations.
+
+The same rows come from a store or from a CSV export, so both audits see identical values.
+Trials keep exactly the interchange contract's trial columns as stored (``stored``); the
+audit recomputes the derived ones from frames and never writes them back.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import Any
+
+from workcell.metrics import MetricThresholds
+from workcell.record.columns import TRIAL_COLUMNS
+from workcell.record.records import FLAG_SEPARATOR
+
+DEFAULT_RATE_HZ = 20.0
+"""Frame rate assumed for a session whose parameters do not state one (DESIGN default)."""
+
+
+@dataclass(frozen=True)
+class SessionRow:
+    """One session as the audit needs it. ``notes`` say where defaults replaced values the
+    session row did not hold in a readable form."""
+
+    session_id: str
+    created_wall: float
+    mode: str
+    operator_id: str
+    metrics_version: str
+    thresholds: MetricThresholds
+    rate_hz: float
+    notes: tuple[str, ...] = ()
+
+    @classmethod
+    def parse(
+        cls,
+        row: Mapping[str, Any],
+        parameters: Mapping[str, Any],
+        thresholds: Mapping[str, Any],
+    ) -> SessionRow:
+        """From a sessions row (``session_id``, ``created_wall``, ``mode``, ``operator_id``,
+        ``metrics_version``) and its decoded ``parameters`` and ``thresholds`` JSON."""
+        notes: list[str] = []
+        names = {f.name for f in fields(MetricThresholds)}
+        try:
+            if set(thresholds) != names:
+                raise ValueError(f"keys {sorted(thresholds)} are not {sorted(names)}")
+            metric_thresholds = MetricThresholds(**thresholds)
+        except (ValueError, TypeError) as error:
+            metric_thresholds = MetricThresholds()
+            notes.append(f"thresholds not readable ({error}); the DESIGN defaults were used")
+        rate = parameters.get("recording", {}).get("sampling_rate_hz")
+        if not (isinstance(rate, int | float) and math.isfinite(rate) and rate > 0):
+            notes.append(
+                f"parameters hold no recording.sampling_rate_hz; {DEFAULT_RATE_HZ:g} Hz was assumed"
+            )
+            rate = DEFAULT_RATE_HZ
+        return cls(
+            session_id=row["session_id"],
+            created_wall=float(row["created_wall"]),
+            mode=row["mode"],
+            operator_id=row["operator_id"],
+            metrics_version=row["metrics_version"],
+            thresholds=metric_thresholds,
+            rate_hz=float(rate),
+            notes=tuple(notes),
+        )
+
+
+@dataclass(frozen=True)
+class TrialRow:
+    """One trial's contract columns as stored (``stored``: every name of TRIAL_COLUMNS,
+    NULL as None), with the ones the audit reasons about as typed fields."""
+
+    session_id: str
+    trial_id: str
+    trial_index: int
+    mode: str
+    level: int | None
+    outcome: str | None
+    interruption_reason: str | None
+    stored: Mapping[str, Any]
+
+    @classmethod
+    def parse(cls, row: Mapping[str, Any]) -> TrialRow:
+        stored = {name: row[name] for name in TRIAL_COLUMNS}
+        return cls(
+            session_id=stored["session_id"],
+            trial_id=stored["trial_id"],
+            trial_index=int(stored["trial_index"]),
+            mode=stored["mode"],
+            level=stored["level"],
+            outcome=stored["outcome"],
+            interruption_reason=stored["interruption_reason"],
+            stored=stored,
+        )
+
+    @property
+    def stored_flags(self) -> tuple[str, ...]:
+        flags = self.stored["quality_flags"]
+        return tuple(flags.split(FLAG_SEPARATOR)) if flags else ()
+
+
+@dataclass(frozen=True)
+class Annotation:
+    """A reviewer's decision on a trial: ``kind`` include, exclude or note."""
+
+    annotation_id: str
+    trial_id: str
+    kind: str
+    reason: str
+    by: str
+    at_wall: float
+
+    @classmethod
+    def parse(cls, row: Mapping[str, Any]) -> Annotation:
+        return cls(**{f.name: row[f.name] for f in fields(cls)})

@@ -1,0 +1,146 @@
+"""Running an audit over a source: stream the trials, then select trajectories to draw."""
+
+from __future__ import annotations
+
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+import numpy as np
+
+from workcell.audit.config import AuditConfig
+from workcell.audit.disposition import latest_decisions
+from workcell.audit.errors import AuditError
+from workcell.audit.findings import SESSION, SOURCE, Finding, trial_findings
+from workcell.audit.oscillation import OscillationCriteria
+from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray, frame_arrays
+from workcell.audit.trial_audit import TrialAudit, audit_trial
+from workcell.metrics import FrameArrays
+
+Progress = Callable[[int, int, int], None]
+"""``progress(trials_done, trials_total, frames_read)``, called after each trial."""
+
+
+@dataclass(frozen=True)
+class AuditResult:
+    """A finished audit: trials in session order (sessions by creation, trials by index),
+    findings in that order, and the start-aligned floor-plane (x, y) TCP-midpoint paths of
+    the temporally stratified successful trials the report draws."""
+
+    config: AuditConfig
+    source_kind: str
+    source_path: str
+    sessions: tuple[SessionRow, ...]
+    trials: tuple[TrialAudit, ...]
+    annotations: tuple[Annotation, ...]
+    findings: tuple[Finding, ...]
+    trajectories: dict[str, FloatArray]
+    frames_read: int
+
+
+def stratified(count: int, k: int) -> list[int]:
+    """Up to ``k`` positions spread evenly over ``count`` ordered items, first and last
+    included."""
+    if count <= k:
+        return list(range(count))
+    return [int(i) for i in np.linspace(0, count - 1, k).round()]
+
+
+def _start_aligned(xy: FloatArray) -> FloatArray:
+    finite = np.flatnonzero(np.isfinite(xy).all(axis=1))
+    return xy - xy[finite[0]] if len(finite) else xy
+
+
+class _Auditor:
+    """Audits trials one by one with their session's thresholds, rate and reviews."""
+
+    def __init__(
+        self,
+        sessions: Sequence[SessionRow],
+        annotations: Sequence[Annotation],
+        config: AuditConfig,
+    ) -> None:
+        self.config = config
+        self.sessions = {s.session_id: s for s in sessions}
+        self.decisions = latest_decisions(annotations)
+        self.criteria: dict[float, OscillationCriteria | None] = {}
+
+    def audit(self, row: TrialRow, frames: FrameArrays) -> TrialAudit:
+        session = self.sessions[row.session_id]
+        if session.rate_hz not in self.criteria:
+            self.criteria[session.rate_hz] = OscillationCriteria.of(
+                self.config.oscillation, session.rate_hz
+            )
+        return audit_trial(
+            row,
+            session,
+            frames,
+            review=self.decisions.get(row.trial_id),
+            config=self.config,
+            criteria=self.criteria[session.rate_hz],
+        )
+
+
+def run_audit(
+    source: AuditSource, config: AuditConfig | None = None, progress: Progress | None = None
+) -> AuditResult:
+    """Audit every trial of ``source``, reading one trial's frames at a time."""
+    config = config or AuditConfig()
+    annotations = tuple(source.annotations())
+    auditor = _Auditor(source.sessions(), annotations, config)
+    rows = {row.trial_id: row for row in source.trials()}
+    for trial_row in rows.values():
+        if trial_row.session_id not in auditor.sessions:
+            raise AuditError(
+                f"{source.path}: trial {trial_row.trial_id} names session "
+                f"{trial_row.session_id}, which the source does not hold"
+            )
+    findings: list[Finding] = []
+    done: dict[str, TrialAudit] = {}
+    frames_read = 0
+    for trial_id, frames in source.frames():
+        row = rows.get(trial_id)
+        if row is None:
+            message = f"{len(frames)} frames of trial {trial_id}, which no trial row holds"
+            findings.append(Finding(SOURCE, "orphan_frames", message, trial_id))
+            continue
+        done[trial_id] = auditor.audit(row, frames)
+        frames_read += len(frames)
+        if progress is not None:
+            progress(len(done), len(rows), frames_read)
+    empty = frame_arrays(np.empty((0, len(FRAME_COLUMNS_READ))))
+    for trial_id, row in rows.items():
+        if trial_id not in done:
+            done[trial_id] = auditor.audit(row, empty)
+    sessions = sorted(auditor.sessions.values(), key=lambda s: (s.created_wall, s.session_id))
+    position = {s.session_id: i for i, s in enumerate(sessions)}
+    trials = sorted(done.values(), key=lambda t: (position[t.row.session_id], t.row.trial_index))
+    for session in sessions:
+        for text in session.notes:
+            findings.append(Finding(SESSION, "defaults", text, session_id=session.session_id))
+    for trial in trials:
+        findings += trial_findings(trial)
+    for note in annotations:
+        if note.trial_id not in rows:
+            message = f"annotation {note.annotation_id} names trial {note.trial_id}, not found"
+            findings.append(Finding(SOURCE, "orphan_annotation", message, note.trial_id))
+    return AuditResult(
+        config=config,
+        source_kind=source.kind,
+        source_path=str(source.path),
+        sessions=tuple(sessions),
+        trials=tuple(trials),
+        annotations=annotations,
+        findings=tuple(findings),
+        trajectories=_trajectories(source, trials, config.trajectories),
+        frames_read=frames_read,
+    )
+
+
+def _trajectories(
+    source: AuditSource, trials: Sequence[TrialAudit], k: int
+) -> dict[str, FloatArray]:
+    successes = [t.trial_id for t in trials if t.valid_success]
+    chosen = [successes[i] for i in stratified(len(successes), k)]
+    paths = source.midpoints(chosen)
+    return {trial_id: _start_aligned(paths[trial_id]) for trial_id in chosen if trial_id in paths}

@@ -1,0 +1,96 @@
+"""Where an audit reads from: a store or a CSV export, behind one small protocol.
+
+A source hands over sessions, trials and annotations whole (they are small) and frames one
+trial at a time, as :class:`~workcell.metrics.FrameArrays` of the columns the metrics need,
+so memory does not grow with the number of trials.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Collection, Iterator
+from pathlib import Path
+from typing import Any, Literal, Protocol
+
+import numpy as np
+import numpy.typing as npt
+
+from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.metrics import REQUIRED_COLUMNS, FrameArrays
+from workcell.sim.joints import ARM_JOINTS_PER_SIDE
+
+FloatArray = npt.NDArray[np.float64]
+
+FRAME_COLUMNS_READ: tuple[str, ...] = REQUIRED_COLUMNS
+"""The frame columns an audit reads: exactly those the metrics and detectors use."""
+
+MIDPOINT_COLUMNS: tuple[str, ...] = ("tcp_l_x", "tcp_l_y", "tcp_r_x", "tcp_r_y")
+"""The frame columns of the floor-plane (x-y) TCP-midpoint trajectory."""
+
+SourceKind = Literal["store", "csv"]
+
+
+class AuditSource(Protocol):
+    """What the audit reads. Frames come in the source's own order; a trial without frames
+    may be left out of :meth:`frames`."""
+
+    @property
+    def kind(self) -> SourceKind: ...
+
+    @property
+    def path(self) -> Path: ...
+
+    def sessions(self) -> list[SessionRow]: ...
+
+    def trials(self) -> list[TrialRow]: ...
+
+    def annotations(self) -> list[Annotation]: ...
+
+    def frames(self) -> Iterator[tuple[str, FrameArrays]]:
+        """(trial_id, frames) for every trial with frames, one trial in memory at a time."""
+        ...
+
+    def midpoints(self, trial_ids: Collection[str]) -> dict[str, FloatArray]:
+        """The (n, 2) floor-plane TCP midpoints (x, y in metres) of the given trials."""
+        ...
+
+    def close(self) -> None: ...
+
+
+_FIELD_WIDTHS: tuple[tuple[str, int], ...] = (
+    ("t_sim", 1),
+    ("t_wall", 1),
+    ("base_v", 3),
+    ("tcp_l", 3),
+    ("tcp_r", 3),
+    ("q_l", ARM_JOINTS_PER_SIDE),
+    ("q_r", ARM_JOINTS_PER_SIDE),
+    ("dq_l", ARM_JOINTS_PER_SIDE),
+    ("dq_r", ARM_JOINTS_PER_SIDE),
+    ("grip_l", 1),
+    ("grip_r", 1),
+)
+"""FrameArrays' fields and how many of REQUIRED_COLUMNS each takes, in column order."""
+
+
+def frame_arrays(matrix: npt.NDArray[Any]) -> FrameArrays:
+    """FrameArrays from an (n, k) float matrix whose columns are FRAME_COLUMNS_READ
+    (REQUIRED_COLUMNS: FrameArrays' fields in order, each a run of columns).
+
+    Same values as ``FrameArrays.from_columns`` of those columns, with one copy: the
+    matrix is laid out column-major so that every field is a contiguous view.
+    """
+    data = np.asfortranarray(matrix, dtype=np.float64).reshape(
+        (-1, len(FRAME_COLUMNS_READ)), order="F"
+    )
+    blocks: dict[str, FloatArray] = {}
+    at = 0
+    for name, width in _FIELD_WIDTHS:
+        blocks[name] = data[:, at] if width == 1 else data[:, at : at + width]
+        at += width
+    return FrameArrays(**blocks)
+
+
+def midpoint_xy(matrix: npt.NDArray[Any]) -> FloatArray:
+    """(n, 2) TCP midpoints from an (n, 4) matrix of MIDPOINT_COLUMNS."""
+    data = np.asarray(matrix, dtype=np.float64).reshape(-1, len(MIDPOINT_COLUMNS))
+    return 0.5 * (data[:, 0:2] + data[:, 2:4])

@@ -1,0 +1,98 @@
+"""Statistics of the valid trials: success rate with its Wilson 95 % interval, and
+descriptive statistics (mean +- sample SD, median [IQR]) of each metric (paper §IV-D, V).
+
+Outcome statistics count the valid trials (successes + timeouts); the Table I metrics
+describe the valid successful trials; sampling figures describe all valid trials.
+Groups (session, mode, level, operator) are reported where the valid trials hold more
+than one value of that key.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable, Sequence
+from dataclasses import dataclass
+
+from workcell.audit.trial_audit import TrialAudit
+from workcell.metrics import Descriptive, describe, wilson_interval
+
+SUCCESS_METRICS: dict[str, str] = {
+    "completion_time_s": "s",
+    "path_length_m": "m",
+    "smoothness": "rad/sample^2",
+    "active_ratio": "share 0-1",
+}
+"""Table I: metric -> unit, described over valid successful trials."""
+
+SAMPLING_METRICS: dict[str, str] = {"hz_wall": "Hz", "hz_sim": "Hz", "max_gap_s": "s"}
+"""Sampling figures (paper §V-D): metric -> unit, described over all valid trials."""
+
+
+@dataclass(frozen=True)
+class SuccessRate:
+    """``successes`` of ``n`` valid trials; ``rate``, ``low``, ``high`` shares 0-1 (NaN
+    for n = 0), the interval Wilson's at 95 %."""
+
+    successes: int
+    n: int
+    rate: float
+    low: float
+    high: float
+
+    @classmethod
+    def of(cls, trials: Sequence[TrialAudit]) -> SuccessRate:
+        valid = [t for t in trials if t.disposition.included]
+        successes = sum(t.row.outcome == "success" for t in valid)
+        low, high = wilson_interval(successes, len(valid))
+        rate = successes / len(valid) if valid else math.nan
+        return cls(successes, len(valid), rate, low, high)
+
+
+def metric_values(trials: Sequence[TrialAudit], name: str) -> list[float]:
+    """The recomputed ``name`` of each trial (NaN where undefined)."""
+    values = (getattr(t.metrics, name) for t in trials)
+    return [math.nan if v is None else float(v) for v in values]
+
+
+def success_metrics(trials: Sequence[TrialAudit]) -> dict[str, Descriptive]:
+    successes = [t for t in trials if t.valid_success]
+    return {name: describe(metric_values(successes, name)) for name in SUCCESS_METRICS}
+
+
+def sampling_metrics(trials: Sequence[TrialAudit]) -> dict[str, Descriptive]:
+    valid = [t for t in trials if t.disposition.included]
+    return {name: describe(metric_values(valid, name)) for name in SAMPLING_METRICS}
+
+
+@dataclass(frozen=True)
+class GroupStats:
+    """The statistics of the valid trials sharing one value of a grouping key."""
+
+    value: str
+    rate: SuccessRate
+    metrics: dict[str, Descriptive]
+
+
+GROUP_KEYS: dict[str, Callable[[TrialAudit], str]] = {
+    "session": lambda t: t.row.session_id,
+    "mode": lambda t: t.row.mode,
+    "level": lambda t: "-" if t.row.level is None else str(t.row.level),
+    "operator": lambda t: t.session.operator_id,
+}
+
+
+def grouped(trials: Sequence[TrialAudit]) -> dict[str, list[GroupStats]]:
+    """Per grouping key with more than one value among valid trials: one entry per value,
+    in order of first appearance (session order)."""
+    valid = [t for t in trials if t.disposition.included]
+    out: dict[str, list[GroupStats]] = {}
+    for key, of in GROUP_KEYS.items():
+        values = list(dict.fromkeys(of(t) for t in valid))
+        if len(values) < 2:
+            continue
+        out[key] = [
+            GroupStats(value, SuccessRate.of(members), success_metrics(members))
+            for value in values
+            for members in [[t for t in valid if of(t) == value]]
+        ]
+    return out

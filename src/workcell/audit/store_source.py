@@ -1,0 +1,88 @@
+"""Reading a store for an audit: one read-only snapshot, the needed frame columns only.
+
+Frames are read with one SELECT per trial of the 41 columns the metrics use, straight into
+a float matrix (NULL becomes NaN); the store's own :meth:`Store.frames` reads every column
+and rebuilds checksummed batches, which an audit does not need.
+"""
+
+from __future__ import annotations
+
+import json
+import sqlite3
+from collections.abc import Collection, Iterator
+from pathlib import Path
+from typing import Literal
+
+import numpy as np
+
+from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.source import (
+    FRAME_COLUMNS_READ,
+    MIDPOINT_COLUMNS,
+    FloatArray,
+    frame_arrays,
+    midpoint_xy,
+)
+from workcell.metrics import FrameArrays
+from workcell.record.connection import connect
+from workcell.record.rowio import select
+from workcell.record.schema import ANNOTATIONS, SESSIONS, TRIALS, column_list
+
+MMAP_BYTES = 1 << 30
+"""Memory-map up to this much of the store file: fewer copies on a large read."""
+
+SESSION_ORDER = "created_wall, session_id"
+TRIAL_ORDER = "started_wall, trial_index"
+
+
+def _frames_sql(names: tuple[str, ...]) -> str:
+    return f"SELECT {column_list(names)} FROM frames WHERE trial_id = ? ORDER BY frame_index"
+
+
+class StoreSource:
+    """An open store, read in one consistent snapshot (a recorder may keep writing)."""
+
+    kind: Literal["store"] = "store"
+
+    def __init__(self, path: Path) -> None:
+        self.path = path
+        self._conn = connect(path, writer=False)
+        self._conn.execute(f"PRAGMA mmap_size = {MMAP_BYTES}")
+        self._conn.execute("BEGIN")  # the snapshot every read below sees
+
+    def sessions(self) -> list[SessionRow]:
+        return [
+            SessionRow.parse(
+                row, json.loads(row["parameters_json"]), json.loads(row["thresholds_json"])
+            )
+            for row in select(self._conn, SESSIONS, order=SESSION_ORDER)
+        ]
+
+    def trials(self) -> list[TrialRow]:
+        return [TrialRow.parse(row) for row in select(self._conn, TRIALS, order=TRIAL_ORDER)]
+
+    def annotations(self) -> list[Annotation]:
+        rows = select(self._conn, ANNOTATIONS, order="at_wall, annotation_id")
+        return [Annotation.parse(row) for row in rows]
+
+    def frames(self) -> Iterator[tuple[str, FrameArrays]]:
+        sql = _frames_sql(FRAME_COLUMNS_READ)
+        ids = [
+            r[0] for r in self._conn.execute(f"SELECT trial_id FROM trials ORDER BY {TRIAL_ORDER}")
+        ]
+        for trial_id in ids:
+            yield trial_id, frame_arrays(self._matrix(sql, trial_id, len(FRAME_COLUMNS_READ)))
+
+    def midpoints(self, trial_ids: Collection[str]) -> dict[str, FloatArray]:
+        sql = _frames_sql(MIDPOINT_COLUMNS)
+        return {
+            trial_id: midpoint_xy(self._matrix(sql, trial_id, len(MIDPOINT_COLUMNS)))
+            for trial_id in trial_ids
+        }
+
+    def close(self) -> None:
+        self._conn.close()
+
+    def _matrix(self, sql: str, trial_id: str, width: int) -> FloatArray:
+        cursor: sqlite3.Cursor = self._conn.execute(sql, (trial_id,))
+        return np.fromiter(cursor, dtype=np.dtype((np.float64, width)))

@@ -1,0 +1,120 @@
+"""summary.json: every count, statistic, parameter and finding of an audit, as JSON.
+
+Undefined numbers (NaN) are written as null. Nothing in it depends on when the audit ran,
+so two audits of the same data (a store and its CSV export) write the same summary apart
+from ``source``.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import Counter
+from dataclasses import asdict
+from typing import Any
+
+from workcell import __version__
+from workcell.audit.config import AUDIT_VERSION
+from workcell.audit.counts import DispositionCounts
+from workcell.audit.flags import FLAG_NAMES
+from workcell.audit.oscillation import OscillationCriteria
+from workcell.audit.run import AuditResult
+from workcell.audit.stats import (
+    SAMPLING_METRICS,
+    SUCCESS_METRICS,
+    SuccessRate,
+    grouped,
+    sampling_metrics,
+    success_metrics,
+)
+from workcell.metrics import METRIC_DEFINITIONS, METRICS_VERSION, Descriptive
+
+FORMAT = "workcell-audit-summary"
+
+
+def clean(value: Any) -> Any:
+    """``value`` with every non-finite float replaced by None (JSON has no NaN)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, dict):
+        return {k: clean(v) for k, v in value.items()}
+    if isinstance(value, list | tuple):
+        return [clean(v) for v in value]
+    return value
+
+
+def _rate(rate: SuccessRate) -> dict[str, Any]:
+    return {**asdict(rate), "confidence": 0.95, "interval": "wilson"}
+
+
+def _described(stats: dict[str, Descriptive], units: dict[str, str]) -> dict[str, Any]:
+    return {name: {"unit": units[name], **asdict(d)} for name, d in stats.items()}
+
+
+def parameters(result: AuditResult) -> dict[str, Any]:
+    """The audit's parameters, with the oscillation criteria derived at each session rate."""
+    described = result.config.describe()
+    by_rate: dict[str, Any] = {}
+    for rate in sorted({s.rate_hz for s in result.sessions}):
+        criteria = OscillationCriteria.of(result.config.oscillation, rate)
+        by_rate[f"{rate:g}"] = None if criteria is None else criteria.describe()
+    described["arm_oscillation_criteria_by_rate_hz"] = by_rate
+    return described
+
+
+def build_summary(result: AuditResult) -> dict[str, Any]:
+    trials = result.trials
+    valid = [t for t in trials if t.disposition.included]
+    flagged = Counter(f.name for t in trials for f in t.flags)
+    flagged_valid = Counter(f.name for t in valid for f in t.flags)
+    gaps = [t.metrics.max_gap_s for t in valid if math.isfinite(t.metrics.max_gap_s)]
+    summary = {
+        "format": FORMAT,
+        "audit_version": AUDIT_VERSION,
+        "metrics_version": METRICS_VERSION,
+        "software_version": __version__,
+        "source": {"kind": result.source_kind, "path": result.source_path},
+        "parameters": parameters(result),
+        "metric_definitions": METRIC_DEFINITIONS,
+        "sessions": [
+            {
+                "session_id": s.session_id,
+                "mode": s.mode,
+                "operator_id": s.operator_id,
+                "rate_hz": s.rate_hz,
+                "thresholds": asdict(s.thresholds),
+                "metrics_version": s.metrics_version,
+                "trials": sum(t.row.session_id == s.session_id for t in trials),
+            }
+            for s in result.sessions
+        ],
+        "frames": result.frames_read,
+        "counts": asdict(DispositionCounts.of(trials)),
+        "success_rate": _rate(SuccessRate.of(trials)),
+        "metrics": _described(success_metrics(trials), SUCCESS_METRICS),
+        "sampling": {
+            **_described(sampling_metrics(trials), SAMPLING_METRICS),
+            "largest_gap_s": max(gaps) if gaps else None,
+        },
+        "flags": {
+            name: {"trials": flagged[name], "valid_trials": flagged_valid[name]}
+            for name in FLAG_NAMES
+        },
+        "crosscheck": {
+            "trials": sum(t.row.outcome is not None for t in trials),
+            "trials_with_mismatch": sum(bool(t.mismatches) for t in trials),
+        },
+        "groups": {
+            key: [
+                {
+                    "value": g.value,
+                    "success_rate": _rate(g.rate),
+                    **_described(g.metrics, SUCCESS_METRICS),
+                }
+                for g in groups
+            ]
+            for key, groups in grouped(trials).items()
+        },
+        "findings": [asdict(f) for f in result.findings],
+    }
+    cleaned: dict[str, Any] = clean(summary)
+    return cleaned

@@ -1,0 +1,86 @@
+"""One trial audited: metrics recomputed from its frames, flags, cross-check, disposition."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+from workcell.audit.config import AuditConfig
+from workcell.audit.crosscheck import Mismatch, crosscheck
+from workcell.audit.disposition import Disposition, decide
+from workcell.audit.flags import Flag
+from workcell.audit.nonfinite import detect_nonfinite
+from workcell.audit.oscillation import OscillationCriteria, detect_oscillation
+from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.sampling import detect_sampling
+from workcell.metrics import FrameArrays, TrialMetrics, compute_trial_metrics
+
+
+@dataclass(frozen=True)
+class TrialAudit:
+    """Everything the audit concluded about one trial. ``metrics`` are recomputed from the
+    frames; ``row`` holds what was stored, untouched."""
+
+    row: TrialRow
+    session: SessionRow
+    metrics: TrialMetrics
+    flags: tuple[Flag, ...]
+    mismatches: tuple[Mismatch, ...]
+    disposition: Disposition
+
+    @property
+    def trial_id(self) -> str:
+        return self.row.trial_id
+
+    @property
+    def valid_success(self) -> bool:
+        return self.disposition.included and self.row.outcome == "success"
+
+
+def detect_flags(
+    frames: FrameArrays,
+    metrics: TrialMetrics,
+    session: SessionRow,
+    config: AuditConfig,
+    criteria: OscillationCriteria | None,
+) -> tuple[Flag, ...]:
+    """Every quality flag of one trial, in FLAG_NAMES order."""
+    flags: list[Flag] = []
+    if criteria is not None:
+        grip = session.thresholds.grip_threshold
+        oscillation = detect_oscillation(
+            frames,
+            frames.grip_l >= grip,
+            frames.grip_r >= grip,
+            criteria,
+            config.oscillation.disqualifying,
+        )
+        if oscillation is not None:
+            flags.append(oscillation)
+    flags += detect_sampling(frames, session.rate_hz, config.sampling)
+    nonfinite = detect_nonfinite(metrics, config.nonfinite)
+    if nonfinite is not None:
+        flags.append(nonfinite)
+    return tuple(flags)
+
+
+def audit_trial(
+    row: TrialRow,
+    session: SessionRow,
+    frames: FrameArrays,
+    *,
+    review: Annotation | None,
+    config: AuditConfig,
+    criteria: OscillationCriteria | None,
+) -> TrialAudit:
+    """Audit one trial; ``criteria`` are the oscillation criteria at the session's rate
+    (None when that rate cannot resolve them)."""
+    metrics = compute_trial_metrics(frames, row.outcome == "success", session.thresholds)
+    flags = detect_flags(frames, metrics, session, config, criteria)
+    return TrialAudit(
+        row=row,
+        session=session,
+        metrics=metrics,
+        flags=flags,
+        mismatches=crosscheck(row, metrics, config.tolerance),
+        disposition=decide(row, flags, review),
+    )

@@ -1,0 +1,102 @@
+"""trials.csv of an audit: the contract's trial columns, then every flag and disposition.
+
+The contract's derived columns (n_frames, completion_time_s, the metrics) hold the values
+recomputed from frames; ``quality_flags``, ``included`` and ``exclusion_reason`` the
+audit's final decision. Cells are written as in a CSV export (reals with ``repr``, NULL
+and NaN as an empty cell).
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+from collections.abc import Sequence
+from pathlib import Path
+from typing import Any
+
+from workcell.audit.flags import FLAG_NAMES
+from workcell.audit.trial_audit import TrialAudit
+from workcell.record.columns import TRIAL_COLUMNS
+from workcell.record.csv_format import format_row
+from workcell.record.records import FLAG_SEPARATOR
+
+RECOMPUTED: tuple[str, ...] = (
+    "n_frames",
+    "completion_time_s",
+    "path_length_m",
+    "smoothness",
+    "active_ratio",
+    "hz_wall",
+    "hz_sim",
+    "max_gap_s",
+)
+
+AUDIT_COLUMNS: tuple[str, ...] = (
+    "nonfinite_share",
+    "monotonic",
+    *(f"flag_{name}" for name in FLAG_NAMES),
+    "flag_details",
+    "disposition",
+    "marked",
+    "automatic_included",
+    "automatic_exclusion_reason",
+    "review_kind",
+    "review_by",
+    "review_reason",
+    "review_overridden",
+    "review_refused",
+    "stored_quality_flags",
+    "stored_included",
+    "metric_mismatches",
+)
+"""Columns after the contract's: flags 0/1, ``disposition`` one of STAGES, review fields
+from the deciding annotation, what the trial row stored, and mismatching metrics."""
+
+COLUMNS: tuple[str, ...] = TRIAL_COLUMNS + AUDIT_COLUMNS
+
+
+def _cell(value: Any) -> Any:
+    if isinstance(value, bool):
+        return int(value)
+    if isinstance(value, float) and math.isnan(value):
+        return None
+    return value
+
+
+def trial_row(trial: TrialAudit) -> list[Any]:
+    """One trial's cells in COLUMNS order (Python values; None is an empty cell)."""
+    values = dict(trial.row.stored)
+    for name in RECOMPUTED:
+        values[name] = getattr(trial.metrics, name)
+    d = trial.disposition
+    names = {f.name for f in trial.flags}
+    review = d.review
+    values |= {
+        "quality_flags": FLAG_SEPARATOR.join(f.name for f in trial.flags) or None,
+        "included": d.included,
+        "exclusion_reason": d.exclusion_reason,
+        "nonfinite_share": trial.metrics.nonfinite_share,
+        "monotonic": trial.metrics.monotonic,
+        **{f"flag_{name}": name in names for name in FLAG_NAMES},
+        "flag_details": " | ".join(f"{f.name}: {f.detail}" for f in trial.flags) or None,
+        "disposition": d.stage,
+        "marked": d.marked,
+        "automatic_included": d.automatic_included,
+        "automatic_exclusion_reason": d.automatic_reason,
+        "review_kind": review.kind if review else None,
+        "review_by": review.by if review else None,
+        "review_reason": review.reason if review else None,
+        "review_overridden": d.overridden,
+        "review_refused": d.refused,
+        "stored_quality_flags": trial.row.stored["quality_flags"],
+        "stored_included": trial.row.stored["included"],
+        "metric_mismatches": FLAG_SEPARATOR.join(m.metric for m in trial.mismatches) or None,
+    }
+    return [_cell(values[name]) for name in COLUMNS]
+
+
+def write_trials_csv(path: Path, trials: Sequence[TrialAudit]) -> None:
+    with path.open("w", newline="") as file:
+        writer = csv.writer(file, lineterminator="\n")
+        writer.writerow(COLUMNS)
+        writer.writerows(format_row(trial_row(t)) for t in trials)

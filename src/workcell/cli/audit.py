@@ -1,0 +1,100 @@
+"""``workcell audit``: recompute every metric, classify every trial, write the report."""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    from workcell.audit.run import AuditResult
+    from workcell.cli.main import Subparsers
+
+PROGRESS_EVERY_S = 1.0
+
+
+def register(subparsers: Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "audit",
+        help="recompute metrics, classify trials and write report.html + summary.json",
+        description=(
+            "Recompute every trial's metrics from its frames and check them against the "
+            "stored values, flag sustained arm oscillation, sampling gaps and non-finite "
+            "data, decide which trials are valid (incomplete and low-quality successes "
+            "are excluded, timeouts kept; reviewer annotations override) and write "
+            "report.html, summary.json and trials.csv into a new or empty folder. Reads a "
+            "store or a CSV export; needs no simulator."
+        ),
+    )
+    what = parser.add_mutually_exclusive_group(required=True)
+    what.add_argument("--store", type=Path, metavar="PATH", help="a store file")
+    what.add_argument("--csv", type=Path, metavar="DIR", help="a directory written by export")
+    parser.add_argument(
+        "--out", required=True, type=Path, metavar="DIR", help="new or empty output folder"
+    )
+    parser.add_argument(
+        "--force", action="store_true", help="write into a non-empty folder (overwrites the report)"
+    )
+    parser.add_argument(
+        "--trajectories",
+        type=int,
+        default=30,
+        metavar="N",
+        help="successful trials drawn in the trajectory figure (default: 30)",
+    )
+    parser.set_defaults(func=run)
+
+
+class _Progress:
+    """Prints how far the audit is to stderr, at most once a second."""
+
+    def __init__(self) -> None:
+        self.last = time.monotonic()
+
+    def __call__(self, done: int, total: int, frames: int) -> None:
+        now = time.monotonic()
+        if now - self.last >= PROGRESS_EVERY_S:
+            self.last = now
+            print(f"audit: {done}/{total} trials, {frames} frames", file=sys.stderr, flush=True)
+
+
+def run(args: argparse.Namespace) -> int:
+    from workcell.audit.config import AuditConfig  # noqa: PLC0415
+    from workcell.audit.csv_source import CsvSource  # noqa: PLC0415
+    from workcell.audit.run import run_audit  # noqa: PLC0415
+    from workcell.audit.source import AuditSource  # noqa: PLC0415
+    from workcell.audit.store_source import StoreSource  # noqa: PLC0415
+    from workcell.audit.write import check_output, write_outputs  # noqa: PLC0415
+
+    config = AuditConfig(trajectories=args.trajectories)
+    check_output(args.out, args.force)
+    source: AuditSource = StoreSource(args.store) if args.store else CsvSource(args.csv)
+    try:
+        result = run_audit(source, config, _Progress())
+    finally:
+        source.close()
+    paths = write_outputs(result, args.out)
+    print(_summary_line(result))
+    print(f"wrote {', '.join(str(p) for p in paths.values())}")
+    return 0
+
+
+def _summary_line(result: AuditResult) -> str:
+    from workcell.audit.counts import DispositionCounts  # noqa: PLC0415
+    from workcell.audit.stats import SuccessRate  # noqa: PLC0415
+
+    c = DispositionCounts.of(result.trials)
+    r = SuccessRate.of(result.trials)
+    rate = (
+        f"success rate {100 * r.rate:.2f} % [{100 * r.low:.2f}, {100 * r.high:.2f}]"
+        if r.n
+        else "no valid trial"
+    )
+    return (
+        f"audited {c.raw} trials ({result.frames_read} frames): {c.valid} valid "
+        f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}; "
+        f"{c.incomplete} incomplete, {c.excluded_low_quality} low quality, "
+        f"{c.excluded_by_reviewer} excluded by reviewer; {len(result.findings)} findings"
+    )

@@ -1,0 +1,124 @@
+"""Building audit test stores from real expert trials: copy, inject, truncate, tamper.
+
+Frames are taken from a store a real ``workcell collect`` wrote and written into a new store
+through the Store API, with the trial's metrics recomputed (as the recorder does) unless a
+test asks for others.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from collections.abc import Mapping
+from typing import Any
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
+from workcell.record import SessionInfo, SessionRecord, Store, StoredMetrics, TrialEnd, TrialStart
+
+Columns = dict[str, NDArray[Any]]
+IDS = ("session_id", "trial_id", "frame_index")
+
+
+def session_info(record: SessionRecord) -> SessionInfo:
+    return SessionInfo(
+        mode=record.mode,
+        operator_id=record.operator_id,
+        seed=record.seed,
+        parameters=record.parameters,
+        thresholds=record.thresholds,
+        metric_definitions=record.metric_definitions,
+        metrics_version=record.metrics_version,
+    )
+
+
+def columns(store: Store, trial_id: str) -> Columns:
+    """Every frame column of a trial except the ids the store fills in, with a steady wall
+    clock: ``t_wall`` = first ``t_wall`` + ``t_sim``, as if recorded in real time. (A
+    headless run on a busy machine stalls now and then; the sampling tests inject their
+    gaps themselves.)"""
+    out = {k: v for k, v in store.frames(trial_id).items() if k not in IDS}
+    out["t_wall"] = out["t_wall"][0] + out["t_sim"]
+    return out
+
+
+def with_oscillation(
+    frames: Mapping[str, NDArray[Any]],
+    joint: str,
+    *,
+    frequency_hz: float,
+    amplitude_rad: float,
+    start_s: float,
+    duration_s: float,
+    phase: float = 0.0,
+) -> Columns:
+    """A sine of ``amplitude_rad`` at ``frequency_hz`` added to joint ``q_<joint>`` over
+    ``start_s`` <= t_sim < ``start_s + duration_s``."""
+    out = {k: np.array(v, copy=True) for k, v in frames.items()}
+    t = out["t_sim"]
+    window = (t >= start_s) & (t < start_s + duration_s)
+    wave = amplitude_rad * np.sin(2 * np.pi * frequency_hz * (t[window] - start_s) + phase)
+    out[f"q_{joint}"][window] += wave
+    return out
+
+
+def with_gap(frames: Mapping[str, NDArray[Any]], at_frame: int, seconds: float) -> Columns:
+    """Both clocks jump by ``seconds`` before frame ``at_frame`` (frames were lost)."""
+    out = {k: np.array(v, copy=True) for k, v in frames.items()}
+    for clock in ("t_sim", "t_wall"):
+        out[clock][at_frame:] += seconds
+    return out
+
+
+def truncated(frames: Mapping[str, NDArray[Any]], n: int) -> Columns:
+    return {k: np.array(v[:n], copy=True) for k, v in frames.items()}
+
+
+def frame_arrays(frames: Mapping[str, NDArray[Any]]) -> FrameArrays:
+    return FrameArrays.from_columns(frames)
+
+
+def thresholds(record: SessionRecord) -> MetricThresholds:
+    return MetricThresholds(**record.thresholds)
+
+
+def write_trial(
+    store: Store,
+    session_id: str,
+    frames: Mapping[str, NDArray[Any]],
+    outcome: str,
+    *,
+    interruption_reason: str | None = None,
+    metric_thresholds: MetricThresholds | None = None,
+) -> str:
+    """A closed trial of ``frames`` with the recorder's metrics; returns its id."""
+    trial_id = store.start_trial(
+        session_id, TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0)
+    )
+    store.add_frames(trial_id, dict(frames))
+    t_end = float(frames["t_sim"][-1])
+    success = outcome == "success"
+    metrics = compute_trial_metrics(
+        frame_arrays(frames), success, metric_thresholds or MetricThresholds()
+    )
+    store.end_trial(
+        trial_id,
+        TrialEnd(
+            outcome=outcome,
+            interruption_reason=interruption_reason,
+            elapsed_s=t_end,
+            completion_time_s=t_end if success else None,
+            boxes_delivered=int(success),
+            score=100 if success else 0,
+            metrics=StoredMetrics.of(metrics),
+            included=outcome != "interrupted",
+            exclusion_reason="interrupted" if outcome == "interrupted" else None,
+        ),
+    )
+    return trial_id
+
+
+def replace_q(frames: FrameArrays, q: NDArray[np.float64]) -> FrameArrays:
+    """``frames`` with its (n, 14) arm joint positions replaced (left then right arm)."""
+    return dataclasses.replace(frames, q_l=q[:, :7], q_r=q[:, 7:])

@@ -1,0 +1,59 @@
+"""Sampling gaps, non-monotonic clocks and non-finite data are found and located."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from tests.audit import builders as b
+from tests.audit.conftest import ExpertStores
+from workcell.audit.flags import NON_MONOTONIC, NONFINITE, SAMPLING_GAP
+from workcell.audit.nonfinite import NonfiniteParams, detect_nonfinite
+from workcell.audit.sampling import SamplingParams, detect_sampling
+from workcell.metrics import MetricThresholds, compute_trial_metrics
+from workcell.record import Store
+
+
+def _expert(stores: ExpertStores) -> b.Columns:
+    with Store.open(stores.skilled, writer=False) as store:
+        return b.columns(store, store.trials()[0].trial_id)
+
+
+def test_a_clean_expert_trial_has_no_sampling_flag(expert_stores: ExpertStores) -> None:
+    assert detect_sampling(b.frame_arrays(_expert(expert_stores)), 20.0, SamplingParams()) == []
+
+
+def test_an_injected_one_second_gap_is_found(expert_stores: ExpertStores) -> None:
+    frames = b.frame_arrays(b.with_gap(_expert(expert_stores), 150, 1.0))
+    (flag,) = detect_sampling(frames, 20.0, SamplingParams())
+    assert flag.name == SAMPLING_GAP
+    assert not flag.disqualifying
+    assert "t_wall: 1 gap(s), largest 1.050 s before frame 150" in flag.detail
+    assert "t_sim: 1 gap(s), largest 1.050 s before frame 150" in flag.detail
+    assert "limit 0.250 s = 5 periods" in flag.detail
+
+
+def test_gaps_just_under_the_limit_are_not_flagged(expert_stores: ExpertStores) -> None:
+    frames = b.frame_arrays(b.with_gap(_expert(expert_stores), 150, 0.19))
+    assert detect_sampling(frames, 20.0, SamplingParams()) == []  # 0.24 s on the sim clock
+
+
+def test_timestamps_that_do_not_increase_are_located(expert_stores: ExpertStores) -> None:
+    columns = _expert(expert_stores)
+    columns["t_wall"][40] = columns["t_wall"][39]
+    flags = detect_sampling(b.frame_arrays(columns), 20.0, SamplingParams())
+    assert [f.name for f in flags] == [NON_MONOTONIC]
+    assert flags[0].detail == "t_wall does not increase at frame 40"
+    assert flags[0].disqualifying
+
+
+def test_non_finite_values_are_counted(expert_stores: ExpertStores) -> None:
+    columns = _expert(expert_stores)
+    columns["q_arm_l_3"][[10, 11]] = np.nan
+    columns["grip_r"][11] = np.inf
+    frames = b.frame_arrays(columns)
+    metrics = compute_trial_metrics(frames, True, MetricThresholds())
+    flag = detect_nonfinite(metrics, NonfiniteParams())
+    assert flag is not None and flag.name == NONFINITE
+    assert flag.detail.startswith(f"2 of {len(frames)} frames ")
+    clean = compute_trial_metrics(b.frame_arrays(_expert(expert_stores)), True, MetricThresholds())
+    assert detect_nonfinite(clean, NonfiniteParams()) is None
