@@ -32,16 +32,21 @@ $(STAMP): requirements.lock pyproject.toml
 	@$(BIN)/pip install -q --disable-pip-version-check --no-deps --no-build-isolation -e .
 	@touch $(STAMP)
 
-# Main job for now; will become `workcell serve` (the web app) later.
-run: setup
-	$(BIN)/workcell demo --seed 0 --grasp assisted
+include web/web.mk
 
-# Static checks, then the test suite; stops at the first failing step.
-test: setup
+# The main job: the web app on http://127.0.0.1:8000 (setup, teleop, sessions, replay),
+# recording into the embedded SQLite store workcell.sqlite.
+run: setup web-setup
+	$(BIN)/workcell serve
+
+# Static checks (Python and strict TypeScript), then the whole test suite including the
+# browser tests in Debian's chromium; stops at the first failing step.
+test: setup web-setup browser-setup
 	$(BIN)/ruff check src tests bench
 	$(BIN)/ruff format --check src tests bench
 	$(BIN)/mypy
-	$(BIN)/pytest -n 2
+	$(BIN)/python -m workcell.protocol.typescript --check
+	WORKCELL_BROWSER_TESTS=require $(BIN)/pytest -n 2
 
 bench: setup
 	$(BIN)/python bench/sim.py

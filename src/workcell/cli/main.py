@@ -25,6 +25,7 @@ from workcell.cli import (
     export,
     merge,
     render,
+    serve,
     snapshot,
     verify,
 )
@@ -56,6 +57,7 @@ COMMANDS: tuple[CommandModule, ...] = (
     export,
     merge,
     render,
+    serve,
     snapshot,
     verify,
 )
