@@ -1,0 +1,134 @@
+"""``workcell serve``: the web app (setup, teleoperation, sessions, replay) on uvicorn."""
+
+from __future__ import annotations
+
+import argparse
+import secrets
+import socket
+from pathlib import Path
+from types import FrameType
+from typing import TYPE_CHECKING
+
+if TYPE_CHECKING:
+    import uvicorn
+
+    from workcell.cli.main import Subparsers
+    from workcell.server.conductor import Conductor
+    from workcell.server.options import ServerOptions
+
+EXIT_INTERRUPTED = 130
+WS_MAX_BYTES = 1024 * 1024
+"""Frames above this close the connection (1009); above 64 KiB they get an Error reply."""
+
+
+def register(subparsers: Subparsers) -> None:
+    parser = subparsers.add_parser(
+        "serve",
+        help="serve the web app: setup, teleoperation (VR or desktop), sessions, replay",
+        description=(
+            "Run the simulation in real time and serve the web client and its WebSocket. "
+            "Binds 127.0.0.1 unless --host says otherwise; a non-loopback host needs a token "
+            "(generated and printed unless --token is given). A headset on the LAN needs "
+            "--tls (a self-signed certificate is generated) for WebXR."
+        ),
+    )
+    parser.add_argument(
+        "--store",
+        type=Path,
+        default=Path("workcell.sqlite"),
+        metavar="PATH",
+        help="SQLite store to record into (default: %(default)s; created if absent)",
+    )
+    parser.add_argument(
+        "--host", default="127.0.0.1", help="address to bind (default: %(default)s)"
+    )
+    parser.add_argument("--port", type=int, default=8000, help="port (default: %(default)s)")
+    parser.add_argument("--tls", action="store_true", help="HTTPS/WSS, self-signed certificate")
+    parser.add_argument("--token", metavar="T", help="access token every request must carry")
+    parser.add_argument(
+        "--grace",
+        type=float,
+        default=10.0,
+        metavar="S",
+        help="seconds a dropped operator has to reconnect (default: %(default)s)",
+    )
+    parser.add_argument("--static", type=Path, metavar="DIR", help="built web client folder")
+    parser.set_defaults(func=run)
+
+
+def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
+    """The server options of ``args`` and whether the token was generated here."""
+    from workcell.server.options import DEFAULT_STATIC, ServerOptions, is_loopback  # noqa: PLC0415
+
+    token: str | None = args.token
+    generated = token is None and not is_loopback(args.host)
+    if generated:
+        token = secrets.token_urlsafe(18)
+    options = ServerOptions(
+        store=args.store,
+        host=args.host,
+        port=args.port,
+        token=token,
+        tls=args.tls,
+        grace_s=args.grace,
+        static_dir=args.static or DEFAULT_STATIC,
+    )
+    return options, generated
+
+
+def run(args: argparse.Namespace) -> int:
+    options, generated = options_from(args)
+    import uvicorn  # noqa: PLC0415
+
+    from workcell.server.app import create_app  # noqa: PLC0415
+    from workcell.server.conductor import Conductor  # noqa: PLC0415
+    from workcell.server.tls import lan_address, self_signed  # noqa: PLC0415
+
+    ssl: dict[str, str] = {}
+    if options.tls:
+        cert = self_signed(options.cert_dir, options.host)
+        ssl = {"ssl_certfile": str(cert.cert_file), "ssl_keyfile": str(cert.key_file)}
+        print(f"TLS certificate {cert.cert_file}\n  SHA-256 fingerprint {cert.fingerprint}")
+    conductor = Conductor(options)
+    config = uvicorn.Config(
+        create_app(options, conductor),
+        host=options.host,
+        port=options.port,
+        ws_max_size=WS_MAX_BYTES,
+        log_level="warning",
+        timeout_graceful_shutdown=5,
+        **ssl,  # type: ignore[arg-type]
+    )
+    server = quit_first_server(config, conductor)
+    shown = options.host if options.host not in ("0.0.0.0", "::") else lan_address() or "HOST"
+    scheme = "https" if options.tls else "http"
+    query = f"/?token={options.token}" if options.token else "/"
+    if generated:
+        print("generated an access token (pass --token to choose one)")
+    print(f"workcell serve: open {scheme}://{shown}:{options.port}{query}", flush=True)
+    print(f"recording into {options.store}; Ctrl+C stops (the running trial ends interrupted)")
+    try:
+        server.run()
+    except KeyboardInterrupt:  # uvicorn re-raises the SIGINT it handled
+        return EXIT_INTERRUPTED
+    finally:  # whatever uvicorn did, the running trial ends and the store is closed
+        conductor.quit()
+        conductor.finish(30.0)
+    return 0
+
+
+def quit_first_server(config: uvicorn.Config, conductor: Conductor) -> uvicorn.Server:
+    """uvicorn's Server, told about a shutdown signal before it closes the connections, so
+    an operator dropped during shutdown is an ``application_quit``, not a lost client."""
+    import uvicorn  # noqa: PLC0415
+
+    class QuitFirst(uvicorn.Server):
+        def handle_exit(self, sig: int, frame: FrameType | None) -> None:
+            conductor.quit()
+            super().handle_exit(sig, frame)
+
+        async def shutdown(self, sockets: list[socket.socket] | None = None) -> None:
+            await conductor.shutdown()  # clients hear SessionEnded before they are closed
+            await super().shutdown(sockets)
+
+    return QuitFirst(config)

@@ -1,0 +1,154 @@
+"""The JSON bodies of the server's read-only HTTP API (``/api/...``).
+
+Like the WebSocket messages, these dataclasses are the single source of the TypeScript
+types in ``web/src/protocol.ts``. Every response is one of them, encoded with
+:func:`workcell.protocol.codec.encode`.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Literal
+
+from workcell.protocol.messages import Pose, Scene
+
+SettingKind = Literal["int", "float", "text", "choice", "int_list", "float_list", "bool"]
+
+
+@dataclass(frozen=True)
+class SettingInfo:
+    """One setting of the setup page: its dotted ``key`` (as in the TOML file and in
+    :class:`~workcell.protocol.messages.FieldProblem`), kind, default and documentation
+    (which says the unit and the allowed range). ``choices`` lists a choice's values."""
+
+    key: str
+    kind: SettingKind
+    default: object
+    doc: str
+    choices: tuple[str, ...] | None
+
+
+@dataclass(frozen=True)
+class SectionInfo:
+    """A group of settings (``task``, ``world.robot``, ...) and its documentation."""
+
+    key: str
+    doc: str
+
+
+@dataclass(frozen=True)
+class Defaults:
+    """``GET /api/defaults``: ``settings`` is the nested default mapping, ready to edit and
+    send in :class:`~workcell.protocol.messages.StartSession`; ``fields`` describe every
+    leaf setting in declaration order."""
+
+    protocol: int
+    settings: dict[str, object]
+    sections: tuple[SectionInfo, ...]
+    fields: tuple[SettingInfo, ...]
+
+
+@dataclass(frozen=True)
+class TrialSummary:
+    """One recorded trial. ``outcome`` and the numbers after it are None while it runs."""
+
+    trial_id: str
+    trial_index: int
+    mode: str
+    round: int | None
+    level: int | None
+    required_boxes: int
+    time_limit_s: float
+    outcome: str | None
+    interruption_reason: str | None
+    elapsed_s: float | None
+    boxes_delivered: int | None
+    score: int | None
+    n_frames: int | None
+    quality_flags: tuple[str, ...]
+    included: bool | None
+    started_wall: float
+
+
+@dataclass(frozen=True)
+class SessionSummary:
+    """One recorded session and its trials (``status``: ``open`` or ``closed``)."""
+
+    session_id: str
+    mode: str
+    operator_id: str
+    created_wall: float
+    ended_wall: float | None
+    status: str
+    trials: tuple[TrialSummary, ...]
+
+
+@dataclass(frozen=True)
+class SessionList:
+    """``GET /api/sessions``: every session of the store, oldest first."""
+
+    sessions: tuple[SessionSummary, ...]
+
+
+@dataclass(frozen=True)
+class TrialReplay:
+    """``GET /api/trials/{id}/frames?every=N``: every N-th recorded frame as the poses of
+    the ``scene``'s dynamic bodies (in their index order, world frame), rebuilt from the
+    recorded base pose, joints and boxes. ``t_sim[i]`` is the trial time of ``poses[i]``."""
+
+    trial_id: str
+    session_id: str
+    every: int
+    scene: Scene
+    t_sim: tuple[float, ...]
+    poses: tuple[tuple[Pose, ...], ...]
+
+
+@dataclass(frozen=True)
+class ClientDiagnostics:
+    """One connected client's counters; ``errors`` counts refused messages by code."""
+
+    client: int
+    role: str | None
+    received: int
+    errors: dict[str, int]
+    states_sent: int
+    states_dropped: int
+
+
+@dataclass(frozen=True)
+class SimDiagnostics:
+    """The running session's real-time loop: steps late by more than one control period,
+    wall time dropped after a stall, the longest step, and the real-time factor (sim
+    seconds per wall second; 1 keeps real time)."""
+
+    session_id: str
+    control_period_s: float
+    steps: int
+    late_steps: int
+    dropped_s: float
+    max_step_ms: float
+    real_time_factor: float
+
+
+@dataclass(frozen=True)
+class Diagnostics:
+    """``GET /api/diagnostics``: the server process's CPU time, clients and simulation."""
+
+    process_cpu_s: float
+    clients: tuple[ClientDiagnostics, ...]
+    sim: SimDiagnostics | None
+
+
+API_TYPES: tuple[type, ...] = (
+    SettingInfo,
+    SectionInfo,
+    Defaults,
+    TrialSummary,
+    SessionSummary,
+    SessionList,
+    TrialReplay,
+    ClientDiagnostics,
+    SimDiagnostics,
+    Diagnostics,
+)

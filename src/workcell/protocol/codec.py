@@ -1,0 +1,107 @@
+"""JSON text to and from protocol messages.
+
+:func:`decode_client` is the only way the server reads a browser's message: it returns a
+valid :data:`~workcell.protocol.messages.ClientMessage` or raises :class:`ProtocolError`
+(never another exception), whatever the bytes. :func:`encode` writes compact JSON.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import json
+import math
+from typing import Any
+
+from workcell.protocol import messages as m
+from workcell.protocol.validation import ProtocolError, build
+
+MAX_MESSAGE_BYTES = 64 * 1024
+"""The largest message a client may send."""
+
+__all__ = ["MAX_MESSAGE_BYTES", "ProtocolError", "decode_client", "decode_server", "encode"]
+
+
+def _by_type(classes: tuple[type, ...]) -> dict[str, type]:
+    return {f.default: cls for cls in classes for f in dataclasses.fields(cls) if f.name == "type"}  # type: ignore[misc]
+
+
+_CLIENT = _by_type(m.CLIENT_MESSAGES)
+_SERVER = _by_type(m.SERVER_MESSAGES)
+
+
+def _loads(text: str | bytes) -> Any:
+    size = len(text) if isinstance(text, bytes) else len(text.encode("utf-8", "replace"))
+    if size > MAX_MESSAGE_BYTES:
+        raise ProtocolError(
+            "too_large", f"message of {size} bytes: at most {MAX_MESSAGE_BYTES} are allowed"
+        )
+    if isinstance(text, bytes):
+        try:
+            text = text.decode("utf-8")
+        except UnicodeDecodeError:
+            raise ProtocolError("malformed", "message is not UTF-8 text") from None
+    try:
+        return json.loads(text)  # NaN and Infinity are refused where they land
+    except json.JSONDecodeError as error:
+        raise ProtocolError("malformed", f"message is not JSON: {error.msg}") from None
+    except (RecursionError, ValueError) as error:  # too deep, or an integer too long
+        raise ProtocolError("malformed", f"message is not usable JSON: {error}") from None
+
+
+def _decode(text: str | bytes, known: dict[str, type]) -> Any:
+    data = _loads(text)
+    if not isinstance(data, dict):
+        raise ProtocolError("malformed", "message must be a JSON object with a 'type' field")
+    kind = data.get("type")
+    cls = known.get(kind) if isinstance(kind, str) else None
+    if cls is None:
+        allowed = ", ".join(sorted(known))
+        raise ProtocolError("malformed", f"type = {str(kind)[:40]!r}: must be one of {allowed}")
+    try:
+        return build(cls, data, str(kind))
+    except RecursionError:
+        raise ProtocolError("malformed", "message is nested too deeply") from None
+
+
+def decode_client(text: str | bytes) -> m.ClientMessage:
+    """A client message from its JSON text, strictly validated."""
+    message: m.ClientMessage = _decode(text, _CLIENT)
+    return message
+
+
+def decode_server(text: str | bytes) -> m.ServerMessage:
+    """A server message from its JSON text (for clients written in Python and tests)."""
+    message: m.ServerMessage = _decode(text, _SERVER)
+    return message
+
+
+_PLAIN = (str, int, bool, type(None))
+
+
+@functools.cache
+def _field_names(cls: type) -> tuple[str, ...]:
+    return tuple(f.name for f in dataclasses.fields(cls))
+
+
+def to_json_value(value: Any) -> Any:
+    """Dataclasses as objects and tuples as lists, recursively (JSON-ready); a non-finite
+    float becomes null (JSON has no NaN)."""
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, _PLAIN):
+        return value
+    if isinstance(value, tuple | list):
+        return [to_json_value(item) for item in value]
+    if isinstance(value, dict):
+        return {str(key): to_json_value(item) for key, item in value.items()}
+    if dataclasses.is_dataclass(value) and not isinstance(value, type):
+        return {name: to_json_value(getattr(value, name)) for name in _field_names(type(value))}
+    if hasattr(value, "item"):  # a numpy scalar
+        return to_json_value(value.item())
+    return value
+
+
+def encode(message: object) -> str:
+    """Compact JSON text of a message (or of an API body)."""
+    return json.dumps(to_json_value(message), separators=(",", ":"), allow_nan=False)

@@ -1,0 +1,215 @@
+"""Strict conversion of decoded JSON into protocol dataclasses, driven by their type hints.
+
+Exact types (a bool is not a number, a number is not text), no unknown or missing fields
+(fields with defaults may be left out), finite numbers only, documented ranges, unit
+quaternions (within 1e-2, then normalised). Every problem is a :class:`ProtocolError`
+naming the field by its dotted path (``input.left.grip``) and saying what is allowed.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import functools
+import math
+import types
+from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
+
+from workcell.errors import WorkcellError
+from workcell.protocol import messages as m
+from workcell.protocol.messages import ErrorCode
+
+QUATERNION_TOLERANCE = 1e-2
+"""How far from 1 a pose quaternion's norm may be before it is refused."""
+POSITION_LIMIT_M = 100.0
+"""A tracked position farther than this from the reference space origin is refused."""
+MAX_SAFE_INTEGER = 2**53 - 1
+"""The largest integer a browser represents exactly."""
+
+RANGES: dict[tuple[type, str], tuple[float, float]] = {
+    (m.ControllerState, "grip"): (0.0, 1.0),
+    (m.ControllerState, "trigger"): (0.0, 1.0),
+    (m.ControllerState, "stick"): (-1.0, 1.0),
+    (m.ControllerState, "buttons"): (0, 255),
+    (m.Input, "seq"): (0, MAX_SAFE_INTEGER),
+}
+"""Inclusive bounds of numeric fields (each element, for tuples)."""
+MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128}
+"""Longest allowed text of a field (characters)."""
+
+
+class ProtocolError(WorkcellError):
+    """A message that is not valid protocol; ``code`` is an :class:`~messages.Error` code."""
+
+    def __init__(self, code: ErrorCode, message: str) -> None:
+        self.code: ErrorCode = code
+        super().__init__(message)
+
+
+@functools.cache
+def _hints(cls: type) -> dict[str, Any]:
+    return get_type_hints(cls)
+
+
+@functools.cache
+def _fields(cls: type) -> tuple[dataclasses.Field[Any], ...]:
+    return dataclasses.fields(cls)
+
+
+def _show(value: Any) -> str:
+    text = repr(value)
+    return text if len(text) <= 40 else text[:37] + "..."
+
+
+def build(cls: type, value: Any, path: str) -> Any:
+    """``value`` (a decoded JSON object) as dataclass ``cls``; ``path`` names it."""
+    if not isinstance(value, dict):
+        raise ProtocolError("malformed", f"{path} = {_show(value)}: must be an object")
+    fields = _fields(cls)
+    names = {f.name for f in fields}
+    unknown = [key for key in value if key not in names]
+    if unknown:
+        raise ProtocolError(
+            "malformed",
+            f"{path}.{unknown[0]}: unknown field; allowed: {', '.join(sorted(names))}",
+        )
+    hints = _hints(cls)
+    kwargs: dict[str, Any] = {}
+    for f in fields:
+        where = f"{path}.{f.name}"
+        if f.name not in value:
+            if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
+                raise ProtocolError("malformed", f"{where}: missing; it is required")
+            continue
+        converted = convert(value[f.name], hints[f.name], where)
+        _check_range(cls, f.name, converted, where)
+        kwargs[f.name] = converted
+    return cls(**kwargs)
+
+
+def convert(value: Any, hint: Any, path: str) -> Any:
+    """``value`` as type ``hint`` or a ProtocolError saying what is allowed."""
+    if hint is bool:
+        if type(value) is not bool:
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be true or false")
+        return value
+    if hint is int:
+        if type(value) is not int:
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a whole number")
+        if abs(value) > MAX_SAFE_INTEGER:
+            raise ProtocolError(
+                "invalid_value", f"{path} = {_show(value)}: must be within +-(2^53 - 1)"
+            )
+        return value
+    if hint is float:
+        if type(value) not in (int, float):
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a number")
+        number = float(value)
+        if not math.isfinite(number):
+            raise ProtocolError("invalid_value", f"{path} = {value}: must be a finite number")
+        return number
+    if hint is str:
+        if not isinstance(value, str):
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be text")
+        return value
+    if hint is object:
+        _require_finite(value, path)
+        return value
+    if hint is type(None):
+        if value is not None:
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be null")
+        return None
+    if dataclasses.is_dataclass(hint):
+        return build(hint, value, path)  # type: ignore[arg-type]
+    origin, args = get_origin(hint), get_args(hint)
+    if origin is Literal:
+        if value not in args or type(value) is not type(args[0]):
+            allowed = ", ".join(repr(a) for a in args)
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be one of {allowed}")
+        return value
+    if origin in (Union, types.UnionType):
+        return _convert_union(value, args, path)
+    if origin is tuple:
+        converted = _convert_tuple(value, args, path)
+        return _unit_pose(converted, path) if hint == m.Pose else converted
+    if origin is dict:
+        if not isinstance(value, dict):
+            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be an object")
+        return {key: convert(item, args[1], f"{path}.{key}") for key, item in value.items()}
+    raise TypeError(f"{path}: no conversion for {hint!r}")  # a protocol author's mistake
+
+
+def _require_finite(value: Any, path: str) -> None:
+    """Free-form JSON (settings, event fields) holds finite numbers only."""
+    if isinstance(value, float) and not math.isfinite(value):
+        raise ProtocolError("invalid_value", f"{path} = {value}: must be a finite number")
+    if isinstance(value, list):
+        for i, item in enumerate(value):
+            _require_finite(item, f"{path}[{i}]")
+    elif isinstance(value, dict):
+        for key, item in value.items():
+            _require_finite(item, f"{path}.{key}")
+
+
+def _convert_union(value: Any, args: tuple[Any, ...], path: str) -> Any:
+    if value is None:
+        if type(None) in args:
+            return None
+        raise ProtocolError("malformed", f"{path}: must not be null")
+    options = [a for a in args if a is not type(None)]
+    if len(options) == 1:
+        return convert(value, options[0], path)
+    for option in options:  # several non-null arms: the first that fits
+        try:
+            return convert(value, option, path)
+        except ProtocolError:
+            continue
+    raise ProtocolError("malformed", f"{path} = {_show(value)}: has none of the allowed types")
+
+
+def _convert_tuple(value: Any, args: tuple[Any, ...], path: str) -> tuple[Any, ...]:
+    if not isinstance(value, list):
+        raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a list")
+    if len(args) == 2 and args[1] is Ellipsis:
+        return tuple(convert(item, args[0], f"{path}[{i}]") for i, item in enumerate(value))
+    if len(value) != len(args):
+        raise ProtocolError(
+            "malformed", f"{path}: must be a list of {len(args)} items, got {len(value)}"
+        )
+    pairs = enumerate(zip(value, args, strict=True))
+    return tuple(convert(item, kind, f"{path}[{i}]") for i, (item, kind) in pairs)
+
+
+def _unit_pose(pose: tuple[float, ...], path: str) -> tuple[float, ...]:
+    """A pose with its position bounded and its quaternion unit (normalised)."""
+    if any(abs(p) > POSITION_LIMIT_M for p in pose[:3]):
+        raise ProtocolError(
+            "invalid_value",
+            f"{path} position = {pose[:3]}: must be within {POSITION_LIMIT_M:g} m of the origin",
+        )
+    quat = pose[3:]
+    norm = math.sqrt(sum(q * q for q in quat))
+    if abs(norm - 1.0) > QUATERNION_TOLERANCE:
+        raise ProtocolError(
+            "invalid_value",
+            f"{path} quaternion = {quat}: must be a unit quaternion (w, x, y, z) within "
+            f"{QUATERNION_TOLERANCE:g}; its norm is {norm:.6g}",
+        )
+    if abs(norm - 1.0) > 1e-12:
+        return (*pose[:3], *(q / norm for q in quat))
+    return pose
+
+
+def _check_range(cls: type, name: str, value: Any, path: str) -> None:
+    limit = MAX_TEXT.get((cls, name))
+    if limit is not None and isinstance(value, str) and len(value) > limit:
+        raise ProtocolError("invalid_value", f"{path}: must be at most {limit} characters")
+    bounds = RANGES.get((cls, name))
+    if bounds is None:
+        return
+    low, high = bounds
+    items = value if isinstance(value, tuple) else (value,)
+    for item in items:
+        if not low <= item <= high:
+            raise ProtocolError(
+                "invalid_value", f"{path} = {_show(value)}: must be from {low:g} to {high:g}"
+            )

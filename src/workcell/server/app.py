@@ -1,0 +1,45 @@
+"""The ASGI application: pages, JSON API and the WebSocket, behind the token check."""
+
+from __future__ import annotations
+
+import contextlib
+from collections.abc import AsyncIterator
+
+from starlette.applications import Starlette
+from starlette.middleware import Middleware
+from starlette.routing import Mount, Route, WebSocketRoute
+from starlette.websockets import WebSocket
+
+from workcell.server.auth import TokenAuth
+from workcell.server.conductor import Conductor
+from workcell.server.http_api import routes
+from workcell.server.options import ServerOptions
+from workcell.server.static import ClientFiles, index_route
+from workcell.server.websocket import serve_client
+
+
+def create_app(options: ServerOptions, conductor: Conductor | None = None) -> Starlette:
+    """The app; its lifespan ends a running session (``application_quit``) on shutdown."""
+    conductor = conductor or Conductor(options)
+
+    async def ws(websocket: WebSocket) -> None:
+        await serve_client(websocket, conductor)
+
+    @contextlib.asynccontextmanager
+    async def lifespan(app: Starlette) -> AsyncIterator[None]:
+        yield
+        await conductor.shutdown()
+        conductor.close_clients()
+
+    app = Starlette(
+        routes=[
+            Route("/", index_route(options.static_dir)),
+            *routes(conductor),
+            WebSocketRoute("/ws", ws),
+            Mount("/", ClientFiles(options.static_dir)),
+        ],
+        middleware=[Middleware(TokenAuth, token=options.token, secure=options.tls)],
+        lifespan=lifespan,
+    )
+    app.state.conductor = conductor
+    return app

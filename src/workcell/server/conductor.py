@@ -1,0 +1,280 @@
+"""The one session of the server and who controls it.
+
+Runs on the event loop. One client at a time is the operator; everyone else is a
+spectator. A dropped operator keeps its place for the grace period and takes it back with
+its resume token; past the grace period the running trial ends ``client_lost``.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import dataclasses
+import logging
+import secrets
+from typing import Any
+
+from workcell.control.simulation import Simulation
+from workcell.errors import ConfigError, WorkcellError
+from workcell.protocol import messages as m
+from workcell.protocol.codec import encode
+from workcell.server.client import Client
+from workcell.server.live import LiveSession
+from workcell.server.options import ServerOptions
+from workcell.server.scene import describe
+from workcell.session.config import SessionConfig
+from workcell.session.toml_io import from_mapping
+
+logger = logging.getLogger(__name__)
+
+
+def field_problems(error: ConfigError) -> tuple[m.FieldProblem, ...]:
+    """One FieldProblem per line of a ConfigError: the field is the dotted name before
+    ``" = "`` or ``":"``."""
+    problems = []
+    for line in error.problems:
+        cut = [i for i in (line.find(" = "), line.find(":")) if i >= 0]
+        end = min(cut) if cut else len(line)
+        problems.append(m.FieldProblem(field=line[:end].strip(), message=line))
+    return tuple(problems)
+
+
+class Conductor:
+    def __init__(self, options: ServerOptions) -> None:
+        self.options = options
+        self.clients: set[Client] = set()
+        self.operator: Client | None = None
+        self.resume_token: str | None = None
+        self.session: LiveSession | None = None
+        self.quitting = False
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._grace: asyncio.TimerHandle | None = None
+        self._starting = False
+        self._idle_scene: m.Scene | None = None
+        self.sessions_started = 0
+
+    # --- connections ------------------------------------------------------------------------
+
+    def connected(self, client: Client) -> None:
+        self._loop = asyncio.get_running_loop()
+        self.clients.add(client)
+
+    def disconnected(self, client: Client) -> None:
+        self.clients.discard(client)
+        if client is not self.operator:
+            return
+        self.operator = None
+        if self.session is None or self.quitting:
+            self.resume_token = None
+            return
+        self.session.operator.new_link()  # no input arrives: the base stops, arms freeze
+        loop = asyncio.get_running_loop()
+        self._grace = loop.call_later(self.options.grace_s, self._grace_over)
+
+    def _grace_over(self) -> None:
+        self._grace = None
+        if self.operator is None and self.session is not None:
+            self.resume_token = None
+            self.session.request_stop("client_lost")
+
+    # --- messages ---------------------------------------------------------------------------
+
+    async def hello(self, client: Client, hello: m.Hello) -> None:
+        if client.role is not None:
+            client.refuse("protocol", "hello: already said; send it once per connection")
+            return
+        role: m.Role = "spectator"
+        token = None
+        wants = hello.role == "operator"
+        if wants and self.operator is None and self._may_resume(hello.resume_token):
+            role = "operator"
+            self._take_control(client)
+            token = self.resume_token
+        client.role = role
+        session = self.session
+        client.send(
+            m.Welcome(
+                protocol=m.PROTOCOL_VERSION,
+                role=role,
+                session_id=session.session_id if session else None,
+                resume_token=token,
+                grace_s=self.options.grace_s,
+            )
+        )
+        if session is not None:
+            client.send(self._started_message(session))
+        client.send(session.scene if session and session.scene else await self._default_scene())
+
+    def _may_resume(self, offered: str | None) -> bool:
+        """The seat is free, or reserved for the dropped operator holding ``offered``."""
+        if self.resume_token is None:
+            return True
+        return offered is not None and secrets.compare_digest(
+            offered.encode(), self.resume_token.encode()
+        )
+
+    def _take_control(self, client: Client) -> None:
+        if self._grace is not None:
+            self._grace.cancel()
+            self._grace = None
+        self.operator = client
+        self.resume_token = secrets.token_urlsafe(24)
+        if self.session is not None:
+            self.session.operator.new_link()
+
+    async def start_session(self, client: Client, start: m.StartSession) -> None:
+        if client is not self.operator:
+            client.refuse("not_allowed", "start_session: only the operator starts a session")
+            return
+        if self.session is not None or self._starting:
+            client.refuse("not_allowed", "start_session: a session is running; stop it first")
+            return
+        try:
+            config = from_mapping(SessionConfig, start.settings)
+        except ConfigError as error:
+            client.send(m.ConfigRejected(problems=field_problems(error)))
+            return
+        self._starting = True
+        try:
+            session = LiveSession(
+                config, self.options.store, _Listener(self), self.options.state_hz,
+                self.options.max_catch_up_s,
+            )  # fmt: skip
+            await asyncio.to_thread(session.start)
+        except WorkcellError as error:  # e.g. the store is another process's
+            client.refuse("not_allowed", f"start_session: {error}")
+            return
+        except Exception as error:
+            logger.exception("a session failed to start")
+            client.refuse("not_allowed", f"start_session: the server failed: {error}")
+            return
+        finally:
+            self._starting = False
+        self.session = session
+        self.sessions_started += 1
+        self.broadcast(self._started_message(session))
+        if session.scene is not None:
+            self.broadcast(session.scene)
+
+    def input(self, client: Client, message: m.Input) -> None:
+        if client is not self.operator:
+            client.refuse("not_allowed", "input: only the operator drives; you are a spectator")
+            return
+        if self.session is None:
+            return  # inputs between sessions have nothing to drive
+        if not self.session.operator.submit(message):
+            client.refuse("protocol", f"input.seq = {message.seq}: older than the last input")
+
+    def stop(self, client: Client) -> None:
+        if client is not self.operator:
+            client.refuse("not_allowed", "stop: only the operator stops the session")
+        elif self.session is None:
+            client.refuse("not_allowed", "stop: no session is running")
+        else:
+            self.session.request_stop("operator_stop")
+
+    # --- session output (on the loop) -------------------------------------------------------
+
+    def broadcast(self, message: m.ServerMessage) -> None:
+        text = encode(message)
+        for client in self.clients:
+            if client.role is not None:
+                client.send_text(text)
+
+    def broadcast_text(self, text: str) -> None:
+        for client in self.clients:
+            if client.role is not None:
+                client.send_text(text)
+
+    def broadcast_state(self, text: str) -> None:
+        for client in self.clients:
+            if client.role is not None:
+                client.offer_state(text)
+
+    async def session_ended(self, ended: m.SessionEnded) -> None:
+        if self.session is not None:
+            await asyncio.to_thread(self.session.join, 30.0)  # its store is closed
+        self.session = None
+        if self.operator is None:
+            self.resume_token = None
+            if self._grace is not None:
+                self._grace.cancel()
+                self._grace = None
+        self.broadcast(ended)
+
+    def _started_message(self, session: LiveSession) -> m.SessionStarted:
+        settings: dict[str, Any] = dataclasses.asdict(session.config)
+        return m.SessionStarted(
+            session_id=session.session_id,
+            mode=session.config.task.mode,
+            operator_id=session.config.operator_id,
+            settings=settings,
+        )
+
+    async def _default_scene(self) -> m.Scene:
+        if self._idle_scene is None:
+            self._idle_scene = await asyncio.to_thread(_scene_of, SessionConfig())
+        return self._idle_scene
+
+    # --- shutdown ---------------------------------------------------------------------------
+
+    def quit(self) -> None:
+        """The server is stopping: end the running trial as ``application_quit``."""
+        self.quitting = True
+        if self.session is not None:
+            self.session.request_stop("application_quit")
+
+    async def shutdown(self) -> None:
+        """End the session (if any) while clients are still connected and tell them."""
+        self.quit()
+        if self.session is not None:
+            await asyncio.to_thread(self.finish, 30.0)
+            for _ in range(100):  # its SessionEnded is broadcast by a callback on this loop
+                if self._settled():
+                    break
+                await asyncio.sleep(0.01)
+
+    def _settled(self) -> bool:
+        """No session, and every client has been sent what it was due."""
+        return self.session is None and not any(c.pending for c in self.clients)
+
+    def close_clients(self) -> None:
+        for client in list(self.clients):
+            client.close()
+
+    def finish(self, timeout: float) -> bool:
+        """Wait (blocking) until a stopping session has closed its trial and its store."""
+        session = self.session
+        return session is None or session.join(timeout)
+
+    @property
+    def loop(self) -> asyncio.AbstractEventLoop | None:
+        return self._loop
+
+
+def _scene_of(config: SessionConfig) -> m.Scene:
+    """The scene of a freshly reset world with ``config`` (what an idle client draws)."""
+    world = Simulation(config.world).world
+    return describe(world.model, world.data)
+
+
+class _Listener:
+    """Carries a live session's output from the simulation thread onto the loop."""
+
+    def __init__(self, conductor: Conductor) -> None:
+        self.conductor = conductor
+        loop = conductor.loop
+        assert loop is not None
+        self.loop = loop
+
+    def state(self, text: str) -> None:
+        with contextlib.suppress(RuntimeError):  # the loop closed: the server is gone
+            self.loop.call_soon_threadsafe(self.conductor.broadcast_state, text)
+
+    def message(self, text: str) -> None:
+        with contextlib.suppress(RuntimeError):
+            self.loop.call_soon_threadsafe(self.conductor.broadcast_text, text)
+
+    def ended(self, message: m.SessionEnded) -> None:
+        with contextlib.suppress(RuntimeError):
+            asyncio.run_coroutine_threadsafe(self.conductor.session_ended(message), self.loop)

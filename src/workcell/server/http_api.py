@@ -1,0 +1,104 @@
+"""The read-only JSON API: ``/api/defaults``, ``/api/sessions``,
+``/api/trials/{id}/frames`` and ``/api/diagnostics``."""
+
+from __future__ import annotations
+
+import time
+from pathlib import Path
+
+from starlette.requests import Request
+from starlette.responses import Response
+from starlette.routing import Route
+
+from workcell.protocol.api import SessionList, SessionSummary, TrialSummary
+from workcell.protocol.codec import encode
+from workcell.record.store import Store
+from workcell.server.conductor import Conductor
+from workcell.server.defaults import session_defaults
+from workcell.server.diagnostics import diagnostics
+from workcell.server.replay import TrialNotFoundError, trial_replay
+
+MAX_EVERY = 10_000
+
+
+def json_response(body: object, status: int = 200) -> Response:
+    return Response(encode(body), status_code=status, media_type="application/json")
+
+
+def problem(status: int, message: str) -> Response:
+    return json_response({"error": message}, status)
+
+
+def session_list(path: Path) -> SessionList:
+    if not path.exists():
+        return SessionList(sessions=())
+    with Store.open(path, writer=False) as store:
+        trials = store.trials()
+        return SessionList(
+            sessions=tuple(
+                SessionSummary(
+                    session_id=s.session_id,
+                    mode=s.mode,
+                    operator_id=s.operator_id,
+                    created_wall=s.created_wall,
+                    ended_wall=s.ended_wall,
+                    status=s.status,
+                    trials=tuple(
+                        TrialSummary(
+                            trial_id=t.trial_id,
+                            trial_index=t.trial_index,
+                            mode=t.mode,
+                            round=t.round,
+                            level=t.level,
+                            required_boxes=t.required_boxes,
+                            time_limit_s=t.time_limit_s,
+                            outcome=t.outcome,
+                            interruption_reason=t.interruption_reason,
+                            elapsed_s=t.elapsed_s,
+                            boxes_delivered=t.boxes_delivered,
+                            score=t.score,
+                            n_frames=t.n_frames,
+                            quality_flags=t.quality_flags,
+                            included=t.included,
+                            started_wall=t.started_wall,
+                        )
+                        for t in trials
+                        if t.session_id == s.session_id
+                    ),
+                )
+                for s in store.sessions()
+            )
+        )
+
+
+def routes(conductor: Conductor) -> list[Route]:
+    store_path = conductor.options.store
+
+    def defaults(request: Request) -> Response:
+        return json_response(session_defaults())
+
+    def sessions(request: Request) -> Response:
+        return json_response(session_list(store_path))
+
+    def frames(request: Request) -> Response:
+        text = request.query_params.get("every", "1")
+        if not text.isdigit() or not 1 <= int(text) <= MAX_EVERY:
+            return problem(400, f"every = {text[:20]!r}: must be a whole number 1 to {MAX_EVERY}")
+        if not store_path.exists():
+            return problem(404, "the store has no trials yet")
+        try:
+            with Store.open(store_path, writer=False) as store:
+                reply = trial_replay(store, request.path_params["trial_id"], int(text))
+        except TrialNotFoundError as error:
+            return problem(404, str(error))
+        return json_response(reply)
+
+    def diagnostics_route(request: Request) -> Response:
+        return json_response(diagnostics(conductor, time.process_time()))
+
+    return [
+        Route("/api/defaults", defaults),
+        Route("/api/sessions", sessions),
+        Route("/api/trials/{trial_id}/frames", frames),
+        Route("/api/diagnostics", diagnostics_route),
+    ]

@@ -1,0 +1,67 @@
+"""Everything ``workcell serve`` can be told, as one frozen value."""
+
+from __future__ import annotations
+
+import ipaddress
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+from workcell.errors import ConfigError
+
+DEFAULT_STORE = Path("workcell.sqlite")
+DEFAULT_STATIC = Path(__file__).resolve().parents[3] / "web" / "dist"
+DEFAULT_CERT_DIR = Path.home() / ".cache" / "workcell" / "tls"
+
+
+def is_loopback(host: str) -> bool:
+    """True for 127.0.0.0/8, ::1 and ``localhost``."""
+    if host == "localhost":
+        return True
+    try:
+        return ipaddress.ip_address(host).is_loopback
+    except ValueError:
+        return False
+
+
+@dataclass(frozen=True)
+class ServerOptions:
+    """How the server runs. ``token`` None means no token is required (loopback only)."""
+
+    store: Path = DEFAULT_STORE
+    host: str = "127.0.0.1"
+    port: int = 8000
+    token: str | None = None
+    tls: bool = False
+    grace_s: float = 10.0
+    """How long a dropped operator may take to reconnect before the trial ends."""
+    static_dir: Path = DEFAULT_STATIC
+    cert_dir: Path = DEFAULT_CERT_DIR
+    state_hz: float = 60.0
+    """Most State messages per second to each client."""
+    max_messages_per_s: float = 240.0
+    """Sustained message rate a client may send; beyond it messages are refused."""
+    burst: int = 60
+    """Messages a client may send at once above the sustained rate."""
+    max_catch_up_s: float = 0.25
+    """How far the simulation may fall behind the wall clock before it drops time."""
+
+    def __post_init__(self) -> None:
+        problems = []
+        if not 0 <= self.port <= 65535:
+            problems.append(f"--port = {self.port}: must be 0 to 65535")
+        if not is_loopback(self.host) and not self.token:
+            problems.append(
+                f"--host = {self.host}: a non-loopback host needs a token (--token T, or "
+                "let `workcell serve` generate one)"
+            )
+        if self.token is not None and not (8 <= len(self.token) <= 256):
+            problems.append("--token: must be 8 to 256 characters")
+        if not (math.isfinite(self.grace_s) and 0 <= self.grace_s <= 3600):
+            problems.append(f"--grace = {self.grace_s}: must be 0 to 3600 s")
+        if not (math.isfinite(self.state_hz) and 1 <= self.state_hz <= 240):
+            problems.append(f"state_hz = {self.state_hz}: must be 1 to 240")
+        if not (math.isfinite(self.max_messages_per_s) and self.max_messages_per_s > 0):
+            problems.append(f"max_messages_per_s = {self.max_messages_per_s}: must be > 0")
+        if problems:
+            raise ConfigError(problems)

@@ -1,0 +1,90 @@
+"""The scene description a client draws, and the poses that move it, from a MuJoCo model.
+
+A body is dynamic when it or an ancestor has a joint (or is a mocap body); its pose is
+streamed in :class:`~workcell.protocol.messages.State` in ``index`` order. Static bodies
+carry their fixed world pose. Geoms keep MuJoCo's type names and ``size`` semantics.
+"""
+
+from __future__ import annotations
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.protocol.messages import BodyDescription, GeomDescription, Pose, Scene
+
+HEAD_CAMERA_BODY = "head"
+_SHAPES = {
+    int(mujoco.mjtGeom.mjGEOM_PLANE): "plane",
+    int(mujoco.mjtGeom.mjGEOM_SPHERE): "sphere",
+    int(mujoco.mjtGeom.mjGEOM_CAPSULE): "capsule",
+    int(mujoco.mjtGeom.mjGEOM_ELLIPSOID): "ellipsoid",
+    int(mujoco.mjtGeom.mjGEOM_CYLINDER): "cylinder",
+    int(mujoco.mjtGeom.mjGEOM_BOX): "box",
+}
+DIGITS = 5
+"""Decimals kept in streamed poses (10 µm, 1e-5 of a quaternion component)."""
+
+
+def dynamic_bodies(model: mujoco.MjModel) -> list[int]:
+    """Ids of the bodies that move, in ascending order (the State pose order)."""
+    moving = np.zeros(model.nbody, dtype=bool)
+    for body in range(1, model.nbody):  # parents come before their children
+        parent = int(model.body_parentid[body])
+        own = model.body_jntnum[body] > 0 or model.body_mocapid[body] >= 0
+        moving[body] = bool(own or moving[parent])
+    return [int(b) for b in np.flatnonzero(moving)]
+
+
+def _floats(values: NDArray[np.float64], digits: int = 6) -> tuple[float, ...]:
+    return tuple(round(float(v), digits) for v in values)
+
+
+def _pose(position: NDArray[np.float64], quat: NDArray[np.float64]) -> Pose:
+    x, y, z = _floats(position, DIGITS)
+    w, qx, qy, qz = _floats(quat, DIGITS)
+    return (x, y, z, w, qx, qy, qz)
+
+
+def describe(model: mujoco.MjModel, data: mujoco.MjData) -> Scene:
+    """Every body with its visible primitive geoms (``data`` gives static poses)."""
+    order = {body: i for i, body in enumerate(dynamic_bodies(model))}
+    bodies = []
+    for body in range(model.nbody):
+        geoms = []
+        start, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
+        for geom in range(start, start + count):
+            shape = _SHAPES.get(int(model.geom_type[geom]))
+            rgba = model.geom_rgba[geom]
+            if shape is None or rgba[3] <= 0.0:
+                continue
+            sx, sy, sz = _floats(model.geom_size[geom])
+            px, py, pz = _floats(model.geom_pos[geom])
+            qw, qx, qy, qz = _floats(model.geom_quat[geom])
+            r, g, b, a = _floats(rgba, 3)
+            geoms.append(
+                GeomDescription(shape, (sx, sy, sz), (px, py, pz), (qw, qx, qy, qz), (r, g, b, a))
+            )
+        bodies.append(
+            BodyDescription(
+                name=model.body(body).name or f"body_{body}",
+                index=order.get(body, -1),
+                dynamic=body in order,
+                pose=_pose(data.xpos[body], data.xquat[body]),
+                geoms=tuple(geoms),
+            )
+        )
+    return Scene(bodies=tuple(bodies), head_camera_body=HEAD_CAMERA_BODY)
+
+
+class PoseReader:
+    """Reads the dynamic bodies' world poses from ``data`` (after forward kinematics)."""
+
+    def __init__(self, model: mujoco.MjModel) -> None:
+        self.bodies = np.array(dynamic_bodies(model), dtype=int)
+
+    def poses(self, data: mujoco.MjData) -> tuple[Pose, ...]:
+        stacked = np.round(
+            np.concatenate([data.xpos[self.bodies], data.xquat[self.bodies]], axis=1), DIGITS
+        )
+        return tuple((x, y, z, w, qx, qy, qz) for x, y, z, w, qx, qy, qz in stacked.tolist())

@@ -1,0 +1,80 @@
+"""What the simulation thread sends after a control step: State, HUD and task events."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+from typing import Any
+
+import numpy as np
+
+from workcell.control.command import ArmCommand
+from workcell.protocol.messages import Hud, Pose, State, TaskEventMessage
+from workcell.server.scene import DIGITS, PoseReader
+from workcell.sim.world import World
+from workcell.task import events as ev
+from workcell.task.runner import HudState, SessionRunner
+from workcell.teleop.operator import TeleopOperator, measured_tcp
+from workcell.teleop.rotation import multiply
+
+
+def hud_message(hud: HudState) -> Hud:
+    return Hud(
+        phase=hud.phase.value,
+        mode=hud.mode,
+        trial_index=hud.trial_index,
+        round=hud.round,
+        rounds=hud.rounds,
+        level=hud.level,
+        boxes_delivered=hud.boxes_delivered,
+        required_boxes=hud.required_boxes,
+        countdown_s=round(hud.countdown_s, 3),
+        remaining_s=round(hud.remaining_s, 3),
+        score=hud.score,
+    )
+
+
+def event_message(event: ev.TaskEvent) -> TaskEventMessage:
+    fields: dict[str, Any] = {
+        f.name: getattr(event, f.name) for f in dataclasses.fields(event) if f.name != "t_sim"
+    }
+    return TaskEventMessage(kind=ev.event_kind(event), t_sim=round(event.t_sim, 6), fields=fields)
+
+
+def _world_pose(world: World, base_pose: Pose) -> Pose:
+    """A base-frame pose in the world frame."""
+    x, y, z = (round(float(v), DIGITS) for v in world.to_world_frame(np.array(base_pose[:3])))
+    yaw = float(world.base_pose[2])
+    heading = (math.cos(yaw / 2), 0.0, 0.0, math.sin(yaw / 2))
+    w, qx, qy, qz = (round(v, DIGITS) for v in multiply(heading, base_pose[3:]))
+    return (x, y, z, w, qx, qy, qz)
+
+
+class StateBuilder:
+    """Builds :class:`State` messages for one running session."""
+
+    def __init__(self, runner: SessionRunner, operator: TeleopOperator) -> None:
+        self.runner = runner
+        self.operator = operator
+        self.reader = PoseReader(runner.sim.world.model)
+        self.seq = 0
+
+    def _target(self, side: str, arm: ArmCommand) -> Pose:
+        world = self.runner.sim.world
+        base = (*arm.position, *arm.quaternion) if arm.follow else measured_tcp(world, side)
+        return _world_pose(world, base)
+
+    def build(self) -> State:
+        runner = self.runner
+        world = runner.sim.world
+        command = runner.last_command
+        self.seq += 1
+        return State(
+            seq=self.seq,
+            t_sim=round(runner.trial_time, 6),
+            poses=self.reader.poses(world.data),
+            hud=hud_message(runner.hud()),
+            input_seq=self.operator.applied_seq,
+            tcp_targets=(self._target("l", command.left), self._target("r", command.right)),
+            following=(command.left.follow, command.right.follow),
+        )

@@ -1,0 +1,85 @@
+"""The ``/ws`` endpoint: subprotocol check, hello, then messages until the client goes.
+
+Every refused message (malformed, too large, not allowed, flooding) gets an Error reply
+and a counter; the connection, the simulation and the other clients carry on.
+"""
+
+from __future__ import annotations
+
+import asyncio
+import contextlib
+import time
+
+from starlette.websockets import WebSocket, WebSocketDisconnect
+
+from workcell.protocol import messages as m
+from workcell.protocol.codec import ProtocolError, decode_client, encode
+from workcell.server.client import Client
+from workcell.server.conductor import Conductor
+
+CLOSE_PROTOCOL_MISMATCH = 4000
+"""Close code for a client that does not speak this protocol version."""
+
+
+async def refuse_version(websocket: WebSocket) -> None:
+    """Accept (so a browser can read the reason), explain, close with code 4000."""
+    offered = websocket.scope.get("subprotocols") or []
+    await websocket.accept(subprotocol=offered[0] if offered else None)
+    reason = f"protocol mismatch: this server speaks {m.SUBPROTOCOL}; reload the page"
+    text = f"offered {', '.join(offered) or 'no subprotocol'}; {reason}"
+    with contextlib.suppress(Exception):
+        await websocket.send_text(encode(m.Error(code="protocol", message=text, fatal=True)))
+    await websocket.close(code=CLOSE_PROTOCOL_MISMATCH, reason=reason[:120])
+
+
+async def serve_client(websocket: WebSocket, conductor: Conductor) -> None:
+    if m.SUBPROTOCOL not in (websocket.scope.get("subprotocols") or []):
+        await refuse_version(websocket)
+        return
+    await websocket.accept(subprotocol=m.SUBPROTOCOL)
+    options = conductor.options
+    client = Client(websocket, options.max_messages_per_s, options.burst)
+    conductor.connected(client)
+    sender = asyncio.create_task(client.run_sender())
+    try:
+        while not client.closed:
+            received = await websocket.receive()
+            if received["type"] == "websocket.disconnect":
+                break
+            raw = received.get("text")
+            await _handle(client, conductor, raw if raw is not None else received.get("bytes"))
+    except WebSocketDisconnect:
+        pass
+    finally:
+        client.close()
+        conductor.disconnected(client)
+        sender.cancel()
+        with contextlib.suppress(asyncio.CancelledError, Exception):
+            await sender
+
+
+async def _handle(client: Client, conductor: Conductor, raw: str | bytes | None) -> None:
+    client.stats.received += 1
+    if not client.limiter.allow():
+        client.refuse(
+            "rate_limited",
+            f"more than {conductor.options.max_messages_per_s:g} messages/s: message dropped",
+        )
+        return
+    try:
+        message = decode_client(raw if raw is not None else b"")
+    except ProtocolError as error:
+        client.refuse(error.code, str(error))
+        return
+    if isinstance(message, m.Ping):
+        client.send(m.Pong(t_client=message.t_client, t_server=time.time()))
+    elif isinstance(message, m.Hello):
+        await conductor.hello(client, message)
+    elif client.role is None:
+        client.refuse("protocol", f"{message.type}: send hello first")
+    elif isinstance(message, m.Input):
+        conductor.input(client, message)
+    elif isinstance(message, m.StartSession):
+        await conductor.start_session(client, message)
+    elif isinstance(message, m.Stop):
+        conductor.stop(client)

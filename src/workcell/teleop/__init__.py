@@ -1,0 +1,1 @@
+"""Teleoperation: a browser's raw device state (poses, grips, triggers, sticks) → Commands."""

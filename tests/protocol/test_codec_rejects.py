@@ -1,0 +1,112 @@
+"""Hostile or broken client messages: one ProtocolError naming the field and the rule."""
+
+from __future__ import annotations
+
+import json
+import math
+from typing import Any
+
+import pytest
+
+from workcell.protocol import messages as m
+from workcell.protocol.codec import MAX_MESSAGE_BYTES, ProtocolError, decode_client, encode
+
+HAND = m.ControllerState(
+    pose=(0.1, 1.0, -0.3, 1.0, 0.0, 0.0, 0.0), grip=0.0, trigger=0.0, stick=(0.0, 0.0), buttons=0
+)
+INPUT = m.Input(seq=1, t_client=0.0, source="xr", headset=None, left=HAND, right=HAND)
+
+
+def input_with(path: str, value: Any) -> str:
+    """The valid INPUT message as JSON text with one field (dotted path) replaced."""
+    data = json.loads(encode(INPUT))
+    *parents, last = path.split(".")
+    node = data
+    for part in parents:
+        node = node[part]
+    node[last] = value
+    return json.dumps(data)
+
+
+@pytest.mark.parametrize(
+    ("text", "code", "says"),
+    [
+        (
+            input_with("left.grip", 1.5),
+            "invalid_value",
+            "input.left.grip = 1.5: must be from 0 to 1",
+        ),
+        (input_with("right.trigger", -0.1), "invalid_value", "input.right.trigger"),
+        (input_with("left.stick", [0.0, 2.0]), "invalid_value", "input.left.stick"),
+        (input_with("left.buttons", 1.5), "malformed", "input.left.buttons = 1.5: must be a whole"),
+        (input_with("left.grip", True), "malformed", "input.left.grip = True: must be a number"),
+        (input_with("left.grip", "0.5"), "malformed", "must be a number"),
+        (input_with("seq", -1), "invalid_value", "input.seq"),
+        (input_with("seq", 2**60), "invalid_value", "input.seq"),
+        (input_with("source", "mouse"), "malformed", "input.source = 'mouse': must be one of"),
+        (input_with("left.pose", [0, 1, 0, 2, 0, 0, 0]), "invalid_value", "unit quaternion"),
+        (input_with("left.pose", [0, 1, 0, 0, 0, 0, 0]), "invalid_value", "its norm is 0"),
+        (input_with("left.pose", [1e6, 1, 0, 1, 0, 0, 0]), "invalid_value", "within 100 m"),
+        (input_with("left.pose", [0, 1, 0, 1, 0, 0]), "malformed", "list of 7 items, got 6"),
+        (input_with("headset", {"x": 1}), "malformed", "input.headset"),
+        (input_with("left.extra", 1), "malformed", "input.left.extra: unknown field"),
+        ('{"type":"ping","t_client":1e400}', "invalid_value", "ping.t_client = inf: must be a"),
+        ('{"type":"ping","t_client":NaN}', "invalid_value", "ping.t_client = nan: must be a"),
+        ('{"type":"ping","t_client":-Infinity}', "invalid_value", "ping.t_client = -inf"),
+        (
+            input_with("headset", [0, 1, 0, float("nan"), 0, 0, 0]),
+            "invalid_value",
+            "input.headset[3] = nan: must be a finite number",
+        ),
+        (
+            '{"type":"start_session","settings":{"task":{"time_limit_s":NaN}}}',
+            "invalid_value",
+            "start_session.settings.task.time_limit_s = nan",
+        ),
+        ('{"type":"ping"}', "malformed", "ping.t_client: missing"),
+        ('{"type":"launch_missiles"}', "malformed", "type = 'launch_missiles': must be one of"),
+        ('{"role":"operator"}', "malformed", "must be one of"),
+        ("[1, 2]", "malformed", "must be a JSON object"),
+        ("{", "malformed", "not JSON"),
+        ("", "malformed", "not JSON"),
+        (b"\xff\xfe", "malformed", "not UTF-8"),
+        ("[" * 50_000 + "]" * 50_000, "too_large", "at most 65536"),
+        ("[" * 20_000 + "]" * 20_000, "malformed", ""),
+        (
+            '{"type":"hello","role":"operator","resume_token":"' + "x" * 200 + '"}',
+            "invalid_value",
+            "at most 128 characters",
+        ),
+        ('{"type":"start_session","settings":[1]}', "malformed", "start_session.settings"),
+        ('{"type":"ping","t_client":1' + "0" * 5000 + "}", "malformed", ""),
+    ],
+)
+def test_refused_with_code_and_field(text: str | bytes, code: str, says: str) -> None:
+    with pytest.raises(ProtocolError) as refused:
+        decode_client(text)
+    assert refused.value.code == code
+    assert says in str(refused.value)
+
+
+def test_size_limit_counts_bytes() -> None:
+    padding = "é" * (MAX_MESSAGE_BYTES // 2)  # two bytes each in UTF-8
+    with pytest.raises(ProtocolError, match="at most") as refused:
+        decode_client('{"type":"start_session","settings":{"a":"' + padding + '"}}')
+    assert refused.value.code == "too_large"
+
+
+def test_slightly_off_quaternion_is_normalised() -> None:
+    s = 1.004  # a float32 headset's norm is off by far less; 1e-2 is allowed
+    decoded = decode_client(input_with("left.pose", [0.1, 1.0, -0.3, s, 0, 0, 0]))
+    assert isinstance(decoded, m.Input)
+    assert decoded.left.pose is not None
+    assert decoded.left.pose[3:] == (1.0, 0.0, 0.0, 0.0)
+    quat = decode_client(input_with("left.pose", [0, 0, 0, 0.5, 0.5, 0.5, 0.501]))
+    assert isinstance(quat, m.Input) and quat.left.pose is not None
+    assert math.isclose(math.sqrt(sum(q * q for q in quat.left.pose[3:])), 1.0, abs_tol=1e-12)
+
+
+def test_integers_are_accepted_as_numbers() -> None:
+    decoded = decode_client('{"type":"ping","t_client":3}')
+    assert decoded == m.Ping(t_client=3.0)
+    assert isinstance(decoded, m.Ping) and type(decoded.t_client) is float

@@ -1,0 +1,244 @@
+"""The web client end to end: the real server (``python -m workcell serve``) on a free port,
+Debian's chromium driven by playwright-core from the node scripts in ``web/tests/e2e/``,
+and an IWER-emulated Meta Quest 3. Each script prints ``RESULT {json}``; these tests then
+read the store the server recorded into.
+
+Needs node, ``/usr/bin/chromium`` (``make browser-setup``) and the built client with its
+node modules (``make web-setup``). Without them the tests skip, unless
+``WORKCELL_BROWSER_TESTS=require`` (CI), where they fail. Browser tests take a lock so
+that only one runs at a time (each runs a simulation server and a software-rendered
+browser; two at once on two cores would starve both). Screenshots and logs are kept
+under ``web/test-artifacts/`` (or ``$WORKCELL_ARTIFACTS``); each test prints its folder.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import fcntl
+import json
+import math
+import os
+import shutil
+import signal
+import socket
+import sqlite3
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from collections.abc import Iterator
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+REPO = Path(__file__).resolve().parents[2]
+WEB = REPO / "web"
+E2E = WEB / "tests" / "e2e"
+CHROMIUM = Path(os.environ.get("WORKCELL_CHROMIUM", "/usr/bin/chromium"))
+REQUIRED = os.environ.get("WORKCELL_BROWSER_TESTS") == "require"
+SCRIPT_TIMEOUT_S = 150.0
+SERVER_START_TIMEOUT_S = 90.0
+
+pytestmark = pytest.mark.slow
+
+
+def _missing() -> str | None:
+    """Why the browser tests cannot run here, or None."""
+    if shutil.which("node") is None:
+        return "node is not installed"
+    if not CHROMIUM.exists():
+        return f"{CHROMIUM} is missing (make browser-setup)"
+    if not (WEB / "node_modules" / "playwright-core").is_dir():
+        return "web/node_modules is missing (make web-setup)"
+    if not (WEB / "dist" / "index.html").is_file():
+        return "web/dist is not built (make web-setup)"
+    return None
+
+
+@pytest.fixture(scope="module", autouse=True)
+def browser_available() -> None:
+    reason = _missing()
+    if reason is not None:
+        if REQUIRED:
+            pytest.fail(f"browser tests required (WORKCELL_BROWSER_TESTS=require): {reason}")
+        pytest.skip(reason)
+
+
+@pytest.fixture
+def one_browser_at_a_time() -> Iterator[None]:
+    path = Path(tempfile.gettempdir()) / "workcell-browser-tests.lock"
+    with path.open("w") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+@dataclass
+class Server:
+    url: str
+    store: Path
+    log: Path
+
+
+def _free_port() -> int:
+    with socket.socket() as sock:
+        sock.bind(("127.0.0.1", 0))
+        return int(sock.getsockname()[1])
+
+
+@pytest.fixture
+def server(tmp_path: Path, one_browser_at_a_time: None) -> Iterator[Server]:
+    """``python -m workcell serve`` recording into a fresh store, stopped with SIGINT."""
+    port = _free_port()
+    store = tmp_path / "store.sqlite"
+    log = tmp_path / "server.log"
+    env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+    command = [
+        sys.executable,
+        "-m",
+        "workcell",
+        "serve",
+        "--port",
+        str(port),
+        "--store",
+        str(store),
+    ]
+    with log.open("w") as out:
+        process = subprocess.Popen(command, stdout=out, stderr=subprocess.STDOUT, env=env)
+    url = f"http://127.0.0.1:{port}"
+    try:
+        deadline = time.monotonic() + SERVER_START_TIMEOUT_S
+        while True:
+            if process.poll() is not None:
+                pytest.fail(f"workcell serve exited with {process.returncode}:\n{log.read_text()}")
+            with (
+                contextlib.suppress(OSError),
+                urllib.request.urlopen(f"{url}/api/defaults", timeout=2) as reply,
+            ):
+                if reply.status == 200:
+                    break
+            if time.monotonic() > deadline:
+                pytest.fail(f"workcell serve did not answer in time:\n{log.read_text()}")
+            time.sleep(0.2)
+        yield Server(url=url, store=store, log=log)
+    finally:
+        if process.poll() is None:
+            process.send_signal(signal.SIGINT)
+            try:
+                process.wait(timeout=20)
+            except subprocess.TimeoutExpired:
+                process.kill()
+                process.wait()
+
+
+def _artifacts(name: str) -> Path:
+    root = Path(os.environ.get("WORKCELL_ARTIFACTS", WEB / "test-artifacts"))
+    return root / name
+
+
+def run_script(name: str, server: Server) -> dict[str, Any]:
+    """Run ``web/tests/e2e/<name>.mjs`` against ``server``; its RESULT line as a dict."""
+    artifacts = _artifacts(name)
+    if artifacts.exists():
+        shutil.rmtree(artifacts)
+    env = {**os.environ, "WORKCELL_ARTIFACTS": str(artifacts.parent)}
+    started = time.monotonic()
+    completed = subprocess.run(
+        ["node", str(E2E / f"{name}.mjs"), server.url],
+        capture_output=True,
+        text=True,
+        timeout=SCRIPT_TIMEOUT_S,
+        env=env,
+        cwd=WEB,
+        check=False,
+    )
+    took = time.monotonic() - started
+    output = completed.stdout + completed.stderr
+    print(f"{name}: {took:.1f} s, artifacts in {artifacts}\n{output}")
+    assert completed.returncode == 0, (
+        f"{name}.mjs failed (exit {completed.returncode}); artifacts in {artifacts}\n"
+        f"{output}\n--- server log ---\n{server.log.read_text()[-4000:]}"
+    )
+    lines = [line for line in completed.stdout.splitlines() if line.startswith("RESULT ")]
+    assert lines, f"{name}.mjs printed no RESULT line\n{output}"
+    result: dict[str, Any] = json.loads(lines[-1].removeprefix("RESULT "))
+    result["wall_s"] = took
+    return result
+
+
+def _rows(store: Path, sql: str, *params: object) -> list[sqlite3.Row]:
+    with contextlib.closing(sqlite3.connect(f"file:{store}?mode=ro", uri=True)) as db:
+        db.row_factory = sqlite3.Row
+        return list(db.execute(sql, params))
+
+
+def check_successful_trial(store: Path, session_id: str, operator_id: str) -> list[sqlite3.Row]:
+    """The session's one trial succeeded; returns its frames in order."""
+    (session,) = _rows(store, "SELECT * FROM sessions WHERE session_id = ?", session_id)
+    assert session["operator_id"] == operator_id
+    assert session["mode"] == "practice"
+    (trial,) = _rows(store, "SELECT * FROM trials WHERE session_id = ?", session_id)
+    assert trial["outcome"] == "success", dict(trial)
+    assert trial["boxes_delivered"] == 1
+    assert trial["score"] > 100
+    frames = _rows(
+        store, "SELECT * FROM frames WHERE trial_id = ? ORDER BY frame_index", trial["trial_id"]
+    )
+    assert len(frames) == trial["n_frames"] > 20
+    return frames
+
+
+def check_operator_inputs(frames: list[sqlite3.Row]) -> None:
+    """The frames carry the operator's raw device state: both controller poses, grips held,
+    triggers closed, and the base driven away from its start."""
+    with_poses = [f for f in frames if f["ctrl_l_x"] is not None and f["ctrl_r_x"] is not None]
+    assert len(with_poses) > len(frames) // 2, "controller poses missing from the frames"
+    assert all(f["headset_qw"] is not None for f in with_poses)
+    gripped = [f for f in frames if f["grip_l"] > 0.5 and f["grip_r"] > 0.5]
+    assert len(gripped) > 10, "no frames with both grips held"
+    assert any(f["trigger_l"] > 0.5 and f["trigger_r"] > 0.5 for f in frames)
+    assert any(f["follow_l"] and f["follow_r"] for f in frames)
+    assert any(abs(f["stick_l_y"] or 0.0) > 0.2 for f in frames), "the left stick never moved"
+    first = frames[0]
+    moved = max(
+        math.hypot(f["base_x"] - first["base_x"], f["base_y"] - first["base_y"]) for f in frames
+    )
+    assert moved > 0.5, f"the base moved only {moved:.2f} m"
+    # While a grip is held the controller moves (the arm follows the hand).
+    spread = max(f["ctrl_l_y"] for f in gripped) - min(f["ctrl_l_y"] for f in gripped)
+    assert spread > 0.05, f"the left controller hardly moved while gripped ({spread:.3f} m)"
+
+
+def test_vr_delivery_with_emulated_quest(server: Server) -> None:
+    result = run_script("xr_delivery", server)
+    assert result["outcome"] == "success"
+    assert result["base_moved_m"] > 0.2
+    frames = check_successful_trial(server.store, result["session_id"], "e2e-xr")
+    check_operator_inputs(frames)
+    assert result["wall_s"] < 90
+
+
+def test_desktop_delivery_with_keyboard_and_mouse(server: Server) -> None:
+    result = run_script("desktop_delivery", server)
+    assert result["outcome"] == "success"
+    assert result["source"] == "desktop"
+    assert {"w", "g", "h", "f", "j", "z"} <= set(result["keys_used"])
+    frames = check_successful_trial(server.store, result["session_id"], "e2e-desktop")
+    check_operator_inputs(frames)
+    assert result["wall_s"] < 90
+
+
+def test_reconnect_sessions_page_and_replay(server: Server) -> None:
+    result = run_script("sessions_replay", server)
+    (trial,) = _rows(
+        server.store, "SELECT * FROM trials WHERE session_id = ?", result["session_id"]
+    )
+    assert trial["outcome"] == "interrupted"
+    assert trial["interruption_reason"] == "operator_stop"
+    assert result["replay_frames"] > 10
+    assert result["wall_s"] < 90

@@ -1,0 +1,87 @@
+// Entry point: one connection, one 3D viewer for live teleoperation, and a hash router
+// over the pages (#/ setup, #/teleop, #/sessions, #/replay/<trial id>).
+
+import "./style.css";
+import { App } from "./app";
+import { exposeDebug } from "./debug";
+import { InputSequencer } from "./input/hands";
+import { mountReplay } from "./pages/replayPage";
+import { mountSessions } from "./pages/sessionsPage";
+import { mountSetup } from "./pages/setupPage";
+import { mountTeleop } from "./pages/teleopPage";
+import type { TeleopShared } from "./pages/teleopPage";
+import { Viewer } from "./scene/viewer";
+import { emulatedDevice } from "./util/env";
+import { installEmulatedDevice } from "./xr/emulate";
+import { XrController } from "./xr/xrSession";
+import { el } from "./util/dom";
+
+async function boot(): Promise<void> {
+  const emulate = emulatedDevice();
+  if (emulate !== null) await installEmulatedDevice(emulate);
+
+  const app = new App();
+  exposeDebug(app);
+  const main = document.getElementById("app");
+  if (main === null) throw new Error("index.html has no #app element");
+  const nav = el("nav", { className: "topnav" });
+  const links: [string, string][] = [
+    ["#/", "Setup"],
+    ["#/teleop", "Teleoperate"],
+    ["#/sessions", "Sessions"],
+  ];
+  nav.append(el("span", { className: "brand", textContent: "Workcell" }));
+  for (const [href, label] of links) nav.append(el("a", { href, textContent: label }));
+  const linkState = el("span", { className: "nav-link-state" });
+  nav.append(linkState);
+  const outlet = el("main", { className: "outlet" });
+  main.append(nav, outlet);
+
+  let shared: TeleopShared | null = null;
+  const teleopShared = (): TeleopShared => {
+    if (shared === null) {
+      const viewer = new Viewer();
+      shared = { viewer, xr: new XrController(viewer), sequencer: new InputSequencer() };
+    }
+    return shared;
+  };
+
+  let unmount: (() => void) | null = null;
+  const route = (): void => {
+    unmount?.();
+    unmount = null;
+    const hash = window.location.hash.replace(/^#/, "") || "/";
+    for (const a of nav.querySelectorAll("a")) {
+      a.classList.toggle("active", a.getAttribute("href") === `#${hash}`);
+    }
+    document.body.dataset["page"] = hash.split("/")[1] || "setup";
+    if (hash.startsWith("/replay/")) {
+      unmount = mountReplay(outlet, decodeURIComponent(hash.slice("/replay/".length)));
+    } else if (hash === "/teleop") {
+      unmount = mountTeleop(outlet, app, teleopShared());
+    } else if (hash === "/sessions") {
+      unmount = mountSessions(outlet, app);
+    } else {
+      unmount = mountSetup(outlet, app);
+    }
+  };
+  window.addEventListener("hashchange", route);
+
+  app.subscribe((event) => {
+    if (event.kind !== "link") return;
+    const info = app.connection.info;
+    linkState.textContent = info.status === "open" ? "connected" : info.status;
+    linkState.className = `nav-link-state ${info.status}`;
+    linkState.title = info.reason ?? "";
+  });
+  app.subscribe((event) => {
+    // A page opened while a session runs (or reloaded mid-trial) goes to the live view.
+    if (event.kind === "session" && app.sessionActive && document.body.dataset["page"] === "setup" && app.session === null) {
+      window.location.hash = "#/teleop";
+    }
+  });
+  route();
+  app.start();
+}
+
+void boot();

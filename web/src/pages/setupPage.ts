@@ -1,0 +1,190 @@
+// The setup page (the paper's Fig. 3): mode, operator, every parameter with its default
+// and allowed range; Start sends StartSession and the server's objections are shown
+// beside the fields they name.
+
+import type { App } from "../app";
+import type { Defaults, FieldProblem } from "../protocol";
+import { fetchDefaults } from "../net/api";
+import { buildControl, fieldFor, nest, readValue, sectionOf, writeValue } from "./settingsForm";
+import type { FieldControl } from "./settingsForm";
+import { el } from "../util/dom";
+
+const MODE_KEY = "task.mode";
+const OPERATOR_KEY = "operator_id";
+const MODE_HELP: Record<string, string> = {
+  practice: "one trial, one box, ends at delivery",
+  collection: "repeated one-box trials with automatic reset",
+  challenge: "rounds of levels with more boxes and less time",
+};
+
+export function mountSetup(root: HTMLElement, app: App): () => void {
+  const page = el("section", { className: "page setup-page" });
+  const status = el("div", { className: "setup-status", textContent: "Loading settings…" });
+  page.append(el("h1", { textContent: "New session" }), status);
+  root.append(page);
+  let controls = new Map<string, FieldControl>();
+  let general: HTMLElement | null = null;
+  let startButton: HTMLButtonElement | null = null;
+  let disposed = false;
+
+  const showProblems = (problems: readonly FieldProblem[]): void => {
+    for (const control of controls.values()) {
+      control.problem.textContent = "";
+      control.row.classList.remove("invalid");
+    }
+    if (general !== null) general.textContent = "";
+    const keys = [...controls.keys()];
+    let first: FieldControl | null = null;
+    for (const problem of problems) {
+      const key = fieldFor(problem, keys);
+      const control = key === null ? undefined : controls.get(key);
+      if (control === undefined) {
+        if (general !== null) general.textContent += `${problem.field}: ${problem.message}\n`;
+        continue;
+      }
+      control.row.classList.add("invalid");
+      const line = problem.field === key ? problem.message : `${problem.field}: ${problem.message}`;
+      control.problem.textContent += (control.problem.textContent === "" ? "" : "\n") + line;
+      first ??= control;
+    }
+    first?.input.focus();
+    if (startButton !== null) {
+      startButton.disabled = false;
+      startButton.textContent = "Start";
+    }
+  };
+
+  const render = (defaults: Defaults): void => {
+    status.textContent = "";
+    const form = el("form", { className: "setup-form", noValidate: true });
+    controls = new Map(defaults.fields.map((info) => [info.key, buildControl(info)]));
+
+    // The operator's first choices: mode (as large buttons) and who they are.
+    const mode = controls.get(MODE_KEY);
+    const operator = controls.get(OPERATOR_KEY);
+    const top = el("fieldset", { className: "top-choices" });
+    top.append(el("legend", { textContent: "Mode and operator" }));
+    if (mode !== undefined) {
+      const picker = el("div", { className: "mode-picker", role: "radiogroup" });
+      for (const choice of mode.info.choices ?? []) {
+        const button = el("button", {
+          type: "button",
+          className: "mode-choice",
+          textContent: choice,
+          title: MODE_HELP[choice] ?? "",
+        });
+        button.dataset["mode"] = choice;
+        button.append(el("small", { textContent: MODE_HELP[choice] ?? "" }));
+        button.addEventListener("click", () => {
+          mode.input.value = choice;
+          mode.input.dispatchEvent(new Event("change"));
+        });
+        picker.append(button);
+      }
+      const sync = (): void => {
+        for (const b of picker.querySelectorAll<HTMLButtonElement>(".mode-choice")) {
+          b.classList.toggle("selected", b.dataset["mode"] === mode.input.value);
+          b.setAttribute("aria-checked", String(b.dataset["mode"] === mode.input.value));
+        }
+        form.dataset["mode"] = mode.input.value;
+      };
+      mode.input.addEventListener("change", sync);
+      sync();
+      top.append(picker, mode.row);
+    }
+    if (operator !== undefined) top.append(operator.row);
+    form.append(top);
+
+    // Every other setting, grouped by its section, in declaration order.
+    const docs = new Map(defaults.sections.map((s) => [s.key, s.doc]));
+    const groups = new Map<string, HTMLElement>();
+    for (const control of controls.values()) {
+      if (control === mode || control === operator) continue;
+      const section = sectionOf(control.info, defaults);
+      let group = groups.get(section);
+      if (group === undefined) {
+        group = el("fieldset", { className: "section" });
+        group.dataset["section"] = section;
+        const title = section === "" ? "Session" : section;
+        const legend = el("legend", { textContent: title });
+        const doc = docs.get(section);
+        if (doc !== undefined) legend.append(el("span", { className: "doc", textContent: ` — ${doc}` }));
+        group.append(legend);
+        groups.set(section, group);
+        form.append(group);
+      }
+      group.append(control.row);
+    }
+
+    general = el("pre", { className: "problem general", role: "alert" });
+    startButton = el("button", { type: "submit", className: "primary start", textContent: "Start" });
+    const reset = el("button", { type: "button", textContent: "Reset to defaults" });
+    reset.addEventListener("click", () => {
+      for (const control of controls.values()) writeValue(control, control.info.default);
+      mode?.input.dispatchEvent(new Event("change"));
+      showProblems([]);
+    });
+    const actions = el("div", { className: "actions" });
+    actions.append(startButton, reset, general);
+    form.append(actions);
+    form.addEventListener("submit", (event) => {
+      event.preventDefault();
+      const values = new Map<string, unknown>();
+      for (const [key, control] of controls) values.set(key, readValue(control));
+      showProblems([]);
+      if (!app.startSession(nest(values))) {
+        if (general !== null) general.textContent = "Not connected to the server; retrying…";
+        return;
+      }
+      if (startButton !== null) {
+        startButton.disabled = true;
+        startButton.textContent = "Starting…";
+      }
+    });
+    page.append(form);
+    updateRunning();
+  };
+
+  const running = el("div", { className: "running-banner" });
+  page.insertBefore(running, status);
+  const updateRunning = (): void => {
+    running.replaceChildren();
+    if (app.sessionActive) {
+      running.append(
+        "A session is running. ",
+        el("a", { href: "#/teleop", textContent: "Open the teleoperation view" }),
+      );
+    } else if (!app.isOperator && app.connection.isOpen) {
+      running.append("Another client operates this server: you can watch as a spectator.");
+    }
+  };
+
+  const unsubscribe = app.subscribe((event) => {
+    if (event.kind === "config_rejected") showProblems(event.problems);
+    else if (event.kind === "session") {
+      if (app.session !== null && app.sessionActive && startButton?.disabled === true) {
+        window.location.hash = "#/teleop";
+      }
+      updateRunning();
+    } else if (event.kind === "server_error" && startButton?.disabled === true) {
+      if (general !== null) general.textContent = `${event.code}: ${event.message}`;
+      startButton.disabled = false;
+      startButton.textContent = "Start";
+    } else if (event.kind === "link") updateRunning();
+  });
+
+  fetchDefaults()
+    .then((defaults) => {
+      if (!disposed) render(defaults);
+    })
+    .catch((error: unknown) => {
+      status.textContent = `Could not load the settings: ${String(error)}`;
+      status.classList.add("problem");
+    });
+
+  return () => {
+    disposed = true;
+    unsubscribe();
+    page.remove();
+  };
+}

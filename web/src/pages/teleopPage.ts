@@ -1,0 +1,258 @@
+// The teleoperation page: the 3D view, the HUD, the key map and the end screens; once per
+// animation frame it reads the operator's devices (WebXR, or keyboard/mouse/gamepad) and
+// sends them as one Input message, and draws the newest State.
+
+import * as THREE from "three";
+import type { App } from "../app";
+import type { Scene, State } from "../protocol";
+import type { Viewer } from "../scene/viewer";
+import type { XrController } from "../xr/xrSession";
+import { xrAvailability } from "../xr/xrSession";
+import { readXrFrame } from "../xr/xrInput";
+import { DesktopInput, KEY_MAP } from "../input/desktop";
+import { BUTTON, InputSequencer } from "../input/hands";
+import type { DeviceFrame } from "../input/hands";
+import { HudPanel } from "../hud/hudPanel";
+import { hudLines, trialEndSummary } from "../hud/hudText";
+import { linesToDom, renderEndScreen } from "../hud/endScreen";
+import { exposeCapture, exposeExtra } from "../debug";
+import { el } from "../util/dom";
+
+export interface TeleopShared {
+  viewer: Viewer;
+  xr: XrController;
+  sequencer: InputSequencer;
+}
+
+const HUD_REFRESH_MS = 100;
+
+function controllerMarker(colour: number): THREE.Mesh {
+  const mesh = new THREE.Mesh(
+    new THREE.BoxGeometry(0.05, 0.03, 0.1),
+    new THREE.MeshStandardMaterial({ color: colour, roughness: 0.5 }),
+  );
+  mesh.visible = false;
+  return mesh;
+}
+
+export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): () => void {
+  const { viewer, xr, sequencer } = shared;
+  const page = el("section", { className: "page teleop-page" });
+  const viewport = el("div", { className: "viewport" });
+  const hud = el("div", { className: "hud", id: "hud" });
+  const overlay = el("div", { className: "overlay hidden", id: "end-screen" });
+  const bar = el("div", { className: "toolbar" });
+  const linkBadge = el("span", { className: "link-badge" });
+  const vrButton = el("button", { id: "enter-vr", textContent: "Enter VR", disabled: true });
+  const viewButton = el("button", { id: "toggle-view", textContent: "View: third person" });
+  const stopButton = el("button", { id: "stop-session", textContent: "Stop session" });
+  const keysButton = el("button", { textContent: "Keys" });
+  bar.append(linkBadge, vrButton, viewButton, stopButton, keysButton);
+  const keymap = el("div", { className: "keymap", id: "keymap" });
+  keymap.append(el("h2", { textContent: "Desktop controls" }));
+  const keyTable = el("table");
+  for (const entry of KEY_MAP) {
+    const row = el("tr");
+    row.append(el("th", { textContent: entry.keys }), el("td", { textContent: entry.action }));
+    keyTable.append(row);
+  }
+  keymap.append(keyTable);
+  const hint = el("div", { className: "hint" });
+  const notice = el("div", { className: "notice", role: "alert" });
+  viewport.append(hud, bar, keymap, overlay, hint, notice);
+  page.append(viewport);
+  root.append(page);
+  viewer.mount(viewport);
+
+  const desktop = new DesktopInput(viewer.canvas);
+  desktop.onZoom = (delta) => viewer.setZoom(viewer.zoom * Math.exp(delta * 0.001));
+  const hudPanel = new HudPanel();
+  hudPanel.mesh.visible = false;
+  viewer.rig.add(hudPanel.mesh);
+  const markers = [controllerMarker(0x4fa3ff), controllerMarker(0xff7a4f)];
+  for (const m of markers) viewer.rig.add(m);
+
+  let builtScene: Scene | null = null;
+  let appliedState: State | null = null;
+  let lastTime: number | null = null;
+  let lastHud = 0;
+  let lastButtons = 0;
+  let lastFrame: DeviceFrame | null = null;
+  let xrFrames = 0;
+  let sent = 0;
+  const headsetLocal = new THREE.Vector3(0, 1.6, 0);
+
+  const setView = (mode: "first" | "third"): void => {
+    viewer.viewMode = mode;
+    viewButton.textContent = `View: ${mode} person`;
+  };
+  viewButton.addEventListener("click", () => setView(viewer.viewMode === "first" ? "third" : "first"));
+  keysButton.addEventListener("click", () => keymap.classList.toggle("hidden"));
+  stopButton.addEventListener("click", () => app.stopSession());
+  vrButton.addEventListener("click", () => {
+    if (xr.presenting) {
+      void xr.exit();
+      return;
+    }
+    notice.textContent = "";
+    xr.enter().catch((error: unknown) => {
+      notice.textContent = `Could not enter VR: ${String(error)}`;
+    });
+  });
+  xr.onChange = () => {
+    vrButton.textContent = xr.presenting ? "Exit VR" : "Enter VR";
+    hudPanel.mesh.visible = xr.presenting;
+    if (xr.presenting) setView("first");
+    for (const m of markers) m.visible = false;
+  };
+  void xrAvailability().then((availability) => {
+    vrButton.disabled = availability !== "supported";
+    vrButton.title =
+      availability === "insecure"
+        ? "WebXR needs a secure context: open the page over https (workcell serve --tls) or localhost"
+        : availability === "unsupported"
+          ? "No WebXR headset available in this browser"
+          : "Enter immersive VR";
+  });
+
+  const renderOverlay = (): void => renderEndScreen(overlay, app);
+
+  const renderHud = (): void => {
+    const info = app.connection.info;
+    const role = app.connection.role;
+    linkBadge.textContent =
+      info.status === "open"
+        ? `● connected (${role}${info.rttMs !== null ? `, ${Math.round(info.rttMs)} ms` : ""})`
+        : info.status === "reconnecting"
+          ? `● reconnecting (attempt ${info.attempts})…`
+          : info.status === "refused"
+            ? `● refused: ${info.reason ?? ""}`
+            : "● connecting…";
+    linkBadge.className = `link-badge ${info.status}`;
+    stopButton.disabled = !app.sessionActive || role !== "operator";
+    const h = app.ended === null ? app.hud : null; // after the end, the end screen says it
+    hud.replaceChildren();
+    if (h !== null) {
+      hud.append(linesToDom(hudLines(h), "hud-lines"));
+      if (h.phase === "countdown") hud.append(el("div", { className: "countdown", textContent: String(Math.ceil(h.countdown_s)) }));
+    }
+    const left = lastFrame?.left;
+    const right = lastFrame?.right;
+    hint.textContent =
+      role === "spectator"
+        ? "Spectating: another client operates."
+        : app.sessionActive
+          ? `grip L ${(left?.grip ?? 0).toFixed(1)} R ${(right?.grip ?? 0).toFixed(1)} · trigger L ${(left?.trigger ?? 0).toFixed(1)} R ${(right?.trigger ?? 0).toFixed(1)}${app.holding ? " · holding a box" : ""}`
+          : "";
+    if (xr.presenting) {
+      const trialEnd = app.lastTrialEnd;
+      if (app.ended !== null) {
+        hudPanel.show("Session complete", [
+          { label: "Successes", value: `${app.ended.successes}/${app.ended.trials}` },
+          { label: "Total score", value: String(app.ended.total_score) },
+        ]);
+      } else if (trialEnd !== null) {
+        hudPanel.show("Trial over", trialEndSummary(trialEnd.fields));
+      } else {
+        hudPanel.show("Workcell", h !== null ? hudLines(h) : [{ label: "Status", value: info.status }]);
+      }
+    }
+  };
+
+  const onFrame = (time: number, frame: XRFrame | undefined): void => {
+    const dt = lastTime === null ? 0 : Math.min(0.1, (time - lastTime) / 1000);
+    lastTime = time;
+    if (app.scene !== null && app.scene !== builtScene) {
+      viewer.world.build(app.scene);
+      builtScene = app.scene;
+      appliedState = null;
+    }
+    const state = app.state;
+    if (state !== null && state !== appliedState && builtScene !== null) {
+      viewer.world.applyPoses(state.poses);
+      viewer.world.applyTargets(state.tcp_targets, state.following);
+      appliedState = state;
+    }
+
+    let reading: DeviceFrame;
+    const space = xr.referenceSpace;
+    if (viewer.presenting && frame !== undefined && space !== null) {
+      xrFrames += 1;
+      const xrReading = readXrFrame(frame, space);
+      reading = xrReading;
+      if (xrReading.headsetPosition !== null) {
+        const p = xrReading.headsetPosition;
+        headsetLocal.set(p.x, p.y, p.z);
+      }
+      const buttons = xrReading.left.buttons | xrReading.right.buttons;
+      if (buttons & BUTTON.secondary && !(lastButtons & BUTTON.secondary)) {
+        setView(viewer.viewMode === "first" ? "third" : "first");
+      }
+      lastButtons = buttons;
+      [xrReading.left, xrReading.right].forEach((hand, i) => {
+        const marker = markers[i];
+        if (marker === undefined) return;
+        marker.visible = hand.pose !== null;
+        if (hand.pose !== null) {
+          marker.position.set(hand.pose[0], hand.pose[1], hand.pose[2]);
+          marker.quaternion.set(hand.pose[4], hand.pose[5], hand.pose[6], hand.pose[3]);
+          (marker.material as THREE.MeshStandardMaterial).emissive.setHex(hand.grip >= 0.5 ? 0x333333 : 0);
+        }
+      });
+      hudPanel.mesh.position.set(headsetLocal.x + 0.25, headsetLocal.y - 0.3, headsetLocal.z - 0.75);
+      hudPanel.mesh.lookAt(viewer.rig.localToWorld(headsetLocal.clone()));
+    } else {
+      reading = desktop.read(dt);
+      if (desktop.viewToggleRequested) {
+        desktop.viewToggleRequested = false;
+        setView(viewer.viewMode === "first" ? "third" : "first");
+      }
+    }
+    lastFrame = reading;
+    if (app.sessionActive && app.isOperator && app.connection.isOpen) {
+      if (app.connection.send(sequencer.next(reading))) sent += 1;
+    }
+    viewer.placeRig(viewer.presenting ? headsetLocal : null);
+    if (time - lastHud > HUD_REFRESH_MS) {
+      lastHud = time;
+      renderHud();
+    }
+  };
+
+  const removeFrame = viewer.onFrame(onFrame);
+  const unsubscribe = app.subscribe((event) => {
+    if (event.kind === "session" || event.kind === "task_event") renderOverlay();
+    if (event.kind === "link") renderHud();
+  });
+  renderOverlay();
+  renderHud();
+
+  const removeExtra = exposeExtra("teleop", () => ({
+    view: viewer.viewMode,
+    presenting: viewer.presenting,
+    xr_frames: xrFrames,
+    frames: viewer.frameCount,
+    draw_calls: viewer.renderer.info.render.calls,
+    inputs_sent: sent,
+    last_input: sequencer.last,
+    grips_latched: desktop.gripsLatched,
+    triggers_latched: desktop.triggersLatched,
+    overlay: overlay.className,
+  }));
+
+  const removeCapture = exposeCapture("hud_panel", () => hudPanel.canvas.toDataURL("image/png"));
+
+  return () => {
+    removeCapture();
+    removeExtra();
+    removeFrame();
+    unsubscribe();
+    desktop.dispose();
+    viewer.rig.remove(hudPanel.mesh);
+    for (const m of markers) viewer.rig.remove(m);
+    xr.onChange = null;
+    void xr.exit();
+    viewer.unmount();
+    page.remove();
+  };
+}

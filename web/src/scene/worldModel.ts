@@ -1,0 +1,214 @@
+// The drawn world: three.js objects built once from a Scene message (MuJoCo geom
+// semantics), then moved by the dynamic body poses of State messages or a replay.
+
+import * as THREE from "three";
+import { mergeGeometries } from "three/examples/jsm/utils/BufferGeometryUtils.js";
+import type { BodyDescription, GeomDescription, Pose, Scene } from "../protocol";
+import { WORLD_TO_THREE, applyPose } from "./frames";
+
+/** A plane of size 0 is infinite in MuJoCo; draw it this big (half extent, m). */
+const INFINITE_PLANE_HALF = 25;
+const HEAD_CAMERA_OFFSET = 0.08;
+
+function geometryFor(geom: GeomDescription): THREE.BufferGeometry | null {
+  const [a, b, c] = geom.size;
+  switch (geom.shape) {
+    case "box":
+      return new THREE.BoxGeometry(2 * a, 2 * b, 2 * c);
+    case "sphere":
+      return new THREE.SphereGeometry(a, 20, 14);
+    case "ellipsoid":
+      return new THREE.SphereGeometry(1, 20, 14).scale(a, b, c);
+    case "capsule":
+      // MuJoCo: radius, half-length of the cylindrical part, along z; three.js: along y.
+      return new THREE.CapsuleGeometry(a, 2 * b, 6, 16).rotateX(Math.PI / 2);
+    case "cylinder":
+      return new THREE.CylinderGeometry(a, a, 2 * b, 24).rotateX(Math.PI / 2);
+    case "plane": {
+      const hx = a > 0 ? a : INFINITE_PLANE_HALF;
+      const hy = b > 0 ? b : INFINITE_PLANE_HALF;
+      return new THREE.PlaneGeometry(2 * hx, 2 * hy);
+    }
+    default:
+      return null;
+  }
+}
+
+function materialFor(geom: GeomDescription, cache: Map<string, THREE.Material>): THREE.Material {
+  const [r, g, b, alpha] = geom.rgba;
+  const key = `${geom.shape === "plane" ? "p" : "m"}:${geom.rgba.join(",")}`;
+  const cached = cache.get(key);
+  if (cached !== undefined) return cached;
+  // Lambert shading: per-vertex cheap enough for software rendering and standalone
+  // headsets, and plenty for flat-coloured primitives.
+  const material = new THREE.MeshLambertMaterial({
+    color: new THREE.Color(r, g, b),
+    transparent: alpha < 0.999,
+    opacity: alpha,
+    side: geom.shape === "plane" ? THREE.DoubleSide : THREE.FrontSide,
+  });
+  cache.set(key, material);
+  return material;
+}
+
+export class WorldModel {
+  /** Rotated z-up → y-up; everything the server describes lives under it. */
+  readonly root = new THREE.Group();
+  readonly bodies = new Map<string, THREE.Group>();
+  /** Dynamic bodies in State pose order. */
+  private dynamic: (THREE.Group | undefined)[] = [];
+  /** Where the robot head camera sits (child of the head body, looking along its +x). */
+  readonly headCamera = new THREE.Object3D();
+  private headBodyName = "";
+  private readonly targetMarkers: THREE.Mesh[] = [];
+  private readonly materials = new Map<string, THREE.Material>();
+  private readonly staticMeshes: THREE.Mesh[] = [];
+
+  constructor() {
+    this.root.name = "world";
+    this.root.quaternion.copy(WORLD_TO_THREE);
+    // Camera basis in the head body: x_cam = -y, y_cam = +z, z_cam = -x (looks along +x).
+    this.headCamera.position.set(HEAD_CAMERA_OFFSET, 0, 0);
+    this.headCamera.quaternion.setFromRotationMatrix(
+      new THREE.Matrix4().makeBasis(
+        new THREE.Vector3(0, -1, 0),
+        new THREE.Vector3(0, 0, 1),
+        new THREE.Vector3(-1, 0, 0),
+      ),
+    );
+    for (const colour of [0x4fa3ff, 0xff7a4f]) {
+      const marker = new THREE.Mesh(
+        new THREE.SphereGeometry(0.025, 12, 8),
+        new THREE.MeshBasicMaterial({ color: colour, transparent: true, opacity: 0.55 }),
+      );
+      marker.visible = false;
+      marker.name = "tcp_target";
+      this.targetMarkers.push(marker);
+    }
+  }
+
+  get isEmpty(): boolean {
+    return this.bodies.size === 0;
+  }
+
+  get headBody(): THREE.Group | undefined {
+    return this.bodies.get(this.headBodyName);
+  }
+
+  /** Replace everything drawn with the bodies of `scene`. */
+  build(scene: Scene): void {
+    this.clear();
+    this.headBodyName = scene.head_camera_body;
+    let maxIndex = -1;
+    const fixed = new Map<THREE.Material, THREE.BufferGeometry[]>();
+    for (const body of scene.bodies) {
+      const group = this.buildBody(body, body.dynamic ? null : fixed);
+      this.root.add(group);
+      this.bodies.set(body.name, group);
+      if (body.dynamic) maxIndex = Math.max(maxIndex, body.index);
+    }
+    // Everything that never moves is drawn as one mesh per material (fewer draw calls:
+    // software-rendered browsers and standalone headsets both care).
+    for (const [material, geometries] of fixed) {
+      const merged = mergeGeometries(geometries, false);
+      for (const g of geometries) g.dispose();
+      if (merged === null) continue;
+      const mesh = new THREE.Mesh(merged, material);
+      mesh.name = "static";
+      mesh.matrixAutoUpdate = false;
+      this.staticMeshes.push(mesh);
+      this.root.add(mesh);
+    }
+    this.dynamic = new Array<THREE.Group | undefined>(maxIndex + 1).fill(undefined);
+    for (const body of scene.bodies) {
+      if (body.dynamic) this.dynamic[body.index] = this.bodies.get(body.name);
+    }
+    this.headBody?.add(this.headCamera);
+    for (const marker of this.targetMarkers) this.root.add(marker);
+  }
+
+  /** Move the dynamic bodies (State.poses / a replay frame, in index order). */
+  applyPoses(poses: readonly Pose[]): void {
+    const n = Math.min(poses.length, this.dynamic.length);
+    for (let i = 0; i < n; i += 1) {
+      const group = this.dynamic[i];
+      const pose = poses[i];
+      if (group !== undefined && pose !== undefined) applyPose(group, pose);
+    }
+  }
+
+  /** Show where each arm is asked to be while it follows its controller. */
+  applyTargets(targets: readonly Pose[] | null, following: readonly boolean[] | null): void {
+    this.targetMarkers.forEach((marker, i) => {
+      const pose = targets?.[i];
+      const on = following?.[i] === true && pose !== undefined;
+      marker.visible = on;
+      if (on) applyPose(marker, pose);
+    });
+  }
+
+  /** Hide the robot's own head (it would fill a first-person view). */
+  setHeadVisible(visible: boolean): void {
+    const head = this.headBody;
+    if (head === undefined) return;
+    for (const child of head.children) if (child instanceof THREE.Mesh) child.visible = visible;
+  }
+
+  /** World (z-up) pose of a body as last drawn, or null. */
+  bodyPose(name: string): Pose | null {
+    const group = this.bodies.get(name);
+    if (group === undefined) return null;
+    const p = group.position;
+    const q = group.quaternion;
+    return [p.x, p.y, p.z, q.w, q.x, q.y, q.z];
+  }
+
+  /** A body's group; a static body's geoms go into `fixed` (world-frame geometry by
+   * material) instead of becoming meshes of their own. */
+  private buildBody(
+    body: BodyDescription,
+    fixed: Map<THREE.Material, THREE.BufferGeometry[]> | null,
+  ): THREE.Group {
+    const group = new THREE.Group();
+    group.name = body.name;
+    applyPose(group, body.pose);
+    group.updateMatrix();
+    for (const geom of body.geoms) {
+      const geometry = geometryFor(geom);
+      if (geometry === null || geom.rgba[3] <= 0.001) continue;
+      const material = materialFor(geom, this.materials);
+      const mesh = new THREE.Mesh(geometry, material);
+      mesh.position.set(geom.pos[0], geom.pos[1], geom.pos[2]);
+      mesh.quaternion.set(geom.quat[1], geom.quat[2], geom.quat[3], geom.quat[0]);
+      mesh.updateMatrix();
+      if (fixed === null) {
+        group.add(mesh);
+        continue;
+      }
+      geometry.applyMatrix4(new THREE.Matrix4().multiplyMatrices(group.matrix, mesh.matrix));
+      const list = fixed.get(material) ?? [];
+      list.push(geometry);
+      fixed.set(material, list);
+    }
+    return group;
+  }
+
+  private clear(): void {
+    for (const group of this.bodies.values()) {
+      group.traverse((object) => {
+        if (object instanceof THREE.Mesh) (object.geometry as THREE.BufferGeometry).dispose();
+      });
+      this.root.remove(group);
+    }
+    for (const mesh of this.staticMeshes) {
+      mesh.geometry.dispose();
+      this.root.remove(mesh);
+    }
+    this.staticMeshes.length = 0;
+    for (const material of this.materials.values()) material.dispose();
+    this.materials.clear();
+    this.bodies.clear();
+    this.dynamic = [];
+    this.headCamera.removeFromParent();
+  }
+}

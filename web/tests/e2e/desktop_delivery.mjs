@@ -1,0 +1,213 @@
+// End to end on the desktop page with keyboard and mouse only: set up a practice session,
+// then the same scripted operator as in VR delivers the box, pressing keys the way a
+// person would (WASD/QE drive, G/H hold the grips, Z turns the palms in, F/J close the
+// grippers, comma/period bring the hands together or apart) and dragging the mouse / turning
+// the wheel to move the gripped hands. Prints "RESULT {json}" for the pytest wrapper.
+//
+//   node web/tests/e2e/desktop_delivery.mjs http://127.0.0.1:8000
+
+import path from "node:path";
+import { check, log, runScript, sleep, waitFor, writeJson } from "./lib.mjs";
+import { ScriptedOperator, controllerCorrections, observe } from "./operator.mjs";
+import { checkDrawn, startSession, waitForEnd } from "./flow.mjs";
+
+const TICK_MS = 15;
+const TAP_MS = 110; // a key tap near the goal...
+const SETTLE_MS = 250; // ...then let the base stop before looking again
+const TRIAL_BUDGET_MS = 70000;
+const METRES_PER_PIXEL = 0.0015; // src/input/desktop.ts MOUSE_METRES_PER_PIXEL
+const METRES_PER_WHEEL = 0.0004; // src/input/desktop.ts WHEEL_METRES_PER_UNIT
+const PALM_IN_Z = Math.SQRT1_2; // quaternion z of a controller turned palm-in
+
+function observeJs() {
+  const workcell = window.__workcell;
+  return { snap: workcell.snapshot(), bodies: workcell.bodies() };
+}
+
+/** Keys held down now, pressed and released only on change. */
+class Keys {
+  constructor(keyboard) {
+    this.keyboard = keyboard;
+    this.down = new Set();
+    this.pressed = new Set(); // every key ever used, for the report
+  }
+
+  async set(wanted) {
+    for (const key of [...this.down]) {
+      if (!wanted.has(key)) {
+        await this.keyboard.up(key);
+        this.down.delete(key);
+      }
+    }
+    for (const key of wanted) {
+      if (!this.down.has(key)) {
+        await this.keyboard.down(key);
+        this.down.add(key);
+        this.pressed.add(key);
+      }
+    }
+  }
+}
+
+/** Drive keys for a stick decision: a component beyond `deadband` holds its key; Shift
+ * (slow) unless some component asks for more than half speed. */
+function driveKeys(drive, wanted) {
+  const { forward, left, turn } = drive;
+  const deadband = 0.05;
+  if (forward > deadband) wanted.add("w");
+  if (forward < -deadband) wanted.add("s");
+  if (left > deadband) wanted.add("a");
+  if (left < -deadband) wanted.add("d");
+  if (turn > deadband) wanted.add("e");
+  if (turn < -deadband) wanted.add("q");
+  const fast = Math.max(Math.abs(forward), Math.abs(left), Math.abs(turn)) > 0.5;
+  if (wanted.size > 0 && !fast) wanted.add("Shift");
+}
+
+await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
+  await startSession(page, url, { operatorId: "e2e-desktop", query: { quality: "low" }, artifacts });
+  const canvas = page.locator("canvas.viewer-canvas");
+  const box = await canvas.boundingBox();
+  check(box !== null, "no 3D view on the teleop page");
+  const centre = { x: box.x + box.width / 2, y: box.y + box.height / 2 };
+  await page.mouse.click(centre.x, centre.y); // focus the view
+
+  // The key map is on screen.
+  const keymap = await page.textContent("#keymap");
+  check(keymap.includes("W A S D") && keymap.includes("G / H"), "the key map is not shown");
+  await sleep(500);
+  await checkDrawn(page, path.join(artifacts, "desktop-view.png"));
+
+  // C toggles the view; both views are drawn.
+  await page.keyboard.press("c");
+  await waitFor(page, (s) => s.teleop.view === "first", { what: "C to switch to first person" });
+  await sleep(400);
+  await checkDrawn(page, path.join(artifacts, "desktop-first-person.png"));
+  await page.keyboard.press("c");
+  await waitFor(page, (s) => s.teleop.view === "third", { what: "C to switch back" });
+
+  let s = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
+  await checkDrawn(page, path.join(artifacts, "hud-running.png"), page.locator("#hud"));
+
+  const keys = new Keys(page.keyboard);
+  const operator = new ScriptedOperator({ onOff: true, lead: 0.25, tolerance: 0.03 });
+  let mouse = null; // { x, y } while the left button is held
+  let startBase = null;
+  let maxBaseMove = 0;
+  let maxGrip = 0;
+  let maxTrigger = 0;
+  let lastPhase = "";
+  let shots = 0;
+  let debugAt;
+  let snap = s;
+  const deadline = performance.now() + TRIAL_BUDGET_MS;
+  while (performance.now() < deadline) {
+    const { snap: current, bodies } = await page.evaluate(observeJs);
+    snap = current;
+    if (snap.ended !== null || snap.last_trial_end !== null) break;
+    if (!bodies.base) {
+      await sleep(TICK_MS);
+      continue;
+    }
+    const obs = observe(snap, bodies);
+    startBase ??= obs.base;
+    maxBaseMove = Math.max(maxBaseMove, Math.hypot(obs.base[0] - startBase[0], obs.base[1] - startBase[1]));
+    const decision = operator.step(obs);
+    if (operator.phase !== lastPhase) {
+      lastPhase = operator.phase;
+      log(`operator: ${lastPhase} at t=${obs.t.toFixed(2)} s (base ${obs.base.map((v) => v.toFixed(2)).join(", ")})`);
+      if (["squeeze", "carry", "place"].includes(lastPhase) && shots < 3) {
+        shots += 1;
+        await page.screenshot({ path: path.join(artifacts, `desktop-${lastPhase}.png`) });
+      }
+    }
+    const sent = snap.teleop?.last_input;
+    if (process.env.E2E_DEBUG && (debugAt === undefined || performance.now() - debugAt > 500)) {
+      debugAt = performance.now();
+      log(`debug ${operator.phase} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} drive=${JSON.stringify(decision.drive, (k, v) => (typeof v === "number" ? Number(v.toFixed(2)) : v))} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)}`);
+    }
+    const wanted = new Set();
+    driveKeys(decision.drive, wanted);
+    if (decision.grip) wanted.add("g").add("h");
+    if (decision.trigger) wanted.add("f").add("j");
+    const following = obs.following[0] && obs.following[1];
+    if (decision.grip && decision.palmsIn && following && sent !== null) {
+      const zs = [sent.left.pose?.[6] ?? 0, -(sent.right.pose?.[6] ?? 0)];
+      if (Math.min(...zs) < PALM_IN_Z - 0.01) wanted.add("z");
+    }
+    // Differential (hands together/apart) by keys, common motion by the mouse.
+    const [cl, cr] = controllerCorrections(obs, decision.targets, 0.8, 0.05);
+    if (cl !== null && cr !== null && following) {
+      const together = (cl[0] - cr[0]) / 2;
+      if (together > 0.004) wanted.add("Comma");
+      if (together < -0.004) wanted.add("Period");
+      const common = [0, 1, 2].map((k) => (cl[k] + cr[k]) / 2);
+      if (mouse === null) {
+        mouse = { ...centre };
+        await page.mouse.move(mouse.x, mouse.y);
+        await page.mouse.down();
+      }
+      const dx = Math.round(common[0] / METRES_PER_PIXEL);
+      const dy = Math.round(common[2] / METRES_PER_PIXEL);
+      if (dx !== 0 || dy !== 0) {
+        const nx = mouse.x + dx;
+        const ny = mouse.y + dy;
+        if (nx < box.x + 5 || nx > box.x + box.width - 5 || ny < box.y + 5 || ny > box.y + box.height - 5) {
+          // Out of room: let go of the button, recentre, press again (no motion while up).
+          await page.mouse.up();
+          mouse = { ...centre };
+          await page.mouse.move(mouse.x, mouse.y);
+          await page.mouse.down();
+        } else {
+          mouse = { x: nx, y: ny };
+          await page.mouse.move(mouse.x, mouse.y);
+        }
+      }
+      const wheel = Math.round(-common[1] / METRES_PER_WHEEL);
+      if (Math.abs(wheel) >= 5) await page.mouse.wheel(0, wheel);
+    } else if (mouse !== null && !decision.grip) {
+      await page.mouse.up();
+      mouse = null;
+    }
+    await keys.set(wanted);
+    if (decision.drive.fine && ["w", "a", "s", "d", "q", "e"].some((k) => wanted.has(k))) {
+      await sleep(TAP_MS);
+      for (const k of ["w", "a", "s", "d", "q", "e"]) wanted.delete(k);
+      await keys.set(wanted);
+      await sleep(SETTLE_MS);
+    }
+    maxGrip = Math.max(maxGrip, sent?.left.grip ?? 0);
+    maxTrigger = Math.max(maxTrigger, sent?.left.trigger ?? 0);
+    await sleep(TICK_MS);
+  }
+  await keys.set(new Set());
+  if (mouse !== null) await page.mouse.up();
+  writeJson(path.join(artifacts, "operator-log.json"), operator.log);
+  log(`operator phases: ${JSON.stringify(operator.log)}`);
+
+  const end = await waitForEnd(page, 10000);
+  const trialEnd = end.last_trial_end;
+  check(trialEnd !== null, "no trial_ended event arrived");
+  log(`trial ended: ${JSON.stringify(trialEnd.fields)}`);
+  await page.waitForSelector("#end-screen.campaign-end");
+  await checkDrawn(page, path.join(artifacts, "end-screen.png"), page.locator("#end-screen"));
+  await checkDrawn(page, path.join(artifacts, "view-end.png"));
+
+  const result = {
+    session_id: end.ended.session_id,
+    outcome: trialEnd.fields.outcome,
+    boxes_delivered: trialEnd.fields.boxes_delivered,
+    score: trialEnd.fields.score,
+    base_moved_m: Number(maxBaseMove.toFixed(3)),
+    max_grip: maxGrip,
+    max_trigger: maxTrigger,
+    keys_used: [...keys.pressed].sort(),
+    source: snap.teleop?.last_input?.source ?? null,
+    phases: operator.log,
+    errors: end.errors,
+  };
+  console.log(`RESULT ${JSON.stringify(result)}`);
+  check(maxBaseMove > 0.2, `the keyboard did not drive the base (moved ${maxBaseMove.toFixed(3)} m)`);
+  check(maxGrip >= 0.99 && maxTrigger >= 0.99, "grips/triggers never reached the server as pressed");
+  check(trialEnd.fields.outcome === "success", `the trial ended ${trialEnd.fields.outcome}, not success (phases ${JSON.stringify(operator.log)})`);
+});

@@ -1,0 +1,321 @@
+// A scripted "human" for the end-to-end tests: it looks at what the page draws (body
+// poses, the arm targets, the HUD and task events from `window.__workcell`) and decides
+// what an operator would do next, phase by phase: wait for a box at the end of the belt,
+// drive up to it, take both grips, turn the palms inward, reach around the box, squeeze,
+// close both grippers, lift, back off, carry it to the table, set it down, let go.
+//
+// It only decides; an actuator (emulated Quest controllers, or keyboard and mouse) turns
+// its decisions into device input. Its output per step:
+//   drive:   { forward, left, turn } desired base motion, each in [-1, 1] (stick units)
+//   grip:    bool (both grips), trigger: bool (both grippers closed)
+//   palmsIn: bool (palms turned to face each other)
+//   targets: { l, r } desired TCP positions in the robot base frame (x fwd, y left, z up),
+//            or null (hands free)
+// Geometry: base frame = the robot's; WebXR local-floor x right, y up, -z forward, so a
+// base-frame displacement (dx, dy, dz) is a controller displacement (-dy, dz, -dx).
+
+const BOX_HALF = 0.15; // half the default box width across the belt (the grasp axis)
+const BELT_TOP = 0.75;
+const PICK_DISTANCE = 0.6;
+const PREGRASP_GAP = 0.07;
+const SQUEEZE_GAP = -0.006;
+const LIFT = [-0.05, 0, 0.12];
+const TABLE_TOP = 0.6;
+const PLACE_DISTANCE = 0.8;
+const ARM_REACH = 0.65;
+const DEAD_ZONE = 0.15;
+
+export const wrap = (a) => Math.atan2(Math.sin(a), Math.cos(a));
+
+export function yawOf(pose) {
+  const [, , , w, x, y, z] = pose;
+  return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+}
+
+export function toBase(base, p) {
+  const [bx, by, yaw] = base;
+  const dx = p[0] - bx;
+  const dy = p[1] - by;
+  const c = Math.cos(yaw);
+  const s = Math.sin(yaw);
+  return [c * dx + s * dy, -s * dx + c * dy, p[2]];
+}
+
+export const sub = (a, b) => a.map((v, i) => v - b[i]);
+export const add = (a, b) => a.map((v, i) => v + b[i]);
+export const norm = (a) => Math.hypot(...a);
+
+/** Observation from a page snapshot: what an operator can see. */
+export function observe(snap, bodies) {
+  const basePose = bodies.base;
+  const base = [basePose[0], basePose[1], yawOf(basePose)];
+  const boxes = Object.entries(bodies)
+    .filter(([name]) => /^box_\d+$/.test(name))
+    .map(([name, pose]) => ({ name, pos: pose.slice(0, 3), yaw: yawOf(pose) }));
+  const tcp = ["hand_l", "hand_r"].map((name) => tcpOf(bodies[name]));
+  const targets = snap.state?.tcp_targets?.map((p) => p.slice(0, 3)) ?? [null, null];
+  return {
+    t: snap.state?.t_sim ?? 0,
+    phase: snap.hud?.phase ?? null,
+    base,
+    boxes,
+    tcp,
+    targets,
+    following: snap.state?.following ?? [false, false],
+    holding: snap.holding === true,
+    zone: bodies.target ? [bodies.target[0], bodies.target[1]] : [1.6, 1.9],
+  };
+}
+
+const TCP_OFFSET = 0.1375; // the TCP sits this far along the hand's z axis
+
+function tcpOf(pose) {
+  const [x, y, z, w, qx, qy, qz] = pose;
+  // hand z axis in the world: third column of the rotation matrix
+  const zx = 2 * (qx * qz + w * qy);
+  const zy = 2 * (qy * qz - w * qx);
+  const zz = 1 - 2 * (qx * qx + qy * qy);
+  return [x + TCP_OFFSET * zx, y + TCP_OFFSET * zy, z + TCP_OFFSET * zz];
+}
+
+export class ScriptedOperator {
+  /** `lead` (s): drive on where the base will be after this long (the loop's latency),
+   * as a person anticipates; `tolerance` (m): how close to the pick pose is close enough;
+   * `onOff`: the drive is keys (full or slow, nothing between), not sticks. */
+  constructor({ slowDrive = false, lead = 0, tolerance = 0.015, onOff = false } = {}) {
+    this.onOff = onOff;
+    this.lead = lead;
+    this.tolerance = tolerance;
+    this.velocity = [0, 0, 0];
+    this.phase = "wait";
+    this.phaseStart = null;
+    this.log = [];
+    this.box = null;
+    this.route = [];
+    this.targets = null;
+    this.grip = false;
+    this.trigger = false;
+    this.palmsIn = false;
+    this.drive = { forward: 0, left: 0, turn: 0, fine: false };
+    this.slowDrive = slowDrive;
+    this.lastBase = null;
+    this.baseSpeed = 0;
+    this.lastT = null;
+  }
+
+  enter(phase, t) {
+    this.phase = phase;
+    this.phaseStart = t;
+    this.log.push([Number(t.toFixed(2)), phase]);
+  }
+
+  /** Stick deflection that moves the base toward `goal` = [x, y, yaw] (world). */
+  driveTo(obs, goal, tolerance = this.tolerance, vmax = 0.5) {
+    const [vx, vy, wz] = this.velocity;
+    const base = [obs.base[0] + vx * this.lead, obs.base[1] + vy * this.lead, obs.base[2] + wz * this.lead];
+    const [ex, ey] = toBase(base, [goal[0], goal[1], 0]);
+    const dist = Math.hypot(ex, ey);
+    const eyaw = wrap(goal[2] - base[2]);
+    const yawTolerance = 0.03 * Math.max(1, tolerance / 0.015);
+    const arrived = Math.hypot(...toBase(obs.base, [goal[0], goal[1], 0]).slice(0, 2)) < tolerance &&
+      Math.abs(wrap(goal[2] - obs.base[2])) < yawTolerance;
+    if (this.onOff) {
+      // Keys are on or off: one axis at a time near the goal, each with a dead band, as a
+      // person tapping keys does (heading first, then along, then across).
+      const near = dist < 0.3;
+      const turnOn = Math.abs(eyaw) > yawTolerance / 2;
+      const turn = turnOn ? -Math.sign(eyaw) * (Math.abs(eyaw) > 0.4 ? 1 : 0.3) : 0;
+      const speed = dist > 0.4 ? 1 : 0.3;
+      let forward = 0;
+      let left = 0;
+      if (!(near && turnOn)) {
+        if (Math.abs(ex) > tolerance / 2) forward = Math.sign(ex) * speed;
+        else if (Math.abs(ey) > tolerance / 2) left = Math.sign(ey) * speed;
+        if (!near && Math.abs(ey) > tolerance / 2) left = Math.sign(ey) * speed;
+      }
+      // Close in, a person taps the keys instead of holding them.
+      const fine = dist < 0.15 && Math.abs(eyaw) < 0.2;
+      this.drive = { forward, left, turn, fine };
+      return arrived;
+    }
+    const v = dist < tolerance * 0.5 ? 0 : Math.min(vmax, 1.2 * dist);
+    const m = v > 0 ? DEAD_ZONE + (1 - DEAD_ZONE) * Math.min(1, v / 0.8) : 0;
+    const w = Math.max(-1, Math.min(1, 2 * eyaw));
+    const turn = Math.abs(eyaw) < 0.01 ? 0 : -(DEAD_ZONE + (1 - DEAD_ZONE) * Math.min(1, Math.abs(w) / 1.2)) * Math.sign(w);
+    this.drive = { forward: v > 0 ? (ex / dist) * m : 0, left: v > 0 ? (ey / dist) * m : 0, turn, fine: false };
+    return arrived;
+  }
+
+  stop() {
+    this.drive = { forward: 0, left: 0, turn: 0, fine: false };
+  }
+
+  palms(obs, gap, lift = 0) {
+    const box = obs.boxes.find((b) => b.name === this.box);
+    const c = toBase(obs.base, box.pos);
+    c[2] += lift;
+    return { l: [c[0], c[1] + BOX_HALF + gap, c[2]], r: [c[0], c[1] - BOX_HALF - gap, c[2]] };
+  }
+
+  handsAt(obs, tolerance) {
+    if (this.targets === null) return false;
+    return ["l", "r"].every((side, i) => norm(sub(toBase(obs.base, obs.tcp[i]), this.targets[side])) < tolerance);
+  }
+
+  step(obs) {
+    if (this.lastBase !== null && this.lastT !== null && obs.t > this.lastT) {
+      const dt = obs.t - this.lastT;
+      const now = [
+        (obs.base[0] - this.lastBase[0]) / dt,
+        (obs.base[1] - this.lastBase[1]) / dt,
+        wrap(obs.base[2] - this.lastBase[2]) / dt,
+      ];
+      const k = Math.min(1, dt / 0.15); // low-pass over ~0.15 s
+      this.velocity = this.velocity.map((v, i) => v + k * (now[i] - v));
+      this.baseSpeed = Math.hypot(this.velocity[0], this.velocity[1]);
+    }
+    this.lastBase = obs.base;
+    this.lastT = obs.t;
+    if (this.phaseStart === null) this.phaseStart = obs.t;
+    const t = obs.t;
+    const elapsed = t - this.phaseStart;
+    const box = this.box === null ? null : obs.boxes.find((b) => b.name === this.box);
+    switch (this.phase) {
+      case "wait": {
+        this.grip = false;
+        this.trigger = false;
+        const resting = obs.boxes.filter(
+          (b) => Math.abs(b.pos[2] - (BELT_TOP + BOX_HALF)) < 0.03 && b.pos[0] > -0.5 && b.pos[0] < 0.2,
+        );
+        this.driveTo(obs, [1.0, 0, Math.PI]);
+        if (resting.length > 0 && obs.phase === "running") {
+          const candidate = resting.sort((a, b) => b.pos[0] - a.pos[0])[0];
+          if (this.candidate === candidate.name && norm(sub(candidate.pos, this.candidatePos)) < 0.003) {
+            this.box = candidate.name;
+            this.enter("approach", t);
+          }
+          this.candidate = candidate.name;
+          this.candidatePos = candidate.pos;
+        }
+        break;
+      }
+      case "approach": {
+        const heading = Math.PI + wrap(box.yaw);
+        const goal = [box.pos[0] - PICK_DISTANCE * Math.cos(heading), box.pos[1] - PICK_DISTANCE * Math.sin(heading), heading];
+        if (this.driveTo(obs, goal, this.tolerance, this.slowDrive ? 0.3 : 0.6) && this.baseSpeed < 0.03) {
+          this.stop();
+          this.enter("engage", t);
+        }
+        break;
+      }
+      case "engage":
+        this.stop();
+        this.grip = true;
+        this.palmsIn = false;
+        if (obs.following[0] && obs.following[1]) {
+          this.targets = this.palms(obs, PREGRASP_GAP);
+          this.palmsIn = true;
+          this.enter("pregrasp", t);
+        }
+        break;
+      case "pregrasp":
+        this.targets = this.palms(obs, PREGRASP_GAP);
+        if ((this.handsAt(obs, 0.02) && elapsed > 0.5) || elapsed > 8) this.enter("squeeze", t);
+        break;
+      case "squeeze":
+        this.targets = this.palms(obs, SQUEEZE_GAP);
+        if (this.handsAt(obs, 0.03) || elapsed > 3) this.trigger = true;
+        if (obs.holding) this.enter("lift", t);
+        else if (elapsed > 8) {
+          this.trigger = false;
+          this.enter("pregrasp", t);
+        }
+        break;
+      case "lift":
+        if (this.lifted !== this.phaseStart) {
+          this.lifted = this.phaseStart;
+          this.targets = { l: add(this.targets.l, LIFT), r: add(this.targets.r, LIFT) };
+        }
+        if ((this.handsAt(obs, 0.03) && elapsed > 0.5) || elapsed > 3) {
+          const [bx, by, yaw] = obs.base;
+          const retreat = [bx - 0.5 * Math.cos(yaw), by - 0.5 * Math.sin(yaw), yaw];
+          const [zx, zy] = obs.zone;
+          const dx = zx - retreat[0];
+          const dy = zy - retreat[1];
+          let h = Math.abs(dx) > Math.abs(dy) ? (dx > 0 ? 0 : Math.PI) : dy > 0 ? Math.PI / 2 : -Math.PI / 2;
+          h = yaw + wrap(h - yaw);
+          this.route = [retreat, [zx - PLACE_DISTANCE * Math.cos(h), zy - PLACE_DISTANCE * Math.sin(h), h]];
+          this.enter("carry", t);
+        }
+        break;
+      case "carry": {
+        const goal = this.route[0];
+        const last = this.route.length === 1;
+        const arrived = this.driveTo(obs, goal, last ? Math.max(0.02, this.tolerance) : 0.1, this.slowDrive ? 0.35 : 0.6);
+        if (arrived && (!last || this.baseSpeed < 0.03)) {
+          this.route.shift();
+          if (this.route.length === 0) {
+            this.stop();
+            this.enter("place", t);
+          }
+        }
+        break;
+      }
+      case "place": {
+        // Hold the box where the hands have it and move the hands so that the box goes
+        // first above its spot on the table, then down onto it.
+        this.stop();
+        const goal = toBase(obs.base, [obs.zone[0], obs.zone[1], TABLE_TOP + BOX_HALF + 0.012]);
+        goal[0] = Math.min(goal[0], ARM_REACH);
+        const held = toBase(obs.base, box.pos);
+        const lowering = this.lowering === this.phaseStart;
+        const aim = lowering ? goal : add(goal, [0, 0, 0.06]);
+        this.targets = {
+          l: add(aim, sub(toBase(obs.base, obs.tcp[0]), held)),
+          r: add(aim, sub(toBase(obs.base, obs.tcp[1]), held)),
+        };
+        const off = norm(sub(aim, held));
+        if (!lowering && off < 0.03) this.lowering = this.phaseStart;
+        if ((lowering && off < 0.02) || elapsed > 8) this.enter("release", t);
+        break;
+      }
+      case "release":
+        this.trigger = false;
+        if (elapsed > 0.4) this.targets = this.palms(obs, 0.08, 0.02);
+        if (elapsed > 1.5) {
+          this.grip = false;
+          this.targets = null;
+          const [bx, by, yaw] = obs.base;
+          this.route = [[bx - 0.4 * Math.cos(yaw), by - 0.4 * Math.sin(yaw), yaw]];
+          this.enter("backoff", t);
+        }
+        break;
+      case "backoff":
+        if (this.route.length > 0 && this.driveTo(obs, this.route[0], 0.05)) this.route = [];
+        if (this.route.length === 0) this.stop();
+        break;
+      default:
+        break;
+    }
+    return {
+      drive: this.drive,
+      grip: this.grip,
+      trigger: this.trigger,
+      palmsIn: this.palmsIn,
+      targets: this.targets,
+    };
+  }
+}
+
+/** Per-hand controller corrections (local-floor) that bring the observed arm targets to
+ * the desired ones; null for a hand whose arm does not follow yet. */
+export function controllerCorrections(obs, targets, gain = 0.7, maxStep = 0.03) {
+  if (targets === null) return [null, null];
+  return ["l", "r"].map((side, i) => {
+    const observed = obs.targets[i];
+    if (observed === null || !obs.following[i]) return null;
+    const err = sub(targets[side], toBase(obs.base, observed));
+    const step = err.map((v) => Math.max(-maxStep, Math.min(maxStep, v * gain)));
+    return [-step[1], step[2], -step[0]];
+  });
+}
