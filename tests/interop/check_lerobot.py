@@ -11,7 +11,8 @@ stays out of the main environment. Run it in a venv of its own, against a fresh 
         --set task.time_limit_s=3
     .venv/bin/workcell export --format lerobot --store /tmp/interop.sqlite \\
         --out /tmp/interop-dataset --cameras head_cam,wrist_l_cam --size 128x96
-    /tmp/lerobot-venv/bin/python tests/interop/check_lerobot.py /tmp/interop-dataset
+    /tmp/lerobot-venv/bin/python tests/interop/check_lerobot.py /tmp/interop-dataset \\
+        --video-backend pyav     # torchcodec needs the system's FFmpeg shared libraries
 
 It uses lerobot's documented API only (``LeRobotDatasetMetadata`` and
 ``LeRobotDataset(repo_id, root=...)``, offline: the local root is read, nothing is
@@ -94,7 +95,9 @@ def main(argv: Sequence[str] | None = None) -> int:
         items = [dataset[i] for i in range(start, stop)]  # decodes every video frame
         stamps = torch.stack([item["timestamp"] for item in items]).double()
         frames = [int(item["frame_index"]) for item in items]
-        steady = bool(torch.allclose(stamps[1:] - stamps[:-1], torch.tensor(1 / fps).double()))
+        # Timestamps are float32 in LeRobot; its own tolerance for them is 1e-4 s.
+        period = torch.tensor(1 / fps).double()
+        steady = bool(torch.allclose(stamps[1:] - stamps[:-1], period, rtol=0.0, atol=1e-4))
         check(frames == list(range(stop - start)) and steady, f"episode {episode}: timestamps")
         check(bool(items[-1]["next.done"]), f"episode {episode}: next.done on its last frame")
 
