@@ -27,6 +27,16 @@ def collect(store: Path, *args: str) -> None:
     assert code == 0
 
 
+def audit(store: Path, out: Path) -> dict[str, object]:
+    """Audit the store; the summary's disposition counts."""
+    assert main(["audit", "--store", str(store), "--out", str(out)]) == 0
+    summary = json.loads((out / "summary.json").read_text())
+    assert (out / "report.html").stat().st_size > 10_000
+    counts = summary["counts"]
+    assert isinstance(counts, dict)
+    return counts
+
+
 def test_plan_splits_trials_and_seeds() -> None:
     plans = plan_workers(3, 7, 10, Path("shards"))
     assert [p.trials for p in plans] == [4, 3, 3]
@@ -48,6 +58,7 @@ def test_two_workers_merge_into_a_store_that_verifies(
         trials = reader.trials()
     assert len(sessions) == 2 and len(trials) == 4
     assert len({s.seed for s in sessions}) == 2
+    assert audit(store, tmp_path / "audit")["raw"] == 4
     assert not (tmp_path / "merged.sqlite.shards").exists()  # shards removed once merged
 
 
@@ -129,3 +140,4 @@ def test_ray_local_run_merges_into_a_store_that_verifies(
     assert verify_store(store) == []
     with Store.open(store, writer=False) as reader:
         assert reader.counts().trials == 2
+    assert audit(store, tmp_path / "audit")["raw"] == 2

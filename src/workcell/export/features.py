@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from workcell.record.columns import pose_columns
+from workcell.record.columns import COMMAND_COLUMNS, pose_columns
 from workcell.sim.joints import JOINT_ORDER
 
 STATE_KEY = "observation.state"
@@ -42,19 +42,7 @@ STATE_NAMES: tuple[str, ...] = (
     "gripper_l",
     "gripper_r",
 )
-ACTION_NAMES: tuple[str, ...] = (
-    "cmd_vx",
-    "cmd_vy",
-    "cmd_wz",
-    *pose_columns("target_l"),
-    *pose_columns("target_r"),
-    "follow_l",
-    "follow_r",
-    "gripper_cmd_l",
-    "gripper_cmd_r",
-    "head_cmd_pan",
-    "head_cmd_tilt",
-)
+ACTION_NAMES: tuple[str, ...] = COMMAND_COLUMNS
 
 
 def image_key(camera: str) -> str:

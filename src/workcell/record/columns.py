@@ -44,8 +44,7 @@ trial start, ``t_wall`` Unix seconds; grip and trigger are the operator's input 
 (0-1), gripper the measured opening (0 closed .. 1 open). The base velocity is in the world
 frame."""
 
-FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
-    # the command the operator gave (the action)
+COMMAND_COLUMNS: tuple[str, ...] = (
     "cmd_vx",
     "cmd_vy",
     "cmd_wz",
@@ -57,6 +56,12 @@ FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
     "gripper_cmd_r",
     "head_cmd_pan",
     "head_cmd_tilt",
+)
+"""The command the operator gave (the action): base twist, both TCP targets (base frame),
+follow flags, gripper closes, head pan and tilt."""
+
+FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
+    *COMMAND_COLUMNS,
     # raw device state; NULL (empty in CSV) for operators without that device
     *pose_columns("ctrl_l"),
     *pose_columns("ctrl_r"),
