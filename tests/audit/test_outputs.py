@@ -109,7 +109,7 @@ def test_summary_holds_counts_rate_statistics_parameters_and_findings(
     assert summary["metrics"]["path_length_m"]["n"] == 3
     assert {"hz_wall", "hz_sim", "max_gap_s", "largest_gap_s"} <= set(summary["sampling"])
     detectors = summary["parameters"]["detectors"]
-    assert detectors["arm_oscillation"]["version"] == "1"
+    assert detectors["arm_oscillation"]["version"] == "2"
     assert detectors["arm_oscillation"]["amplitude_rad"] == 0.02
     assert detectors["sampling"]["gap_periods"] == 5.0
     assert summary["parameters"]["arm_oscillation_criteria_by_rate_hz"]["20"]["window_frames"] == 13

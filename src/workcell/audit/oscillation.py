@@ -13,7 +13,12 @@ session's frame grid of rate R (Hz):
 3. A half-swing qualifies when its size >= swing_threshold_rad, it lasts at most
    ceil(R / (2 f_min)) + 1 frames (frequency >= f_min, one frame of slack for where
    sampling puts a turning point) and the joint's arm has its grip active over all of it.
-4. The trial is flagged when, for some joint, consecutive qualifying half-swings span at
+4. Steadiness (version 2): within each run of consecutive qualifying half-swings, a
+   half-swing whose size is not within a factor SWING_SPREAD (2) of the run's median
+   size, or whose length differs from the run's median length by more than
+   PERIOD_SPREAD (50 %) plus one frame, does not qualify: deliberate moves between task
+   phases reverse a joint too, but not with a steady size and rhythm.
+5. The trial is flagged when, for some joint, consecutive qualifying half-swings span at
    least min_duration_s seconds of frames.
 
 The swing threshold is derived so that the documented bound holds: every sinusoidal
@@ -39,7 +44,7 @@ from workcell.errors import ConfigError
 from workcell.metrics import FrameArrays
 from workcell.sim.joints import arm_joint_names
 
-OSCILLATION_VERSION = "1"
+OSCILLATION_VERSION = "2"
 """Bumped whenever the definition above changes meaning."""
 
 JOINT_NAMES: tuple[str, ...] = (*arm_joint_names("l"), *arm_joint_names("r"))
@@ -115,6 +120,19 @@ class OscillationCriteria:
         return asdict(self)
 
 
+SWING_SPREAD = 2.0
+"""Within one oscillation, every half-swing is within this factor of the median swing."""
+PERIOD_SPREAD = 0.5
+"""... and its length within this fraction (plus one frame of sampling slack) of the
+median half-swing length."""
+
+
+def _runs(ok: BoolArray) -> tuple[IntArray, IntArray]:
+    """Start and end (exclusive) of every run of True in ``ok``."""
+    edges = np.diff(np.concatenate([[0], ok.astype(np.int8), [0]]))
+    return np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+
+
 def _turning_points(resid: npt.NDArray[np.float64]) -> tuple[IntArray, IntArray]:
     """(row, column) of every turning point of the (joints, frames) residual, sorted by
     row then column; a zero step keeps the sign of the step before it."""
@@ -163,8 +181,17 @@ def detect_oscillation(
     np.cumsum(~active_r, out=inactive[1, 1:])
     arm = (row[1:] >= frames.q_l.shape[1]).astype(np.intp)
     ok &= inactive[arm, at[1:] + half + 1] == inactive[arm, at[:-1] + half]
-    edges = np.diff(np.concatenate([[0], ok.astype(np.int8), [0]]))
-    starts, ends = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1)
+    starts, ends = _runs(ok)
+    if len(starts) == 0:
+        return None
+    # An oscillation swings steadily: within a run, a half-swing far from the run's
+    # median size (a deliberate move between phases) breaks it.
+    for s, e in zip(starts, ends, strict=True):
+        size, period = float(np.median(swing[s:e])), float(np.median(length[s:e]))
+        steady = (swing[s:e] >= size / SWING_SPREAD) & (swing[s:e] <= size * SWING_SPREAD)
+        steady &= np.abs(length[s:e] - period) <= PERIOD_SPREAD * period + 1
+        ok[s:e] &= steady
+    starts, ends = _runs(ok)
     if len(starts) == 0:
         return None
     spans = at[ends] - at[starts]
