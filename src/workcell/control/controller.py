@@ -44,9 +44,10 @@ class RobotController:
     def apply(self, command: Command) -> None:
         """Write the controls for one control period."""
         world, dt = self.world, self.world.control_dt
-        self.base.limit_lead(world.base_pose, MAX_BASE_LEAD)
+        pose = world.base_pose
+        self.base.limit_lead(pose, MAX_BASE_LEAD)
         world.data.ctrl[world.base_ctrl] = self.base.step(command.base, dt)
-        yaw = float(world.base_pose[2])
+        yaw = float(pose[2])
         self.ik.place_conveyor(
             world.to_base_frame(self._conveyor_center),
             (math.cos(-yaw / 2), 0.0, 0.0, math.sin(-yaw / 2)),

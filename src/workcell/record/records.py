@@ -9,7 +9,7 @@ from __future__ import annotations
 import json
 import math
 from collections.abc import Mapping
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from typing import Any, Protocol
 
 from workcell import __version__
@@ -194,6 +194,10 @@ def _real(value: float | None) -> float:
     return math.nan if value is None else value
 
 
+_DERIVED = ("metrics", "quality_flags", "included")
+"""TrialRecord fields not read verbatim from their column of the same name."""
+
+
 @dataclass(frozen=True)
 class TrialRecord:
     """A trial row. ``outcome`` is None while the trial runs; metrics NaN when undefined."""
@@ -225,39 +229,10 @@ class TrialRecord:
     def from_row(cls, row: Mapping[str, Any]) -> TrialRecord:
         flags = row["quality_flags"]
         included = row["included"]
+        plain = {f.name: row[f.name] for f in fields(cls) if f.name not in _DERIVED}
         return cls(
-            **{
-                name: row[name]
-                for name in (
-                    "session_id",
-                    "trial_id",
-                    "trial_index",
-                    "mode",
-                    "round",
-                    "level",
-                    "required_boxes",
-                    "time_limit_s",
-                    "outcome",
-                    "interruption_reason",
-                    "elapsed_s",
-                    "completion_time_s",
-                    "boxes_delivered",
-                    "score",
-                    "n_frames",
-                    "exclusion_reason",
-                    "trial_seed",
-                    "started_wall",
-                    "ended_wall",
-                )
-            },
-            metrics=StoredMetrics(
-                path_length_m=_real(row["path_length_m"]),
-                smoothness=_real(row["smoothness"]),
-                active_ratio=_real(row["active_ratio"]),
-                hz_wall=_real(row["hz_wall"]),
-                hz_sim=_real(row["hz_sim"]),
-                max_gap_s=_real(row["max_gap_s"]),
-            ),
+            **plain,
+            metrics=StoredMetrics(**{f.name: _real(row[f.name]) for f in fields(StoredMetrics)}),
             quality_flags=tuple(flags.split(FLAG_SEPARATOR)) if flags else (),
             included=None if included is None else bool(included),
         )
