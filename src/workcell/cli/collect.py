@@ -17,7 +17,7 @@ if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
     from workcell.record.media import CameraOptions
     from workcell.record.recorder import Recorder
-    from workcell.record.store import Store
+    from workcell.record.store_process import StoreProcess
     from workcell.task.runner import SessionRunner, TrialResult
 
 EXIT_INTERRUPTED = 130
@@ -176,18 +176,18 @@ def run(args: argparse.Namespace) -> int:
 
 
 @contextlib.contextmanager
-def _open_store(path: Path | None) -> Iterator[Store | None]:
+def _open_store(path: Path | None) -> Iterator[StoreProcess | None]:
     if path is None:
         yield None
         return
-    from workcell.record.store import Store  # noqa: PLC0415
+    from workcell.record.store_process import StoreProcess  # noqa: PLC0415
 
-    with Store.open(path, writer=True) as store:
+    with StoreProcess.open(path) as store:  # written on another core
         yield store
 
 
 def _recorder(
-    store: Store | None, runner: SessionRunner, cameras: CameraOptions | None
+    store: StoreProcess | None, runner: SessionRunner, cameras: CameraOptions | None
 ) -> Recorder | None:
     if store is None:
         return None
@@ -252,7 +252,7 @@ class _Printer:
         cells = (str(v).rjust(w) for v, w in zip(values, WIDTHS, strict=True))
         print("  ".join(cells), flush=True)
 
-    def stored(self, store: Store, recorder: Recorder) -> None:
+    def stored(self, store: StoreProcess, recorder: Recorder) -> None:
         print(
             f"recorded session {recorder.session_id} ({recorder.frames_written} frames) "
             f"in {store.path}",

@@ -27,7 +27,8 @@ from workcell.envs.spaces import action_space, observation_space
 from workcell.errors import ConfigError
 from workcell.export.boxes import parse_boxes
 from workcell.export.features import STATE_NAMES
-from workcell.record.frame_builder import build_frame, input_from_command
+from workcell.record.frame_capture import input_from_command
+from workcell.record.frame_format import build_frame
 from workcell.render.renderer import OffscreenRenderer
 from workcell.sim.events import BoxDelivered
 

@@ -26,7 +26,7 @@ from workcell.record.schema import (
 )
 
 BUSY_TIMEOUT_MS = 5000
-LOCK_ATTEMPTS = 10
+LOCK_ATTEMPTS = 100
 LOCK_RETRY_S = 0.02
 
 

@@ -12,9 +12,8 @@ from __future__ import annotations
 
 import dataclasses
 import math
-import time
-from collections.abc import Callable
-from typing import Any
+from collections.abc import Callable, Mapping
+from typing import Protocol
 
 import numpy as np
 
@@ -27,10 +26,15 @@ from workcell.metrics import (
 )
 from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.errors import StorageError
-from workcell.record.frame_builder import OperatorInput, build_frame, input_from_command
+from workcell.record.frame_capture import (
+    CapturedFrames,
+    FrameCapture,
+    OperatorInput,
+    input_from_command,
+)
+from workcell.record.frame_format import REAL_COLUMNS, real_matrix
 from workcell.record.media import MediaRecorder
 from workcell.record.records import SessionInfo, StoredMetrics, TrialEnd, TrialStart
-from workcell.record.store import Store
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner
@@ -39,6 +43,36 @@ MAX_UNCOMMITTED_S = 0.25
 """Sim time a commit may lag behind: what a killed process can lose at most."""
 
 InputSource = Callable[[], OperatorInput | None]
+
+
+class RecordingStore(Protocol):
+    """What a recorder writes to: a :class:`~workcell.record.store.Store` opened for
+    writing, or a :class:`~workcell.record.store_process.StoreProcess`."""
+
+    def create_session(self, info: SessionInfo) -> str: ...
+
+    def start_trial(self, session_id: str, start: TrialStart) -> str: ...
+
+    def add_event(
+        self,
+        session_id: str,
+        kind: str,
+        payload: Mapping[str, object] | None = None,
+        *,
+        trial_id: str | None = None,
+        t_sim: float | None = None,
+        t_wall: float | None = None,
+    ) -> object: ...
+
+    def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int: ...
+
+    def commit(self) -> None: ...
+
+    def end_trial(self, trial_id: str, end: TrialEnd) -> None: ...
+
+    def end_session(self, session_id: str, status: str = "completed") -> None: ...
+
+    def try_mark_interrupted(self, trial_id: str, reason: str = "storage_error") -> bool: ...
 
 
 def metric_thresholds(config: SessionConfig) -> MetricThresholds:
@@ -69,7 +103,7 @@ class Recorder:
 
     def __init__(
         self,
-        store: Store,
+        store: RecordingStore,
         runner: SessionRunner,
         operator_input: InputSource | None = None,
         media: MediaRecorder | None = None,
@@ -88,8 +122,10 @@ class Recorder:
         self._frames_per_commit = max(1, math.floor(MAX_UNCOMMITTED_S * rate + 1e-9))
         self._trial_id: str | None = None
         self._pending_events: list[ev.TaskEvent] = []
-        self._buffer: list[dict[str, Any]] = []
-        self._columns: dict[str, list[float]] = {}
+        self._capture = FrameCapture(
+            runner.sim.world, runner.sim.controller, self._frames_per_commit
+        )
+        self._trial_frames: list[CapturedFrames] = []
         self.next_step = -1
         self._unsubscribe = runner.bus.subscribe(self._on_event)
 
@@ -100,23 +136,16 @@ class Recorder:
         runner = self.runner
         world = runner.sim.world
         command = runner.last_command
-        operator_input = self._input() or input_from_command(command)
-        row = build_frame(
-            world,
-            runner.sim.controller,
+        self._capture.capture(
             command,
-            operator_input,
+            self._input() or input_from_command(command),
             t_sim=runner.trial_time,
-            t_wall=time.time(),
             step_wall_ms=runner.last_step_wall_s * 1000.0,
         )
-        self._buffer.append(row)
         if self.media is not None:
             self.media.frame(world.data)
-        for name in REQUIRED_COLUMNS:
-            self._columns[name].append(row[name])
         self.next_step += self._steps_per_frame
-        if len(self._buffer) >= self._frames_per_commit:
+        if self._capture.full:
             try:
                 self._flush()
             except StorageError as error:
@@ -157,7 +186,8 @@ class Recorder:
             self._add_event(pending)
         self._pending_events.clear()
         self._add_event(event)
-        self._columns = {name: [] for name in REQUIRED_COLUMNS}
+        self._capture.take()  # nothing left of an earlier trial
+        self._trial_frames = []
         world = self.runner.sim.world
         self.next_step = world.physics_steps
         world.sampler = self
@@ -184,7 +214,11 @@ class Recorder:
             self.store.add_event(
                 self.session_id, "media", self.media.end(), trial_id=trial_id, t_sim=event.t_sim
             )
-        columns = {name: np.asarray(values, dtype=float) for name, values in self._columns.items()}
+        if self._trial_frames:
+            real = np.concatenate([real_matrix(frames) for frames in self._trial_frames])
+        else:
+            real = np.zeros((0, len(REAL_COLUMNS)))
+        columns = {name: real[:, REAL_COLUMNS.index(name)] for name in REQUIRED_COLUMNS}
         metrics = compute_trial_metrics(
             FrameArrays.from_columns(columns), event.outcome == "success", self.thresholds
         )
@@ -204,17 +238,18 @@ class Recorder:
         self._trial_id = None
 
     def _flush(self) -> None:
-        if self._trial_id is None or not self._buffer:
+        if self._trial_id is None or not len(self._capture):
             return
-        self.store.add_frames(self._trial_id, self._buffer)
+        frames = self._capture.take()
+        self.store.add_captured_frames(self._trial_id, frames)
         self.store.commit()
-        self.frames_written += len(self._buffer)
-        self._buffer = []
+        self._trial_frames.append(frames)
+        self.frames_written += len(frames)
 
     def _fail(self, error: StorageError) -> None:
         self.failure = error
         self.runner.sim.world.sampler = None
-        self._buffer = []
+        self._capture.take()
         if self._trial_id is not None:
             self.store.try_mark_interrupted(self._trial_id, "storage_error")
             self._trial_id = None

@@ -33,6 +33,8 @@ from workcell.record.batch import Columnar, RowBatch
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
 from workcell.record.errors import RecordError, StoreError
+from workcell.record.frame_capture import CapturedFrames
+from workcell.record.frame_format import FrameFormatter
 from workcell.record.ids import new_id
 from workcell.record.reading import StoreReading
 from workcell.record.records import (
@@ -46,8 +48,8 @@ from workcell.record.recovery import recover
 from workcell.record.schema import ANNOTATIONS, FRAMES, SCHEMA_VERSION, SESSIONS, TRIALS
 from workcell.record.writes import WriteGuard
 
-FrameRows = Sequence[Mapping[str, object]] | Columnar
-"""Frames as rows (one mapping per frame) or as columns (name → values)."""
+FrameRows = Sequence[Mapping[str, object]] | Columnar | RowBatch
+"""Frames as rows (one mapping per frame), as columns (name → values) or as a batch."""
 
 _FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
 CLOSING_STATUSES = ("completed", "interrupted")
@@ -76,6 +78,7 @@ class Store(StoreReading):
         self._guard = WriteGuard(path, conn, self._resync) if lock is not None else None
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when this writer opened the store."""
+        self._formatter = FrameFormatter()
 
     @classmethod
     def open(cls, path: str | os.PathLike[str], *, writer: bool) -> Store:
@@ -223,19 +226,23 @@ class Store(StoreReading):
     def add_frames(self, trial_id: str, frames: FrameRows) -> int:
         """Append frames to a running trial (not yet durable: call :meth:`commit`).
 
-        ``frames`` holds every column of ``FRAME_COLUMNS``; ``session_id``, ``trial_id``
-        and ``frame_index`` may be left out (the store fills them in); a given
-        ``frame_index`` must continue the trial's frames in steps of 1.
+        ``frames`` holds every column of ``FRAME_COLUMNS``, as rows or as columns;
+        ``session_id``, ``trial_id`` and ``frame_index`` may be left out (the store fills
+        them in); a given ``frame_index`` must continue the trial's frames in steps of 1.
+        A :class:`RowBatch` of the frames layout (the recorder's fast path) has them all.
         NULL (None or NaN) is legitimate in the device columns only; elsewhere it is
         stored as given and reported by ``workcell verify``. Returns the number added.
         """
         trial = self._running_trial(trial_id)
         fixed = {"session_id": trial.session_id, "trial_id": trial_id}
-        frames = _numbered(frames, trial.next_index)
-        if isinstance(frames, Mapping):
-            batch = RowBatch.from_columns(FRAMES, frames, fixed)
+        if isinstance(frames, RowBatch):
+            batch = _checked_batch(frames, fixed)
+        elif isinstance(frames, Mapping):
+            batch = RowBatch.from_columns(
+                FRAMES, _numbered_columns(frames, trial.next_index), fixed
+            )
         else:
-            batch = RowBatch.from_mappings(FRAMES, frames, fixed)
+            batch = RowBatch.from_mappings(FRAMES, _numbered_rows(frames, trial.next_index), fixed)
         n = len(batch)
         indices = [row[_FRAME_INDEX] for row in batch.integer]
         if indices != list(range(trial.next_index, trial.next_index + n)):
@@ -248,6 +255,13 @@ class Store(StoreReading):
                 rowio.insert(conn, batch)
             trial.next_index += n
         return n
+
+    def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
+        """Append frames as captured during recording (see :mod:`workcell.record.
+        frame_capture`), formatted into the frame columns here; as :meth:`add_frames`."""
+        trial = self._running_trial(trial_id)
+        batch = self._formatter.batch(frames, trial.session_id, trial_id, trial.next_index)
+        return self.add_frames(trial_id, batch)
 
     def commit(self) -> None:
         """Make everything added so far durable against the death of this process."""
@@ -401,13 +415,29 @@ class Store(StoreReading):
             session.next_seq = lifecycle.next_seq(self._conn, session_id)
 
 
-def _numbered(frames: FrameRows, start: int) -> FrameRows:
+def _checked_batch(batch: RowBatch, fixed: Mapping[str, str]) -> RowBatch:
+    """A ready batch of frames, with its ids those of the trial it is added to."""
+    if batch.layout is not FRAMES:
+        raise RecordError(f"a {batch.layout.name} batch cannot be added as frames")
+    ids = (fixed["session_id"], fixed["trial_id"])
+    for i, row in enumerate(batch.text):
+        if row[:2] != ids:
+            raise RecordError(f"frames row {i}: session_id, trial_id {row[:2]} are not {ids}")
+    return batch
+
+
+def _numbered_columns(frames: Columnar, start: int) -> Columnar:
     """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
-    if isinstance(frames, Mapping):
-        if "frame_index" in frames or not frames:
-            return frames
-        n = len(next(iter(frames.values())))
-        return {**frames, "frame_index": range(start, start + n)}
+    if "frame_index" in frames or not frames:
+        return frames
+    n = len(next(iter(frames.values())))
+    return {**frames, "frame_index": range(start, start + n)}
+
+
+def _numbered_rows(
+    frames: Sequence[Mapping[str, object]], start: int
+) -> Sequence[Mapping[str, object]]:
+    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
     if not frames or "frame_index" in frames[0]:
         return frames
     return [{**row, "frame_index": start + i} for i, row in enumerate(frames)]

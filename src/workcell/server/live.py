@@ -19,7 +19,7 @@ from workcell.errors import WorkcellError
 from workcell.protocol.codec import encode
 from workcell.protocol.messages import Scene, SessionEnded
 from workcell.record.recorder import Recorder
-from workcell.record.store import Store
+from workcell.record.store_process import StoreProcess
 from workcell.server.pacing import Pacer, PacingStats
 from workcell.server.scene import describe
 from workcell.server.snapshot import StateBuilder, event_message
@@ -100,7 +100,7 @@ class LiveSession:
 
     def _main(self) -> None:
         try:
-            store = Store.open(self.store_path, writer=True)
+            store = StoreProcess.open(self.store_path)
         except BaseException as error:  # reported to the caller of start()
             self._startup_error = error
             self._ready.set()
@@ -110,7 +110,7 @@ class LiveSession:
         finally:
             store.close()
 
-    def _run(self, store: Store) -> None:
+    def _run(self, store: StoreProcess) -> None:
         try:
             sim = Simulation(self.config.world)
             self._ik = sim.controller.ik

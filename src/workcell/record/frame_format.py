@@ -1,0 +1,155 @@
+"""Captured frames into the frame columns, in bulk.
+
+The counterpart of :mod:`workcell.record.frame_capture`: positions, velocities and TCP
+poses come from the state rows, the command, device input and diagnostics from each
+frame's extras, the ``boxes`` JSON from the box poses and states. Values are those of the
+frame columns (:data:`workcell.record.columns.FRAME_COLUMNS`); a missing device value is
+NaN among the reals (stored as NULL) and None among the integers.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, Any
+
+import mujoco
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.record.batch import RowBatch
+from workcell.record.frame_capture import (
+    BOX_STATES,
+    EXTRA_INTEGERS,
+    EXTRA_REALS,
+    CapturedFrames,
+    FrameCapture,
+    FrameLayout,
+    OperatorInput,
+)
+from workcell.record.schema import FRAMES
+
+if TYPE_CHECKING:
+    from workcell.control.command import Command
+    from workcell.control.controller import RobotController
+    from workcell.sim.world import World
+
+REAL_COLUMNS: tuple[str, ...] = FRAMES.of_kind("real")
+"""The frame's real columns, in the order of a formatted real matrix."""
+INTEGER_COLUMNS: tuple[str, ...] = FRAMES.of_kind("integer")
+"""The frame's integer columns (``frame_index`` first), in the order of a formatted row."""
+
+_STATE_WIDTH = 54
+"""base pose (3), base velocity (3), both TCP poses (14), q (17), dq (17)."""
+
+
+def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
+    """(n, len(REAL_COLUMNS)): every real column of the frames."""
+    layout, rows = frames.layout, frames.rows
+    n = len(frames)
+    nq, nv = layout.nq, layout.nv
+    qpos, qvel = rows[:n, :nq], rows[:n, nq : nq + nv]
+    at = nq + nv
+    quats = np.empty((n, 2, 4))
+    for i in range(n):
+        mujoco.mju_mat2Quat(quats[i, 0], rows[i, at + 6 : at + 15])
+        mujoco.mju_mat2Quat(quats[i, 1], rows[i, at + 15 : at + 24])
+    extras = rows[:n, layout.extras_at : layout.extras_at + EXTRA_REALS]
+    real = np.empty((n, len(REAL_COLUMNS)))
+    real[:, 0:2] = extras[:, 0:2]
+    real[:, 2:5] = qpos[:, layout.base_qpos]
+    real[:, 5:8] = qvel[:, layout.base_dof]
+    real[:, 8:11] = rows[:n, at : at + 3]
+    real[:, 11:15] = quats[:, 0]
+    real[:, 15:18] = rows[:n, at + 3 : at + 6]
+    real[:, 18:22] = quats[:, 1]
+    joints = len(layout.joint_qpos)
+    real[:, 22 : 22 + joints] = qpos[:, layout.joint_qpos]
+    real[:, 22 + joints : 2 + _STATE_WIDTH] = qvel[:, layout.joint_dof]
+    real[:, 56:60] = extras[:, 2:6]
+    fingers = qpos[:, layout.finger_qpos]
+    real[:, 60] = (fingers[:, 0] + fingers[:, 1]) / layout.finger_span
+    real[:, 61] = (fingers[:, 2] + fingers[:, 3]) / layout.finger_span
+    real[:, 62:] = extras[:, 6:]
+    return real
+
+
+class FrameFormatter:
+    """Formats captured frames into store rows. Keeps each box's text while its state and
+    rounded pose stay the same (parked boxes, boxes at rest): formatting floats is most of
+    the cost of the ``boxes`` column."""
+
+    def __init__(self) -> None:
+        self._layout: FrameLayout | None = None
+        self._box_columns: NDArray[np.intp] = np.zeros(0, dtype=np.intp)
+        self._box_text: list[tuple[tuple[str, list[float]], str] | None] = []
+
+    def batch(
+        self, frames: CapturedFrames, session_id: str, trial_id: str, first_index: int
+    ) -> RowBatch:
+        """The frames as rows of the frames table, numbered from ``first_index``."""
+        real = real_matrix(frames)
+        at = frames.layout.extras_at + EXTRA_REALS
+        integer: list[tuple[int | None, ...]] = [
+            (first_index + i, *(None if math.isnan(v) else int(v) for v in values))
+            for i, values in enumerate(frames.rows[:, at : at + EXTRA_INTEGERS].tolist())
+        ]
+        boxes = self.boxes_json(frames)
+        text: list[tuple[str | None, ...]] = [(session_id, trial_id, b) for b in boxes]
+        return RowBatch(FRAMES, text, real, integer)
+
+    def boxes_json(self, frames: CapturedFrames) -> list[str]:
+        """Each frame's ``[[index, state, x, y, z, qw, qx, qy, qz], ...]``, poses to the
+        micrometre (-0.0 written 0.0)."""
+        layout = frames.layout
+        self._use(layout)
+        poses = np.round(frames.rows[:, self._box_columns], 6) + 0.0
+        states = frames.rows[:, layout.width - len(layout.box_qpos) :].astype(np.intp)
+        width = 7
+        prefixes = [f'[{index},"' for index in layout.box_index]
+        out = []
+        for codes, values in zip(states.tolist(), poses.tolist(), strict=True):
+            parts = []
+            for k, code in enumerate(codes):
+                state = BOX_STATES[code]
+                pose = values[k * width : (k + 1) * width]
+                key = (state, pose)
+                cached = self._box_text[k]
+                if cached is None or cached[0] != key:
+                    text = f'{prefixes[k]}{state}",{",".join(map(repr, pose))}]'
+                    cached = self._box_text[k] = (key, text)
+                parts.append(cached[1])
+            out.append(f"[{','.join(parts)}]")
+        return out
+
+    def _use(self, layout: FrameLayout) -> None:
+        if layout != self._layout:
+            self._layout = layout
+            self._box_columns = np.array(
+                [q + k for q in layout.box_qpos for k in range(7)], dtype=np.intp
+            )
+            self._box_text = [None] * len(layout.box_qpos)
+
+
+def build_frame(
+    world: World,
+    controller: RobotController,
+    command: Command,
+    operator_input: OperatorInput,
+    *,
+    t_sim: float,
+    t_wall: float,
+    step_wall_ms: float,
+) -> dict[str, Any]:
+    """Every frame column but ``session_id``, ``trial_id`` and ``frame_index``, by name,
+    of the world now (no value as None): what the recorder would store."""
+    capture = FrameCapture(world, controller, capacity=1)
+    capture.capture(command, operator_input, t_sim=t_sim, step_wall_ms=step_wall_ms, t_wall=t_wall)
+    frames = capture.take()
+    batch = FrameFormatter().batch(frames, "", "", 0)
+    row: dict[str, Any] = {
+        name: None if math.isnan(value) else value
+        for name, value in zip(REAL_COLUMNS, batch.real[0].tolist(), strict=True)
+    }
+    row.update(zip(INTEGER_COLUMNS[1:], batch.integer[0][1:], strict=True))
+    row["boxes"] = batch.text[0][2]
+    return row

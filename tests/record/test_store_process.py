@@ -1,0 +1,165 @@
+"""Recording through the store writer process: same record as in-process, failures raised
+in order, nothing sent is lost when the recording process dies."""
+
+from __future__ import annotations
+
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from tests.record import synthetic
+from workcell.control.command import Command
+from workcell.control.simulation import Simulation
+from workcell.expert import ExpertOperator
+from workcell.record import RecordError, StorageError, Store, StoreError
+from workcell.record.frame_capture import CapturedFrames, FrameCapture, input_from_command
+from workcell.record.recorder import Recorder
+from workcell.record.store_process import StoreProcess
+from workcell.record.verify import verify_store
+from workcell.session.config import SessionConfig, TaskConfig
+from workcell.task.runner import SessionRunner
+
+REPO = Path(__file__).resolve().parents[2]
+WALL_CLOCK_COLUMNS = ("t_wall", "step_wall_ms")
+
+
+def _record(store: Store | StoreProcess, config: SessionConfig) -> None:
+    runner = SessionRunner(config, Simulation(config.world), ExpertOperator())
+    recorder = Recorder(store, runner)
+    runner.run()
+    recorder.close(interrupted=False)
+    assert recorder.failure is None
+
+
+def test_the_writer_process_records_what_the_store_records_in_process(tmp_path: Path) -> None:
+    config = SessionConfig(task=TaskConfig(mode="collection", trials=2), seed=4)
+    inline, child = tmp_path / "inline.sqlite", tmp_path / "child.sqlite"
+    with Store.open(inline, writer=True) as store:
+        _record(store, config)
+    with StoreProcess.open(child) as process_store:
+        _record(process_store, config)
+    assert verify_store(inline) == [] and verify_store(child) == []
+    with Store.open(inline, writer=False) as a, Store.open(child, writer=False) as b:
+        trials_a, trials_b = a.trials(), b.trials()
+        assert [t.n_frames for t in trials_a] == [t.n_frames for t in trials_b]
+        assert all((t.n_frames or 0) > 100 for t in trials_a)
+        for ta, tb in zip(trials_a, trials_b, strict=True):
+            assert ta.outcome == tb.outcome
+            for metric in ("path_length_m", "smoothness", "active_ratio", "hz_sim"):
+                assert getattr(ta.metrics, metric) == getattr(tb.metrics, metric), metric
+            fa, fb = a.frames(ta.trial_id), b.frames(tb.trial_id)
+            for name in fa:
+                if name in ("session_id", "trial_id", *WALL_CLOCK_COLUMNS):
+                    continue
+                if fa[name].dtype == object:
+                    assert list(fa[name]) == list(fb[name]), name
+                else:
+                    np.testing.assert_array_equal(fa[name], fb[name], err_msg=name)
+        assert [e.kind for e in a.events()] == [e.kind for e in b.events()]
+
+
+def _capture(n: int = 5) -> FrameCapture:
+    sim = Simulation(SessionConfig().world)
+    sim.reset(0)
+    return FrameCapture(sim.world, sim.controller, capacity=n)
+
+
+def _frames(capture: FrameCapture, start: int) -> CapturedFrames:
+    """``capture.capacity`` frames of a resting robot, from frame ``start`` at 20 Hz."""
+    command = Command()
+    for k in range(start, start + capture.capacity):
+        capture.capture(command, input_from_command(command), t_sim=k / 20, step_wall_ms=1.0)
+    return capture.take()
+
+
+def test_a_failure_of_a_call_not_waited_for_is_raised_by_the_next_call(tmp_path: Path) -> None:
+    capture = _capture()
+    frames = _frames(capture, 0)
+    with StoreProcess.open(tmp_path / "s.sqlite") as store:
+        session_id = store.create_session(synthetic.session_info())
+        trial_id = store.start_trial(session_id, synthetic.trial_start())
+        store.add_captured_frames(trial_id, frames)
+        store.commit()
+        store.add_captured_frames("no-such-trial", _frames(capture, 5))  # returns at once
+        store.commit()
+        # end_trial runs after the failed call, and reports it
+        with pytest.raises(RecordError, match="no-such-trial is not running"):
+            store.end_trial(trial_id, synthetic.trial_end(len(frames)))
+        with pytest.raises(RecordError):  # the writer stays stopped
+            store.commit()
+    with Store.open(tmp_path / "s.sqlite", writer=True) as reopened:
+        (trial,) = reopened.trials()
+        assert trial.n_frames == len(frames)  # what came before the failure is kept
+        assert trial.outcome == "success"
+    assert verify_store(tmp_path / "s.sqlite") == []
+
+
+def test_opening_fails_with_the_store_error_and_leaves_no_process(tmp_path: Path) -> None:
+    with pytest.raises(StoreError, match="does not exist"):
+        StoreProcess.open(tmp_path / "missing" / "s.sqlite")
+    with StoreProcess.open(tmp_path / "s.sqlite") as first:
+        with pytest.raises(StoreError, match="already open for writing"):
+            StoreProcess.open(tmp_path / "s.sqlite")
+        first.create_session(synthetic.session_info())
+
+
+def test_a_dead_writer_process_stops_recording_with_a_storage_error(tmp_path: Path) -> None:
+    frames = _frames(_capture(), 0)
+    store = StoreProcess.open(tmp_path / "s.sqlite")
+    session_id = store.create_session(synthetic.session_info())
+    trial_id = store.start_trial(session_id, synthetic.trial_start())
+    os.kill(store.pid, signal.SIGKILL)
+    store.add_captured_frames(trial_id, frames)
+    with pytest.raises(StorageError, match="store writer process"):
+        store.commit()
+        store.end_trial(trial_id, synthetic.trial_end(len(frames)))
+    assert store.try_mark_interrupted(trial_id) is False
+    store.close()
+    with Store.open(tmp_path / "s.sqlite", writer=True) as reopened:
+        assert reopened.recovered == (trial_id,)
+
+
+RECORDER_SCRIPT = textwrap.dedent(
+    """
+    import os, signal, sys
+    from tests.record import synthetic
+    from tests.record.test_store_process import _capture, _frames
+    from workcell.record.store_process import StoreProcess
+
+    store = StoreProcess.open(sys.argv[1])
+    session_id = store.create_session(synthetic.session_info())
+    trial_id = store.start_trial(session_id, synthetic.trial_start())
+    capture = _capture(5)
+    for batch in range(int(sys.argv[2])):
+        store.add_captured_frames(trial_id, _frames(capture, 5 * batch))
+        store.commit()
+    print(store.pid, flush=True)
+    os.kill(os.getpid(), signal.SIGKILL)
+    """
+)
+
+
+def test_what_was_sent_survives_the_death_of_the_recording_process(tmp_path: Path) -> None:
+    path = tmp_path / "s.sqlite"
+    batches = 40
+    result = subprocess.run(
+        [sys.executable, "-c", RECORDER_SCRIPT, str(path), str(batches)],
+        cwd=REPO,
+        capture_output=True,
+        text=True,
+        timeout=120,
+        check=False,
+    )
+    assert result.returncode == -signal.SIGKILL, result.stderr
+    with Store.open(path, writer=True) as store:  # waits for the writer to finish
+        (trial,) = store.trials()
+        assert store.recovered == (trial.trial_id,)
+        assert trial.n_frames == 5 * batches  # every batch sent was written
+        assert (trial.outcome, trial.interruption_reason) == ("interrupted", "crash_recovered")
+    assert verify_store(path) == []
