@@ -1,10 +1,15 @@
-"""Recording cost: the recorder against the simulation it rides on, on one core.
+"""Recording cost: the recorder against the simulation it rides on.
 
-Prints, measured in one run:
-- wall time of a headless expert session (collection trials) without and with recording
-  into a SQLite store, and the overhead of recording in percent (target: under 5 %);
+Prints, measured in one run (the same headless expert session each time, same seed):
+- wall time without recording (the baseline), recording through the store writer process
+  (what ``workcell collect`` and ``workcell serve`` do) and recording in-process (a
+  :class:`Store` in the simulation's own thread), each the best of ``--repeats`` runs,
+  interleaved; the overhead of each in percent (target: under 5 %);
 - the recorder's cost per frame against the cost of simulating one frame period (ratio);
-- durable frames per second: frames appended and committed in batches of 0.25 s.
+- the writer process's CPU time per frame (on the other core);
+- durable frames per second: captured frames handed over and committed every 0.25 s.
+
+Not pinned to one core: the writer process uses the machine's second core.
 
 Run: ``.venv/bin/python bench/record.py [--trials N] [--repeats R]``.
 """
@@ -13,88 +18,126 @@ from __future__ import annotations
 
 import argparse
 import os
+import resource
 import tempfile
 import time
 from pathlib import Path
 
+from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
-from workcell.record.recorder import Recorder
+from workcell.record.frame_capture import FrameCapture, input_from_command
+from workcell.record.recorder import Recorder, RecordingStore, session_info
+from workcell.record.records import TrialStart
 from workcell.record.store import Store
+from workcell.record.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
 
-
-def pin_to_one_core() -> None:
-    if hasattr(os, "sched_setaffinity"):
-        os.sched_setaffinity(0, {min(os.sched_getaffinity(0))})
+VARIANTS = ("none", "process", "inline")
 
 
-def session(config: SessionConfig, store_path: Path | None) -> tuple[float, int, float]:
-    """Run the session; returns (wall seconds, frames recorded, sim seconds)."""
+def open_store(variant: str, path: Path) -> Store | StoreProcess | None:
+    if variant == "process":
+        return StoreProcess.open(path)
+    if variant == "inline":
+        return Store.open(path, writer=True)
+    return None
+
+
+def session(config: SessionConfig, variant: str, path: Path) -> tuple[float, int, float]:
+    """Run the session; returns (wall seconds of the run, frames recorded, writer CPU s)."""
     runner = SessionRunner(config, Simulation(config.world), ExpertOperator())
-    store = Store.open(store_path, writer=True) if store_path is not None else None
+    store = open_store(variant, path)
     recorder = Recorder(store, runner) if store is not None else None
+    children = resource.getrusage(resource.RUSAGE_CHILDREN)
     start = time.perf_counter()
     runner.run()
     wall = time.perf_counter() - start
     frames = 0
     if recorder is not None and store is not None:
         recorder.close(interrupted=False)
-        frames = recorder.frames_written
         store.close()
-    sim_seconds = sum(r.elapsed_s + config.task.countdown_s for r in runner.results)
-    return wall, frames, sim_seconds
+        frames = recorder.frames_written
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    writer_cpu = (after.ru_utime + after.ru_stime) - (children.ru_utime + children.ru_stime)
+    return wall, frames, writer_cpu
 
 
-def durable_rate(store_path: Path, config: SessionConfig, batches: int) -> float:
-    """Frames per second through add_frames + commit, 5 frames a batch, from real rows."""
-    with Store.open(store_path, writer=False) as reader:
-        trial = reader.trials()[0]
-        columns = reader.frames(trial.trial_id)
-    names = [n for n in columns if n not in ("session_id", "trial_id", "frame_index")]
-    batch = {n: columns[n][:5] for n in names}
-    target = store_path.with_name("durable.sqlite")
-    from workcell.record.recorder import session_info  # noqa: PLC0415
-    from workcell.record.records import TrialStart  # noqa: PLC0415
+def durable_rate(folder: Path, config: SessionConfig, variant: str, batches: int) -> float:
+    """Captured frames per second through add_captured_frames + commit, 5 a batch, until
+    the writer has committed them all."""
+    sim = Simulation(config.world)
+    sim.reset(0)
+    capture = FrameCapture(sim.world, sim.controller, capacity=5)
+    command = Command()
+    batch = []
+    for k in range(5):
+        capture.capture(command, input_from_command(command), t_sim=k / 20, step_wall_ms=1.0)
+    batch.append(capture.take())
+    store: RecordingStore | None = open_store(variant, folder / f"durable-{variant}.sqlite")
+    assert store is not None
+    session_id = store.create_session(session_info(config))
+    trial_id = store.start_trial(session_id, TrialStart("collection", 1, 120.0))
+    start = time.perf_counter()
+    for _ in range(batches):
+        store.add_captured_frames(trial_id, batch[0])
+        store.commit()
+    store.try_mark_interrupted(trial_id, "operator_stop")  # waits for everything before it
+    elapsed = time.perf_counter() - start
+    if isinstance(store, StoreProcess | Store):  # what open_store returns
+        store.close()
+    return batches * 5 / elapsed
 
-    with Store.open(target, writer=True) as store:
-        session_id = store.create_session(session_info(config))
-        trial_id = store.start_trial(session_id, TrialStart("collection", 1, 120.0))
-        start = time.perf_counter()
-        for _ in range(batches):
-            store.add_frames(trial_id, batch)
-            store.commit()
-        return batches * 5 / (time.perf_counter() - start)
+
+def writer_startup_cpu(folder: Path) -> float:
+    """CPU seconds of a writer process that starts, opens a store and exits."""
+    before = resource.getrusage(resource.RUSAGE_CHILDREN)
+    StoreProcess.open(folder / "idle.sqlite").close()
+    after = resource.getrusage(resource.RUSAGE_CHILDREN)
+    return (after.ru_utime + after.ru_stime) - (before.ru_utime + before.ru_stime)
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=3)
-    parser.add_argument("--repeats", type=int, default=3)
+    parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
-    pin_to_one_core()
     config = SessionConfig(task=TaskConfig(mode="collection", trials=args.trials))
-    without, with_store = [], []
+    walls: dict[str, list[float]] = {v: [] for v in VARIANTS}
+    writer_cpu: list[float] = []
     frames = 0
-    sim_seconds = 0.0
-    with tempfile.TemporaryDirectory() as folder:
+    with tempfile.TemporaryDirectory() as name:
+        folder = Path(name)
         for k in range(args.repeats):
-            without.append(session(config, None)[0])
-            wall, frames, sim_seconds = session(config, Path(folder) / f"r{k}.sqlite")
-            with_store.append(wall)
-        rate = durable_rate(Path(folder) / "r0.sqlite", config, batches=400)
-    base, recorded = min(without), min(with_store)
-    per_frame = (recorded - base) / frames
-    frame_period_cost = base / (sim_seconds * config.recording.sampling_rate_hz)
+            for variant in VARIANTS:
+                wall, n, cpu = session(config, variant, folder / f"{variant}{k}.sqlite")
+                walls[variant].append(wall)
+                if variant == "process":
+                    frames = n
+                    writer_cpu.append(cpu)
+        startup = writer_startup_cpu(folder)
+        process_rate = durable_rate(folder, config, "process", batches=400)
+        inline_rate = durable_rate(folder, config, "inline", batches=400)
+    base = min(walls["none"])
+    sim_seconds = frames / config.recording.sampling_rate_hz
+    frame_period_cost = base / frames
+    print(f"machine: {os.cpu_count()} cores, load average {os.getloadavg()[0]:.2f}")
     print(f"session: {args.trials} expert trials, {sim_seconds:.1f} s simulated, {frames} frames")
     print(f"without recording  : {base:8.3f} s wall (best of {args.repeats})")
-    print(f"with recording     : {recorded:8.3f} s wall (best of {args.repeats})")
-    print(f"recording overhead : {100 * (recorded - base) / base:8.2f} %   (target < 5 %)")
-    print(f"recorder per frame : {per_frame * 1e6:8.1f} us")
+    for variant, label in (("process", "writer process"), ("inline", "in-process")):
+        best = min(walls[variant])
+        print(
+            f"with recording, {label:14s}: {best:8.3f} s wall, overhead "
+            f"{100 * (best - base) / base:6.2f} %   (target < 5 %)"
+        )
+    per_frame = (min(walls["process"]) - base) / frames
+    print(f"recorder per frame : {per_frame * 1e6:8.1f} us in the simulation's process")
     print(f"sim per frame      : {frame_period_cost * 1e6:8.1f} us (one 1/20 s frame period)")
     print(f"recorder / sim     : {per_frame / frame_period_cost:8.3f}")
-    print(f"durable frames/s   : {rate:8.0f}  (add_frames + commit, 5 frames a batch)")
+    writer = (min(writer_cpu) - startup) / frames
+    print(f"writer CPU / frame : {writer * 1e6:8.1f} us in the writer process (its start-up apart)")
+    print(f"durable frames/s   : {process_rate:8.0f} writer process, {inline_rate:.0f} in-process")
 
 
 if __name__ == "__main__":

@@ -8,6 +8,7 @@ import signal
 import subprocess
 import sys
 import textwrap
+import time
 from pathlib import Path
 
 import numpy as np
@@ -86,11 +87,13 @@ def test_a_failure_of_a_call_not_waited_for_is_raised_by_the_next_call(tmp_path:
         trial_id = store.start_trial(session_id, synthetic.trial_start())
         store.add_captured_frames(trial_id, frames)
         store.commit()
-        store.add_captured_frames("no-such-trial", _frames(capture, 5))  # returns at once
+        with pytest.raises(RecordError, match="no-such-trial was not started"):
+            store.add_captured_frames("no-such-trial", _frames(capture, 5))
+        store.add_event("no-such-session", "note")  # returns at once
         store.commit()
-        # end_trial runs after the failed call, and reports it
-        with pytest.raises(RecordError, match="no-such-trial is not running"):
-            store.end_trial(trial_id, synthetic.trial_end(len(frames)))
+        store.end_trial(trial_id, synthetic.trial_end(len(frames)))  # not waited for
+        with pytest.raises(RecordError, match="no-such-session is not running"):
+            store.end_session(session_id)
         with pytest.raises(RecordError):  # the writer stays stopped
             store.commit()
     with Store.open(tmp_path / "s.sqlite", writer=True) as reopened:
@@ -114,15 +117,24 @@ def test_a_dead_writer_process_stops_recording_with_a_storage_error(tmp_path: Pa
     store = StoreProcess.open(tmp_path / "s.sqlite")
     session_id = store.create_session(synthetic.session_info())
     trial_id = store.start_trial(session_id, synthetic.trial_start())
+    store.commit()  # sent, not waited for: wait until a reader sees the trial
+    deadline = time.monotonic() + 30
+    while not _trial_ids(tmp_path / "s.sqlite"):
+        assert time.monotonic() < deadline
+        time.sleep(0.01)
     os.kill(store.pid, signal.SIGKILL)
-    store.add_captured_frames(trial_id, frames)
-    with pytest.raises(StorageError, match="store writer process"):
-        store.commit()
+    with pytest.raises(StorageError, match="store writer process exited"):
+        store.add_captured_frames(trial_id, frames)
         store.end_trial(trial_id, synthetic.trial_end(len(frames)))
     assert store.try_mark_interrupted(trial_id) is False
     store.close()
     with Store.open(tmp_path / "s.sqlite", writer=True) as reopened:
         assert reopened.recovered == (trial_id,)
+
+
+def _trial_ids(path: Path) -> list[str]:
+    with Store.open(path, writer=False) as reader:
+        return [t.trial_id for t in reader.trials()]
 
 
 RECORDER_SCRIPT = textwrap.dedent(

@@ -2,10 +2,15 @@
 
 It subscribes to the session runner's events and samples a frame at the configured rate on
 the sim clock (exactly: the world calls it at the due physics step), stamping wall time
-too. Frames are committed in batches covering at most 0.25 s of sim time, so a killed
-process loses at most that much. At each trial's end it computes the DESIGN metrics from
-the frames it wrote and closes the trial. A storage failure stops recording, is kept in
+too. A sample only copies numbers (:mod:`workcell.record.frame_capture`); frames are
+handed to the store in batches covering at most 0.25 s of sim time, so a killed process
+loses at most that much. At each trial's end the store computes the DESIGN metrics from
+the frames as stored and closes the trial. A storage failure stops recording, is kept in
 :attr:`Recorder.failure`, and the caller interrupts the session (``storage_error``).
+
+Recording through a :class:`~workcell.record.store_process.StoreProcess` (as ``workcell
+collect`` and ``workcell serve`` do) leaves formatting, checksums and SQLite to a writer
+process on another core.
 """
 
 from __future__ import annotations
@@ -15,16 +20,11 @@ import math
 from collections.abc import Callable, Mapping
 from typing import Protocol
 
-import numpy as np
-
 from workcell.metrics import (
     METRIC_DEFINITIONS,
     METRICS_VERSION,
-    FrameArrays,
     MetricThresholds,
-    compute_trial_metrics,
 )
-from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.errors import StorageError
 from workcell.record.frame_capture import (
     CapturedFrames,
@@ -32,9 +32,8 @@ from workcell.record.frame_capture import (
     OperatorInput,
     input_from_command,
 )
-from workcell.record.frame_format import REAL_COLUMNS, real_matrix
 from workcell.record.media import MediaRecorder
-from workcell.record.records import SessionInfo, StoredMetrics, TrialEnd, TrialStart
+from workcell.record.records import SessionInfo, TrialEnd, TrialStart
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner
@@ -68,7 +67,9 @@ class RecordingStore(Protocol):
 
     def commit(self) -> None: ...
 
-    def end_trial(self, trial_id: str, end: TrialEnd) -> None: ...
+    def end_trial(
+        self, trial_id: str, end: TrialEnd, *, thresholds: MetricThresholds | None = None
+    ) -> None: ...
 
     def end_session(self, session_id: str, status: str = "completed") -> None: ...
 
@@ -125,7 +126,6 @@ class Recorder:
         self._capture = FrameCapture(
             runner.sim.world, runner.sim.controller, self._frames_per_commit
         )
-        self._trial_frames: list[CapturedFrames] = []
         self.next_step = -1
         self._unsubscribe = runner.bus.subscribe(self._on_event)
 
@@ -187,7 +187,6 @@ class Recorder:
         self._pending_events.clear()
         self._add_event(event)
         self._capture.take()  # nothing left of an earlier trial
-        self._trial_frames = []
         world = self.runner.sim.world
         self.next_step = world.physics_steps
         world.sampler = self
@@ -214,14 +213,6 @@ class Recorder:
             self.store.add_event(
                 self.session_id, "media", self.media.end(), trial_id=trial_id, t_sim=event.t_sim
             )
-        if self._trial_frames:
-            real = np.concatenate([real_matrix(frames) for frames in self._trial_frames])
-        else:
-            real = np.zeros((0, len(REAL_COLUMNS)))
-        columns = {name: real[:, REAL_COLUMNS.index(name)] for name in REQUIRED_COLUMNS}
-        metrics = compute_trial_metrics(
-            FrameArrays.from_columns(columns), event.outcome == "success", self.thresholds
-        )
         self.store.end_trial(
             trial_id,
             TrialEnd(
@@ -231,8 +222,8 @@ class Recorder:
                 completion_time_s=event.elapsed_s if event.outcome == "success" else None,
                 boxes_delivered=event.boxes_delivered,
                 score=event.score,
-                metrics=StoredMetrics.of(metrics),
             ),
+            thresholds=self.thresholds,  # metrics from the frames as stored
         )
         self.store.commit()
         self._trial_id = None
@@ -243,7 +234,6 @@ class Recorder:
         frames = self._capture.take()
         self.store.add_captured_frames(self._trial_id, frames)
         self.store.commit()
-        self._trial_frames.append(frames)
         self.frames_written += len(frames)
 
     def _fail(self, error: StorageError) -> None:

@@ -24,10 +24,15 @@ import os
 import sqlite3
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
 
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
+from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record import lifecycle, rowio
 from workcell.record.batch import Columnar, RowBatch
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
@@ -40,6 +45,7 @@ from workcell.record.reading import StoreReading
 from workcell.record.records import (
     FLAG_SEPARATOR,
     SessionInfo,
+    StoredMetrics,
     TrialEnd,
     TrialStart,
     to_json,
@@ -52,6 +58,8 @@ FrameRows = Sequence[Mapping[str, object]] | Columnar | RowBatch
 """Frames as rows (one mapping per frame), as columns (name → values) or as a batch."""
 
 _FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
+_METRIC_REALS = np.array([FRAMES.of_kind("real").index(name) for name in REQUIRED_COLUMNS])
+"""Where the metrics' frame columns are among the real columns of a frames batch."""
 CLOSING_STATUSES = ("completed", "interrupted")
 
 
@@ -64,6 +72,14 @@ class _Running:
     """trials: next frame_index; sessions: next trial_index."""
     next_seq: int = 0
     trial_id: str | None = None
+    metric_rows: list[NDArray[np.float64]] = field(default_factory=list)
+    """trials: the metric columns of the frames added, in batches."""
+
+    def metric_matrix(self) -> NDArray[np.float64]:
+        """(next_index, len(REQUIRED_COLUMNS)): the metric columns of the trial's frames."""
+        if not self.metric_rows:
+            return np.zeros((0, len(REQUIRED_COLUMNS)))
+        return np.concatenate(self.metric_rows)[: self.next_index]
 
 
 class Store(StoreReading):
@@ -163,12 +179,15 @@ class Store(StoreReading):
         self._sessions[session_id] = _Running(session_id)
         return session_id
 
-    def start_trial(self, session_id: str, start: TrialStart) -> str:
-        """Record a new trial of a running session (its next trial_index); returns its id."""
+    def start_trial(
+        self, session_id: str, start: TrialStart, *, trial_id: str | None = None
+    ) -> str:
+        """Record a new trial of a running session (its next trial_index); returns its id
+        (``trial_id`` if given: a fresh :func:`~workcell.record.ids.new_id` of the caller)."""
         session = self._running_session(session_id)
         if session.trial_id is not None:
             raise RecordError(f"trial {session.trial_id} is still running: end it first")
-        trial_id = new_id()
+        trial_id = trial_id or new_id()
         row: dict[str, object] = dict.fromkeys(TRIALS.names)
         row |= {
             "session_id": session_id,
@@ -254,6 +273,7 @@ class Store(StoreReading):
             with self._write(commit=False) as conn:
                 rowio.insert(conn, batch)
             trial.next_index += n
+            trial.metric_rows.append(batch.real[:, _METRIC_REALS])
         return n
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
@@ -267,10 +287,23 @@ class Store(StoreReading):
         """Make everything added so far durable against the death of this process."""
         self._writable().commit()
 
-    def end_trial(self, trial_id: str, end: TrialEnd) -> None:
-        """Close a running trial: its outcome, metrics, frame count and checksums."""
+    def end_trial(
+        self, trial_id: str, end: TrialEnd, *, thresholds: MetricThresholds | None = None
+    ) -> None:
+        """Close a running trial: its outcome, metrics, frame count and checksums.
+
+        With ``thresholds``, the metrics stored are computed here from the trial's frames
+        as stored (``end.metrics`` is ignored)."""
         trial = self._running_trial(trial_id)
         m = end.metrics
+        if thresholds is not None:
+            matrix = trial.metric_matrix()
+            columns = {name: matrix[:, j] for j, name in enumerate(REQUIRED_COLUMNS)}
+            m = StoredMetrics.of(
+                compute_trial_metrics(
+                    FrameArrays.from_columns(columns), end.outcome == "success", thresholds
+                )
+            )
         changes = {
             "outcome": end.outcome,
             "interruption_reason": end.interruption_reason,
@@ -411,6 +444,7 @@ class Store(StoreReading):
             (trial.next_index,) = self._conn.execute(
                 "SELECT count(*) FROM frames WHERE trial_id = ?", (trial_id,)
             ).fetchone()
+            trial.metric_rows = [trial.metric_matrix()]
         for session_id, session in self._sessions.items():
             session.next_seq = lifecycle.next_seq(self._conn, session_id)
 

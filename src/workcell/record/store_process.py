@@ -2,9 +2,10 @@
 
 The recorder hands over captured frames and events and goes on; the writer process (see
 :mod:`workcell.record.store_worker`) formats, checksums, inserts and commits them on
-another core. Frames and events are sent together at each :meth:`StoreProcess.commit`
-(the recorder commits every 0.25 s of sim time), one write to the pipe per commit. Calls
-whose answer the recorder needs (ids, the end of a trial or session) wait for it.
+another core. Frames go through a shared-memory ring (:mod:`workcell.record.frame_ring`),
+no system call per frame; events and other calls through a pipe, sent at the next
+:meth:`StoreProcess.commit`. Calls whose answer the recorder needs (ids, the end of a trial
+or session) wait for it, and for every frame handed over before them to be written.
 
 Guarantees are those of :class:`~workcell.record.store.Store`, kept across the pipe:
 
@@ -13,7 +14,7 @@ Guarantees are those of :class:`~workcell.record.store.Store`, kept across the p
   next call, as the same error class and message;
 - if the recording process dies, however it dies, the writer still writes everything
   it was sent and then exits, leaving the running trial for crash recovery; what was
-  not yet sent is at most one commit interval;
+  not yet handed over is at most one commit interval;
 - the writer holds the store's writer lock, so no second writer opens the store until
   it has exited.
 """
@@ -32,13 +33,18 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
+from workcell.metrics import MetricThresholds
 from workcell.record.errors import RecordError, StorageError, StoreError
-from workcell.record.frame_capture import CapturedFrames
+from workcell.record.frame_capture import CapturedFrames, FrameLayout
+from workcell.record.frame_ring import FrameRing
+from workcell.record.ids import new_id
 from workcell.record.pipe_messages import receive, send
 from workcell.record.records import SessionInfo, TrialEnd, TrialStart
 
 ANSWER_TIMEOUT_S = 60.0
 """How long a call waits for the writer's answer before giving up on the writer."""
+RING_CAPACITY = 512
+"""Frames the ring holds (25 s of sim time at 20 Hz) before the recorder waits."""
 CLOSE_TIMEOUT_S = 60.0
 """How long :meth:`StoreProcess.close` waits for the writer to finish what it was sent."""
 
@@ -65,6 +71,9 @@ class StoreProcess:
         self._replies: queue.SimpleQueue[tuple[Any, ...] | None] = queue.SimpleQueue()
         self._failure: Exception | None = None
         self._reader: threading.Thread | None = None
+        self._ring: FrameRing | None = None
+        self._ring_layout: FrameLayout | None = None
+        self._trial_numbers: dict[str, int] = {}
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when the writer opened the store."""
 
@@ -109,7 +118,11 @@ class StoreProcess:
         return str(self._call("create_session", info))
 
     def start_trial(self, session_id: str, start: TrialStart) -> str:
-        return str(self._call("start_trial", session_id, start))
+        """Sent with the next commit; the trial id is made here."""
+        trial_id = new_id()
+        self._queue("start_trial", (session_id, start), {"trial_id": trial_id})
+        self._trial_numbers[trial_id] = len(self._trial_numbers)
+        return trial_id
 
     def add_event(
         self,
@@ -126,18 +139,36 @@ class StoreProcess:
         self._queue("add_event", (session_id, kind, payload), keywords)
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
-        """Sent with the next commit; the writer formats and adds them."""
-        self._queue("add_captured_frames", (trial_id, frames))
+        """Copied into the ring at once (waiting only while it is full); the writer
+        formats, adds and commits them within milliseconds."""
+        if self._failure is not None:
+            raise self._failure
+        number = self._trial_numbers.get(trial_id)
+        if number is None:
+            raise RecordError(
+                f"trial {trial_id} was not started through this store: start it first"
+            )
+        if frames.layout != self._ring_layout:
+            self._attach_ring(frames.layout)
+        self._send_pending()  # the trial's start goes before its frames
+        assert self._ring is not None
+        try:
+            self._ring.publish(number, frames.rows, alive=self._writer_alive)
+        except BrokenPipeError:
+            raise self._died() from None
         return len(frames)
 
     def commit(self) -> None:
-        """Send what was added since the last commit; the writer commits it in one
-        transaction. Raises a failure the writer reported since the last call."""
-        self._queue("commit", ())
+        """Send the events added since the last commit (frames are on their way already).
+        Raises a failure the writer reported since the last call."""
         self._send_pending()
 
-    def end_trial(self, trial_id: str, end: TrialEnd) -> None:
-        self._call("end_trial", trial_id, end)
+    def end_trial(
+        self, trial_id: str, end: TrialEnd, *, thresholds: MetricThresholds | None = None
+    ) -> None:
+        """Sent at once, not waited for: the writer closes the trial after its frames."""
+        self._queue("end_trial", (trial_id, end), {"thresholds": thresholds})
+        self._send_pending()
 
     def end_session(self, session_id: str, status: str = "completed") -> None:
         self._call("end_session", session_id, status)
@@ -159,6 +190,10 @@ class StoreProcess:
             with contextlib.suppress(OSError, ValueError):
                 send(self._requests, "close")
         self._reap()
+        if self._ring is not None:
+            self._ring.unlink()
+            self._ring.close()
+            self._ring = None
 
     def __enter__(self) -> StoreProcess:
         return self
@@ -180,11 +215,17 @@ class StoreProcess:
             raise self._failure
         self._pending.append((None, method, args, keywords or {}))
 
-    def _call(self, method: str, *args: Any, after_failure: bool = False) -> Any:
+    def _call(
+        self,
+        method: str,
+        *args: Any,
+        keywords: dict[str, Any] | None = None,
+        after_failure: bool = False,
+    ) -> Any:
         if self._failure is not None and not after_failure:
             raise self._failure
         call_id = next(self._ids)
-        self._pending.append((call_id, method, args, {}))
+        self._pending.append((call_id, method, args, keywords or {}))
         self._send_pending(check=not after_failure)
         try:
             answer = self._replies.get(timeout=ANSWER_TIMEOUT_S)
@@ -204,10 +245,32 @@ class StoreProcess:
         calls, self._pending = self._pending, []
         if not calls:
             return
+        position = 0 if self._ring is None else self._ring.published
         try:
-            send(self._requests, calls)
+            send(self._requests, (position, calls))
         except (OSError, ValueError):
             raise self._died() from None
+
+    def _attach_ring(self, layout: FrameLayout) -> None:
+        """A new ring for rows of ``layout``, mapped by the writer, its file then removed."""
+        if self._ring is not None:
+            self._call("commit")  # the old ring's frames are written first
+            self._ring.close()
+        try:
+            ring = FrameRing.create(layout.width, RING_CAPACITY)
+        except OSError as error:
+            raise StorageError(
+                f"store {self.path}: could not create the shared-memory frame ring "
+                f"({error.strerror or error}); recording stopped — free memory or disk space"
+            ) from None
+        try:
+            self._call("attach_ring", str(ring.path), layout, RING_CAPACITY)
+        finally:
+            ring.unlink()
+        self._ring, self._ring_layout = ring, layout
+
+    def _writer_alive(self) -> bool:
+        return self._process.poll() is None
 
     def _read_answers(self) -> None:
         """The reader thread: answers to waiting calls, failures of the others."""
@@ -224,7 +287,10 @@ class StoreProcess:
                 self._replies.put(answer)
 
     def _died(self) -> StorageError:
-        code = self._process.poll()
+        try:
+            code: int | None = self._process.wait(timeout=1.0)
+        except subprocess.TimeoutExpired:
+            code = None
         return StorageError(
             f"store {self.path}: the store writer process "
             f"{'is not answering' if code is None else f'exited (code {code})'}; recording "

@@ -1,36 +1,51 @@
-"""The store writer process: owns one store opened for writing and runs the calls a
+"""The store writer process: owns one store opened for writing and runs what a
 :class:`~workcell.record.store_process.StoreProcess` sends it, in order.
 
 Run as ``python -m workcell.record.store_worker STORE`` by :class:`StoreProcess` only.
-Calls arrive on stdin, answers leave on stdout (see :mod:`workcell.record.pipe_messages`):
+Frames arrive through a shared-memory :class:`~workcell.record.frame_ring.FrameRing`,
+polled every :data:`POLL_S` and committed as they come. Calls arrive on stdin and answers
+leave on stdout (see :mod:`workcell.record.pipe_messages`):
 
-- a list of calls ``(call_id, method, args, keywords)``, each run as
-  ``Store.<method>(*args, **keywords)`` in order. A call with an id is answered
+- ``(position, calls)``: first the frames published before ring position ``position`` are
+  written, then each call ``(call_id, method, args, keywords)`` runs as
+  ``Store.<method>(*args, **keywords)``. A call with an id is answered
   ``("ok", call_id, result)`` or ``("error", call_id, kind, text)``; a call sent without
-  waiting has ``call_id`` None and is answered only when it fails (its first failure).
-- ``"close"`` or the end of stdin: commit what was received, close the store, exit.
+  waiting has ``call_id`` None and is answered only when it fails (the first failure).
+  ``attach_ring`` maps the ring; trials are numbered in the ring in the order of their
+  ``start_trial`` calls.
+- ``"close"`` or the end of stdin: write every complete frame in the ring, close the
+  store, exit.
 
 The end of stdin is also how the process learns that the recording process died (even by
-SIGKILL): everything sent before is written, the running trial stays open, and the next
-writer to open the store closes it as ``interrupted``/``crash_recovered``.
+SIGKILL): everything published before is written, the running trial stays open, and the
+next writer to open the store closes it as ``interrupted``/``crash_recovered``.
 """
 
 from __future__ import annotations
 
+import queue
 import signal
 import sys
+import threading
+import time
 from typing import IO, Any
 
 from workcell.errors import WorkcellError
+from workcell.record.frame_capture import CapturedFrames, FrameLayout
+from workcell.record.frame_ring import FrameRing
 from workcell.record.pipe_messages import receive, send
 from workcell.record.store import Store
 
-CALLS = frozenset(
+POLL_S = 0.002
+"""How often the ring is polled for new frames when no call arrives."""
+WAIT_S = 0.0005
+"""How long to wait for a frame published but not yet completely visible."""
+
+STORE_CALLS = frozenset(
     {
         "create_session",
         "start_trial",
         "add_event",
-        "add_captured_frames",
         "commit",
         "end_trial",
         "end_session",
@@ -40,28 +55,101 @@ CALLS = frozenset(
 """The Store methods a recording process may call."""
 
 
-def serve(store: Store, requests: IO[bytes], answers: IO[bytes]) -> None:
-    """Run calls until ``"close"`` or the end of ``requests``."""
-    failed = False
+class Writer:
+    """Runs calls and writes ring frames into ``store``, reporting on ``answers``."""
+
+    def __init__(self, store: Store, answers: IO[bytes]) -> None:
+        self.store = store
+        self.answers = answers
+        self.ring: FrameRing | None = None
+        self.layout: FrameLayout | None = None
+        self.trials: list[str] = []
+        """Trial ids by their number in the ring."""
+        self.failed = False
+
+    def serve(self, requests: IO[bytes]) -> None:
+        """Until ``"close"`` or the end of ``requests``."""
+        messages: queue.SimpleQueue[Any] = queue.SimpleQueue()
+        reader = threading.Thread(target=_read, args=(requests, messages), daemon=True)
+        reader.start()
+        try:
+            while True:
+                try:
+                    message = messages.get(timeout=POLL_S)
+                except queue.Empty:
+                    self.write_frames()
+                    continue
+                if message is None or message == "close":
+                    self.write_frames()
+                    return
+                position, calls = message
+                self.write_frames(upto=position)
+                for call in calls:
+                    self.run(*call)
+        finally:
+            if self.ring is not None:
+                self.ring.close()
+
+    def run(self, call_id: int | None, method: str, args: Any, keywords: Any) -> None:
+        try:
+            result = self._dispatch(method, args, keywords)
+        except WorkcellError as error:
+            self.report(call_id, error)
+            return
+        if call_id is not None:
+            send(self.answers, ("ok", call_id, result))
+
+    def report(self, call_id: int | None, error: WorkcellError) -> None:
+        if call_id is not None or not self.failed:
+            send(self.answers, ("error", call_id, type(error).__name__, str(error)))
+        self.failed = self.failed or call_id is None
+
+    def write_frames(self, upto: int | None = None) -> None:
+        """Write and commit the ring's complete frames (all up to ``upto`` if given)."""
+        ring, layout = self.ring, self.layout
+        if ring is None or layout is None:
+            return
+        while True:
+            for number, rows in ring.take(upto, trials_known=len(self.trials)):
+                if self.failed:
+                    continue  # recording stopped: the frames are dropped, the ring freed
+                try:
+                    self.store.add_captured_frames(
+                        self.trials[number], CapturedFrames(layout, rows)
+                    )
+                    self.store.commit()
+                except WorkcellError as error:
+                    self.report(None, error)
+            if upto is None or ring.consumed >= upto:
+                return
+            time.sleep(WAIT_S)
+
+    def _dispatch(self, method: str, args: Any, keywords: Any) -> Any:
+        if method == "attach_ring":
+            path, layout, capacity = args
+            if self.ring is not None:
+                self.ring.close()
+            self.ring = FrameRing.attach(path, layout.width, capacity)
+            self.layout = layout
+            return None
+        if method not in STORE_CALLS:
+            raise WorkcellError(f"store writer: unknown call {method!r}")
+        if method != "start_trial":
+            return getattr(self.store, method)(*args, **keywords)
+        try:
+            trial_id = self.store.start_trial(*args, **keywords)
+        finally:  # numbered in the order started, failed or not
+            self.trials.append(keywords["trial_id"])
+        return trial_id
+
+
+def _read(requests: IO[bytes], messages: queue.SimpleQueue[Any]) -> None:
     while True:
         try:
-            calls = receive(requests)
-        except EOFError:
+            messages.put(receive(requests))
+        except (EOFError, OSError, ValueError):
+            messages.put(None)
             return
-        if calls == "close":
-            return
-        for call_id, method, args, keywords in calls:
-            try:
-                if method not in CALLS:
-                    raise WorkcellError(f"store writer: unknown call {method!r}")
-                result: Any = getattr(store, method)(*args, **keywords)
-            except WorkcellError as error:
-                if call_id is not None or not failed:
-                    send(answers, ("error", call_id, type(error).__name__, str(error)))
-                failed = failed or call_id is None
-                continue
-            if call_id is not None:
-                send(answers, ("ok", call_id, result))
 
 
 def main(argv: list[str]) -> int:
@@ -75,7 +163,7 @@ def main(argv: list[str]) -> int:
         return 1
     with store:
         send(answers, ("ready", store.recovered))
-        serve(store, requests, answers)
+        Writer(store, answers).serve(requests)
     return 0
 
 
