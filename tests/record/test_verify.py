@@ -46,9 +46,30 @@ def test_one_changed_frame_value_is_named(store: tuple[Path, dict[str, list[str]
         trial,
     )
     findings = verify_store(path)
-    assert _where(findings) == [(str(path), "frames", f"trial {trial} frame 4")]
+    assert _where(findings) == [
+        (str(path), "frames", f"trial {trial} frame 4"),
+        (str(path), "frame_blocks", f"trial {trial}"),  # q_arm_l_3 is a metric column
+    ]
     assert "checksum mismatch" in findings[0].problem
     assert str(findings[0]).startswith(f"{path}: frames trial {trial} frame 4: checksum")
+    assert findings[1].problem == "differs from the trial's frames"
+
+
+def test_a_changed_frame_block_is_named(store: tuple[Path, dict[str, list[str]]]) -> None:
+    path, ids = store
+    trial = ids["trials"][1]
+    _tamper(
+        path,
+        "UPDATE frame_blocks SET data = substr(data, 1, 80) || zeroblob(8) || "
+        "substr(data, 89) WHERE trial_id = ?",
+        trial,
+    )
+    findings = verify_store(path)
+    assert _where(findings) == [(str(path), "frame_blocks", f"trial {trial}")] * 2
+    assert [f.problem for f in findings] == [
+        "checksum mismatch: the block was changed after it was written",
+        "differs from the trial's frames",
+    ]
 
 
 def test_a_forged_frame_checksum_breaks_the_trial_aggregate(

@@ -137,13 +137,15 @@ def _turning_points(resid: npt.NDArray[np.float64]) -> tuple[IntArray, IntArray]
     """(row, column) of every turning point of the (joints, frames) residual, sorted by
     row then column; a zero step keeps the sign of the step before it."""
     k, m = resid.shape
-    sign = np.zeros((k, m))
-    np.sign(resid[:, 1:] - resid[:, :-1], out=sign[:, 1:])  # sign[:, j]: step j-1 -> j
-    last = np.where(sign != 0, np.arange(m), 0)
-    np.maximum.accumulate(last, axis=1, out=last)
-    last += np.arange(0, k * m, m)[:, None]
-    filled = sign.ravel()[last.ravel()].reshape(k, m)
-    rows, cols = np.nonzero(filled[:, 2:] * filled[:, 1:-1] < 0)
+    step = np.sign(resid[:, 1:] - resid[:, :-1])  # step[:, j]: j -> j + 1
+    if not step.all():  # zero steps: carry the sign of the step before
+        sign = np.zeros((k, m))
+        sign[:, 1:] = step
+        last = np.where(sign != 0, np.arange(m), 0)
+        np.maximum.accumulate(last, axis=1, out=last)
+        last += np.arange(0, k * m, m)[:, None]
+        step = sign.ravel()[last.ravel()].reshape(k, m)[:, 1:]
+    rows, cols = np.nonzero(step[:, 1:] * step[:, :-1] < 0)
     return rows, cols + 1  # a turn at residual column j + 1
 
 

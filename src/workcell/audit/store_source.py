@@ -1,8 +1,12 @@
 """Reading a store for an audit: one read-only snapshot, the needed frame columns only.
 
-Frames are read with one SELECT per trial of the 41 columns the metrics use, straight into
-a float matrix (NULL becomes NaN); the store's own :meth:`Store.frames` reads every column
-and rebuilds checksummed batches, which an audit does not need.
+A closed trial's frames are read from its frame block (:mod:`workcell.record.frame_blocks`:
+the 41 columns the metrics use, stored column by column when the trial closed, checked
+against the rows by ``workcell verify``) when the block holds as many frames as the trial
+row says; otherwise, and for every trial with ``use_blocks=False``, with one SELECT of those
+columns per trial, straight into a float matrix (NULL becomes NaN). The store's own
+:meth:`Store.frames` reads every column and rebuilds checksummed batches, which an audit
+does not need.
 """
 
 from __future__ import annotations
@@ -25,6 +29,7 @@ from workcell.audit.source import (
 )
 from workcell.metrics import FrameArrays
 from workcell.record.connection import connect
+from workcell.record.frame_blocks import BLOCK_COLUMNS, has_blocks, read_block
 from workcell.record.rowio import select
 from workcell.record.schema import ANNOTATIONS, SESSIONS, TRIALS, column_list
 
@@ -33,6 +38,9 @@ MMAP_BYTES = 1 << 30
 
 SESSION_ORDER = "created_wall, session_id"
 TRIAL_ORDER = "started_wall, trial_index"
+
+
+_MIDPOINT_IN_BLOCK = [BLOCK_COLUMNS.index(name) for name in MIDPOINT_COLUMNS]
 
 
 def _frames_sql(names: tuple[str, ...]) -> str:
@@ -44,11 +52,14 @@ class StoreSource:
 
     kind: Literal["store"] = "store"
 
-    def __init__(self, path: Path) -> None:
+    def __init__(self, path: Path, *, use_blocks: bool = True) -> None:
         self.path = path
         self._conn = connect(path, writer=False)
         self._conn.execute(f"PRAGMA mmap_size = {MMAP_BYTES}")
         self._conn.execute("BEGIN")  # the snapshot every read below sees
+        self._use_blocks = use_blocks and has_blocks(self._conn)
+        self.read_from_blocks = 0
+        """Trials whose frames came from their frame block (the others from rows)."""
 
     def sessions(self) -> list[SessionRow]:
         return [
@@ -67,18 +78,34 @@ class StoreSource:
 
     def frames(self) -> Iterator[tuple[str, FrameArrays]]:
         sql = _frames_sql(FRAME_COLUMNS_READ)
-        ids = [
-            r[0] for r in self._conn.execute(f"SELECT trial_id FROM trials ORDER BY {TRIAL_ORDER}")
-        ]
-        for trial_id in ids:
-            yield trial_id, frame_arrays(self._matrix(sql, trial_id, len(FRAME_COLUMNS_READ)))
+        trials = self._conn.execute(f"SELECT trial_id, n_frames FROM trials ORDER BY {TRIAL_ORDER}")
+        for trial_id, n_frames in trials.fetchall():
+            matrix = self._block(trial_id, n_frames)
+            if matrix is None:
+                matrix = self._matrix(sql, trial_id, len(FRAME_COLUMNS_READ))
+            yield trial_id, frame_arrays(matrix)
 
     def midpoints(self, trial_ids: Collection[str]) -> dict[str, FloatArray]:
         sql = _frames_sql(MIDPOINT_COLUMNS)
-        return {
-            trial_id: midpoint_xy(self._matrix(sql, trial_id, len(MIDPOINT_COLUMNS)))
-            for trial_id in trial_ids
-        }
+        n_frames = dict(self._conn.execute("SELECT trial_id, n_frames FROM trials").fetchall())
+        out = {}
+        for trial_id in trial_ids:
+            block = self._block(trial_id, n_frames.get(trial_id), count=False)
+            if block is not None:
+                out[trial_id] = midpoint_xy(block[:, _MIDPOINT_IN_BLOCK])
+            else:
+                out[trial_id] = midpoint_xy(self._matrix(sql, trial_id, len(MIDPOINT_COLUMNS)))
+        return out
+
+    def _block(
+        self, trial_id: str, n_frames: int | None, *, count: bool = True
+    ) -> FloatArray | None:
+        if not self._use_blocks or n_frames is None:
+            return None
+        block = read_block(self._conn, trial_id, n_frames)
+        if block is not None and count:
+            self.read_from_blocks += 1
+        return block
 
     def close(self) -> None:
         self._conn.close()

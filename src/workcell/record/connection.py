@@ -17,6 +17,7 @@ from pathlib import Path
 
 from workcell import __version__
 from workcell.record.errors import StoreError
+from workcell.record.frame_blocks import FRAME_BLOCKS_SQL
 from workcell.record.ids import new_id
 from workcell.record.schema import (
     APPLICATION_ID,
@@ -142,6 +143,8 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
     missing = sorted({"meta", *(layout.name for layout in LAYOUTS)} - tables)
     if missing:
         raise StoreError(f"store {path} lacks tables {', '.join(missing)}; it was altered")
+    if writer and "frame_blocks" not in tables:  # a store from before frame blocks
+        conn.execute(FRAME_BLOCKS_SQL)
 
 
 def _create(conn: sqlite3.Connection) -> None:

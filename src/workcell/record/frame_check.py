@@ -7,9 +7,11 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 
 import numpy as np
+from numpy.typing import NDArray
 
 from workcell.record import rowio
 from workcell.record.findings import frames_label
+from workcell.record.frame_blocks import BLOCK_COLUMNS, block_problems, has_blocks
 from workcell.record.schema import FRAMES
 
 Report = Callable[[str, str, str], None]
@@ -19,6 +21,7 @@ _REAL = FRAMES.of_kind("real")
 _INTEGER = FRAMES.of_kind("integer")
 _T_SIM, _T_WALL = _REAL.index("t_sim"), _REAL.index("t_wall")
 _INDEX = _INTEGER.index("frame_index")
+_BLOCK = np.array([_REAL.index(name) for name in BLOCK_COLUMNS])
 _REAL_NULLABLE = np.array([FRAMES.column(c).nullable for c in _REAL], dtype=bool)
 _INTEGER_NULLABLE = [FRAMES.column(c).nullable for c in _INTEGER]
 
@@ -35,9 +38,11 @@ class _Problems:
 
 
 def check_trial_frames(conn: sqlite3.Connection, trial_id: str, report: Report) -> int:
-    """Check the trial's frames in frame_index order; report problems, each naming the
-    frames it concerns; return how many frames are stored."""
+    """Check the trial's frames in frame_index order, and its frame block against them;
+    report problems, each naming the frames it concerns; return how many frames are
+    stored."""
     problems = _Problems()
+    block_columns: list[NDArray[np.float64]] = []
     count = 0
     last_sim, last_wall = -np.inf, -np.inf
     for batch, stored, keys in rowio.select_grouped(
@@ -57,6 +62,7 @@ def check_trial_frames(conn: sqlite3.Connection, trial_id: str, report: Report) 
         count += len(batch)
 
         real = batch.real
+        block_columns.append(real[:, _BLOCK])
         t_sim = np.concatenate([[last_sim], real[:, _T_SIM]])
         t_wall = np.concatenate([[last_wall], real[:, _T_WALL]])
         problems.add(
@@ -89,4 +95,8 @@ def check_trial_frames(conn: sqlite3.Connection, trial_id: str, report: Report) 
                 )
     for problem, where in problems.by_problem.items():
         report("frames", frames_label(trial_id, where), problem)
+    if has_blocks(conn):
+        matrix = np.concatenate(block_columns) if block_columns else np.zeros((0, len(_BLOCK)))
+        for problem in block_problems(conn, trial_id, matrix):
+            report("frame_blocks", f"trial {trial_id}", problem)
     return count

@@ -108,6 +108,10 @@ def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
         try:
             for table in TABLE_ORDER:
                 conn.execute(f"INSERT INTO main.{table} SELECT * FROM shard.{table}")
+            if conn.execute(
+                "SELECT 1 FROM shard.sqlite_schema WHERE type = 'table' AND name = 'frame_blocks'"
+            ).fetchone():
+                conn.execute("INSERT INTO main.frame_blocks SELECT * FROM shard.frame_blocks")
             conn.execute("COMMIT")
         except sqlite3.Error as error:
             conn.execute("ROLLBACK")

@@ -20,6 +20,7 @@ from workcell.record.columns import (
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
 )
+from workcell.record.frame_blocks import FRAME_BLOCKS_SQL
 
 SCHEMA_VERSION = 1
 APPLICATION_ID = 0x57434C31
@@ -269,6 +270,7 @@ def schema_statements() -> tuple[str, ...]:
         META_TABLE_SQL,
         *(create_table_sql(layout) for layout in LAYOUTS),
         *INDEXES,
+        FRAME_BLOCKS_SQL,
         f"PRAGMA application_id = {APPLICATION_ID}",
         f"PRAGMA user_version = {SCHEMA_VERSION}",
     )

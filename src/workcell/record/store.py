@@ -38,6 +38,7 @@ from workcell.record.batch import Columnar, RowBatch
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
 from workcell.record.errors import RecordError, StoreError
+from workcell.record.frame_blocks import write_block
 from workcell.record.frame_capture import CapturedFrames
 from workcell.record.frame_format import FrameFormatter
 from workcell.record.ids import new_id
@@ -324,6 +325,7 @@ class Store(StoreReading):
         }
         with self._write() as conn:
             lifecycle.close_trial(conn, trial_id, changes)
+            write_block(conn, trial_id, trial.metric_matrix())
         self._forget_trial(trial_id, trial)
 
     def end_session(self, session_id: str, status: str = "completed") -> None:
