@@ -71,6 +71,9 @@ def test_bad_input_is_one_line(tmp_path: Path, store: tuple[Path, list[str]]) ->
     )
     with pytest.raises(ConfigError, match="trajectories = 0"):
         _run(["audit", "--store", str(path), "--out", out, "--trajectories", "0"])
+    assert "'0': must be a whole number of processes >= 1" in _one_line_error(
+        ["audit", "--store", str(path), "--out", out, "--workers", "0"]
+    )
     base = ["annotate", "--store", str(path), "--reason", "r", "--by", "me"]
     assert "no such trial" in _one_line_error([*base, "--trial", "nope", "--exclude"])
     assert "is interrupted" in _one_line_error([*base, "--trial", ids[3], "--include"])
@@ -91,6 +94,19 @@ def test_bad_input_is_one_line(tmp_path: Path, store: tuple[Path, list[str]]) ->
     )
     assert not (tmp_path / "out").exists()
     assert EXIT_USAGE == 2  # what main() returns for every WorkcellError
+
+
+def test_workers_and_frame_rows_change_nothing_in_the_report(
+    store: tuple[Path, list[str]], tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path, _ = store
+    assert _run(["audit", "--store", str(path), "--out", str(tmp_path / "a")]) == 0
+    argv = ["audit", "--store", str(path), "--out", str(tmp_path / "b"), "--workers", "2"]
+    assert _run([*argv, "--from-rows"]) == 0
+    first, second = capsys.readouterr().out.splitlines()[0::2]
+    assert first == second
+    for name in ("summary.json", "trials.csv"):
+        assert (tmp_path / "a" / name).read_text() == (tmp_path / "b" / name).read_text()
 
 
 def test_annotate_then_audit_shows_the_reviewer(

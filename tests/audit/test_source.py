@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
+import sqlite3
 from pathlib import Path
 
 import numpy as np
@@ -11,6 +12,8 @@ import pytest
 from tests.audit import synthetic
 from workcell.audit.csv_source import CsvSource
 from workcell.audit.errors import AuditError
+from workcell.audit.parallel import shares, worker_count
+from workcell.audit.run import run_audit
 from workcell.audit.source import FRAME_COLUMNS_READ, frame_arrays
 from workcell.audit.store_source import StoreSource
 from workcell.metrics import FrameArrays
@@ -63,3 +66,49 @@ def test_an_export_whose_trials_are_interleaved_is_refused(tmp_path: Path) -> No
 def test_a_folder_that_is_not_an_export_is_refused(tmp_path: Path) -> None:
     with pytest.raises(AuditError, match=r"holds no manifest\.json"):
         CsvSource(tmp_path)
+
+
+def test_frame_blocks_rows_and_workers_give_the_same_audit(tmp_path: Path) -> None:
+    store = tmp_path / "s.sqlite"
+    ids = synthetic.fill(store, ["success", "timeout", "success", "interrupted"] * 3)
+    with sqlite3.connect(store) as conn:  # one trial as from a store before frame blocks
+        conn.execute("DELETE FROM frame_blocks WHERE trial_id = ?", (ids[1],))
+    audits = []
+    for use_blocks, workers in ((True, 1), (False, 1), (True, 3)):
+        source = StoreSource(store, use_blocks=use_blocks)
+        try:
+            audits.append(run_audit(source, workers=workers))
+            if workers == 1:
+                assert source.read_from_blocks == (len(ids) - 1 if use_blocks else 0)
+        finally:
+            source.close()
+    blocks, rows, parallel = audits
+    assert blocks.trials == rows.trials == parallel.trials
+    assert blocks.findings == rows.findings == parallel.findings
+    assert blocks.frames_read == rows.frames_read == parallel.frames_read == 40 * len(ids)
+    assert list(blocks.trajectories) == list(rows.trajectories)
+    for trial_id, path in blocks.trajectories.items():
+        assert np.array_equal(path, rows.trajectories[trial_id])
+
+
+def test_a_block_that_disagrees_with_its_trial_row_is_not_read(tmp_path: Path) -> None:
+    store = tmp_path / "s.sqlite"
+    ids = synthetic.fill(store, ["success", "success"], n_frames=30)
+    with sqlite3.connect(store) as conn:  # a block of other frames than the trial's
+        conn.execute("UPDATE frame_blocks SET n_frames = 29 WHERE trial_id = ?", (ids[0],))
+    source = StoreSource(store)
+    try:
+        frames = dict(source.frames())
+        assert source.read_from_blocks == 1
+        assert len(frames[ids[0]]) == 30  # read from the rows
+    finally:
+        source.close()
+
+
+def test_parallel_shares_cover_every_trial_in_order() -> None:
+    rows = [f"t{i}" for i in range(10)]
+    sizes = [5, 100, 1, 1, 1, 50, 50, 0, 3, 9]
+    cut = shares(rows, sizes, 4)
+    assert [r for share in cut for r in share] == rows
+    assert 2 <= len(cut) <= 4
+    assert worker_count(3, 10) == 3 and worker_count(None, 10) == 1

@@ -58,10 +58,14 @@ def test_one_changed_frame_value_is_named(store: tuple[Path, dict[str, list[str]
 def test_a_changed_frame_block_is_named(store: tuple[Path, dict[str, list[str]]]) -> None:
     path, ids = store
     trial = ids["trials"][1]
+    with sqlite3.connect(path) as conn:
+        (data,) = conn.execute(
+            "SELECT data FROM frame_blocks WHERE trial_id = ?", (trial,)
+        ).fetchone()
     _tamper(
         path,
-        "UPDATE frame_blocks SET data = substr(data, 1, 80) || zeroblob(8) || "
-        "substr(data, 89) WHERE trial_id = ?",
+        "UPDATE frame_blocks SET data = ? WHERE trial_id = ?",
+        data[:80] + bytes(8) + data[88:],  # one value of the first column set to 0.0
         trial,
     )
     findings = verify_store(path)
@@ -87,7 +91,10 @@ def test_a_forged_frame_checksum_breaks_the_trial_aggregate(
         trial,
     )
     findings = verify_store(path)
-    assert _where(findings) == [(str(path), "trials", f"trial {trial}")]
+    assert _where(findings) == [
+        (str(path), "trials", f"trial {trial}"),
+        (str(path), "frame_blocks", f"trial {trial}"),  # grip_l is a metric column
+    ]
     assert "aggregate checksum mismatch" in findings[0].problem
 
 
@@ -100,6 +107,7 @@ def test_a_deleted_frame_is_found(store: tuple[Path, dict[str, list[str]]]) -> N
         ("frames", f"trial {trial} frame 4", "frame_index out of sequence"),
         ("trials", f"trial {trial}", "n_frames is 7 but 6 frames are stored"),
         ("trials", f"trial {trial}", "aggregate checksum mismatch"),
+        ("frame_blocks", f"trial {trial}", "differs from the trial's frames"),
     }
 
 

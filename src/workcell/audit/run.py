@@ -12,8 +12,16 @@ from workcell.audit.disposition import latest_decisions
 from workcell.audit.errors import AuditError
 from workcell.audit.findings import SESSION, SOURCE, Finding, trial_findings
 from workcell.audit.oscillation import OscillationCriteria
+from workcell.audit.parallel import (
+    CHUNKS_PER_WORKER,
+    StoreJob,
+    audit_in_workers,
+    shares,
+    worker_count,
+)
 from workcell.audit.rows import Annotation, SessionRow, TrialRow
 from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray, frame_arrays
+from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit, audit_trial
 from workcell.metrics import FrameArrays
 
@@ -51,7 +59,7 @@ def _start_aligned(xy: FloatArray) -> FloatArray:
     return xy - xy[finite[0]] if len(finite) else xy
 
 
-class _Auditor:
+class TrialAuditor:
     """Audits trials one by one with their session's thresholds, rate and reviews."""
 
     def __init__(
@@ -82,12 +90,18 @@ class _Auditor:
 
 
 def run_audit(
-    source: AuditSource, config: AuditConfig | None = None, progress: Progress | None = None
+    source: AuditSource,
+    config: AuditConfig | None = None,
+    progress: Progress | None = None,
+    workers: int | None = 1,
 ) -> AuditResult:
-    """Audit every trial of ``source``, reading one trial's frames at a time."""
+    """Audit every trial of ``source``, reading one trial's frames at a time.
+
+    A store's closed trials are audited by ``workers`` processes (None: one per core when
+    there are enough frames to gain from it, see :mod:`workcell.audit.parallel`)."""
     config = config or AuditConfig()
     annotations = tuple(source.annotations())
-    auditor = _Auditor(source.sessions(), annotations, config)
+    auditor = TrialAuditor(source.sessions(), annotations, config)
     rows = {row.trial_id: row for row in source.trials()}
     for trial_row in rows.values():
         if trial_row.session_id not in auditor.sessions:
@@ -98,7 +112,33 @@ def run_audit(
     findings: list[Finding] = []
     done: dict[str, TrialAudit] = {}
     frames_read = 0
-    for trial_id, frames in source.frames():
+
+    def tick() -> None:
+        if progress is not None:
+            progress(len(done), len(rows), frames_read)
+
+    pairs = source.frames()
+    if isinstance(source, StoreSource):
+        closed = [row for row in rows.values() if row.outcome is not None]
+        sizes = [int(row.stored.get("n_frames") or 0) for row in closed]
+        count = worker_count(workers, sum(sizes))
+        if count > 1:
+            job = StoreJob(
+                source.path,
+                source.use_blocks,
+                tuple(auditor.sessions.values()),
+                annotations,
+                config,
+            )
+            for _, results in audit_in_workers(
+                job, shares(closed, sizes, count * CHUNKS_PER_WORKER), count
+            ):
+                for audit, n in results:
+                    done[audit.trial_id] = audit
+                    frames_read += n
+                tick()
+            pairs = source.frames_of([t for t in rows if t not in done])  # running trials
+    for trial_id, frames in pairs:
         row = rows.get(trial_id)
         if row is None:
             message = f"{len(frames)} frames of trial {trial_id}, which no trial row holds"
@@ -106,8 +146,7 @@ def run_audit(
             continue
         done[trial_id] = auditor.audit(row, frames)
         frames_read += len(frames)
-        if progress is not None:
-            progress(len(done), len(rows), frames_read)
+        tick()
     empty = frame_arrays(np.empty((0, len(FRAME_COLUMNS_READ))))
     for trial_id, row in rows.items():
         if trial_id not in done:

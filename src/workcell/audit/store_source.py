@@ -57,7 +57,8 @@ class StoreSource:
         self._conn = connect(path, writer=False)
         self._conn.execute(f"PRAGMA mmap_size = {MMAP_BYTES}")
         self._conn.execute("BEGIN")  # the snapshot every read below sees
-        self._use_blocks = use_blocks and has_blocks(self._conn)
+        self.use_blocks = use_blocks and has_blocks(self._conn)
+        """Whether frames are read from frame blocks where they agree with the trial row."""
         self.read_from_blocks = 0
         """Trials whose frames came from their frame block (the others from rows)."""
 
@@ -77,10 +78,15 @@ class StoreSource:
         return [Annotation.parse(row) for row in rows]
 
     def frames(self) -> Iterator[tuple[str, FrameArrays]]:
+        trials = self._conn.execute(f"SELECT trial_id FROM trials ORDER BY {TRIAL_ORDER}")
+        return self.frames_of([trial_id for (trial_id,) in trials.fetchall()])
+
+    def frames_of(self, trial_ids: Collection[str]) -> Iterator[tuple[str, FrameArrays]]:
+        """(trial_id, frames) of the given trials, in the order given."""
         sql = _frames_sql(FRAME_COLUMNS_READ)
-        trials = self._conn.execute(f"SELECT trial_id, n_frames FROM trials ORDER BY {TRIAL_ORDER}")
-        for trial_id, n_frames in trials.fetchall():
-            matrix = self._block(trial_id, n_frames)
+        n_frames = dict(self._conn.execute("SELECT trial_id, n_frames FROM trials").fetchall())
+        for trial_id in trial_ids:
+            matrix = self._block(trial_id, n_frames.get(trial_id))
             if matrix is None:
                 matrix = self._matrix(sql, trial_id, len(FRAME_COLUMNS_READ))
             yield trial_id, frame_arrays(matrix)
@@ -100,7 +106,7 @@ class StoreSource:
     def _block(
         self, trial_id: str, n_frames: int | None, *, count: bool = True
     ) -> FloatArray | None:
-        if not self._use_blocks or n_frames is None:
+        if not self.use_blocks or n_frames is None:
             return None
         block = read_block(self._conn, trial_id, n_frames)
         if block is not None and count:

@@ -44,7 +44,30 @@ def register(subparsers: Subparsers) -> None:
         metavar="N",
         help="successful trials drawn in the trajectory figure (default: 30)",
     )
+    parser.add_argument(
+        "--workers",
+        type=_workers,
+        default=None,
+        metavar="N",
+        help="processes auditing a store's trials (default: one per core for large stores)",
+    )
+    parser.add_argument(
+        "--from-rows",
+        action="store_true",
+        help="read a store's frames from the frame rows, not from the per-trial frame "
+        "blocks (slower; the same result when 'workcell verify' passes)",
+    )
     parser.set_defaults(func=run)
+
+
+def _workers(text: str) -> int:
+    try:
+        value = int(text)
+    except ValueError:
+        value = 0
+    if value < 1:
+        raise argparse.ArgumentTypeError(f"{text!r}: must be a whole number of processes >= 1")
+    return value
 
 
 class _Progress:
@@ -70,9 +93,13 @@ def run(args: argparse.Namespace) -> int:
 
     config = AuditConfig(trajectories=args.trajectories)
     check_output(args.out, args.force)
-    source: AuditSource = StoreSource(args.store) if args.store else CsvSource(args.csv)
+    source: AuditSource = (
+        StoreSource(args.store, use_blocks=not args.from_rows)
+        if args.store
+        else CsvSource(args.csv)
+    )
     try:
-        result = run_audit(source, config, _Progress())
+        result = run_audit(source, config, _Progress(), workers=args.workers)
     finally:
         source.close()
     paths = write_outputs(result, args.out)
