@@ -91,7 +91,7 @@ class FrameRing:
             row = self._rows[published % self.capacity]
             row[0] = trial_number
             row[1:-1] = values
-            row[-1] = zlib.crc32(row[:-1].tobytes())
+            row[-1] = zlib.crc32(row[:-1])
             published += 1
             self._counts[_PUBLISHED // 8] = published
 
@@ -109,7 +109,7 @@ class FrameRing:
         position = start
         while position < end:
             row = self._rows[position % self.capacity]
-            if row[-1] != zlib.crc32(row[:-1].tobytes()):
+            if row[-1] != zlib.crc32(row[:-1]):
                 break  # not completely visible yet
             number = int(row[0])
             if number >= trials_known:

@@ -155,7 +155,7 @@ class StoreProcess:
         try:
             self._ring.publish(number, frames.rows, alive=self._writer_alive)
         except BrokenPipeError:
-            raise self._died() from None
+            raise self._failure or self._died() from None
         return len(frames)
 
     def commit(self) -> None:
@@ -270,7 +270,8 @@ class StoreProcess:
         self._ring, self._ring_layout = ring, layout
 
     def _writer_alive(self) -> bool:
-        return self._process.poll() is None
+        """Whether the writer may still free ring space (running, and not failed)."""
+        return self._failure is None and self._process.poll() is None
 
     def _read_answers(self) -> None:
         """The reader thread: answers to waiting calls, failures of the others."""

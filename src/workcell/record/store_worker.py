@@ -31,6 +31,7 @@ import time
 from typing import IO, Any
 
 from workcell.errors import WorkcellError
+from workcell.record.errors import StorageError
 from workcell.record.frame_capture import CapturedFrames, FrameLayout
 from workcell.record.frame_ring import FrameRing
 from workcell.record.pipe_messages import receive, send
@@ -40,6 +41,8 @@ POLL_S = 0.002
 """How often the ring is polled for new frames when no call arrives."""
 WAIT_S = 0.0005
 """How long to wait for a frame published but not yet completely visible."""
+INCOMPLETE_LIMIT_S = 10.0
+"""A frame still incomplete after this long means the ring is damaged."""
 
 STORE_CALLS = frozenset(
     {
@@ -109,6 +112,7 @@ class Writer:
         ring, layout = self.ring, self.layout
         if ring is None or layout is None:
             return
+        deadline = time.monotonic() + INCOMPLETE_LIMIT_S
         while True:
             for number, rows in ring.take(upto, trials_known=len(self.trials)):
                 if self.failed:
@@ -121,6 +125,16 @@ class Writer:
                 except WorkcellError as error:
                     self.report(None, error)
             if upto is None or ring.consumed >= upto:
+                return
+            if time.monotonic() > deadline:
+                self.report(
+                    None,
+                    StorageError(
+                        f"store {self.store.path}: frame {ring.consumed} in the frame ring "
+                        "stayed incomplete; recording stopped"
+                    ),
+                )
+                self.ring = None  # nothing more is read from it
                 return
             time.sleep(WAIT_S)
 
