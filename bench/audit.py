@@ -274,7 +274,8 @@ def main() -> None:
     print(f"audit read, frame blocks                   : {rate(n, t_blocks)}")
     print(f"recompute only (metrics + detectors)       : {rate(n_compute, t_compute)}")
     print(f"audit end to end, one process (CPU time)   : {rate(n, t_audit)}")
-    print(f"audit end to end, {workers} processes (wall)     : {rate(n, t_parallel)}")
+    label = f"audit end to end, {workers} processes (wall)"
+    print(f"{label:43s}: {rate(n, t_parallel)}")
     print(f"end to end / plain read, one process       : {t_plain / t_audit:12.2f}x")
     target = "end to end / 1,000,000 frames/s target"
     print(f"{target}     : {n / t_audit / 1e6:12.2f} one process")
