@@ -63,6 +63,10 @@ def test_the_writer_process_records_what_the_store_records_in_process(tmp_path: 
                 else:
                     np.testing.assert_array_equal(fa[name], fb[name], err_msg=name)
         assert [e.kind for e in a.events()] == [e.kind for e in b.events()]
+        for trial in trials_b:  # events are stamped when they happen, not when written
+            (started,) = [e for e in b.events(trial.trial_id) if e.kind == "trial_started"]
+            first_frame_wall = float(b.frames(trial.trial_id)["t_wall"][0])
+            assert started.t_wall <= first_frame_wall
 
 
 def _capture(n: int = 5) -> FrameCapture:

@@ -28,6 +28,7 @@ import queue
 import subprocess
 import sys
 import threading
+import time
 from collections.abc import Mapping
 from pathlib import Path
 from types import TracebackType
@@ -118,10 +119,11 @@ class StoreProcess:
         return str(self._call("create_session", info))
 
     def start_trial(self, session_id: str, start: TrialStart) -> str:
-        """Sent with the next commit; the trial id is made here."""
+        """Sent at once, not waited for; the trial id is made here."""
         trial_id = new_id()
         self._queue("start_trial", (session_id, start), {"trial_id": trial_id})
         self._trial_numbers[trial_id] = len(self._trial_numbers)
+        self._send_pending()  # its started_wall is now
         return trial_id
 
     def add_event(
@@ -134,7 +136,8 @@ class StoreProcess:
         t_sim: float | None = None,
         t_wall: float | None = None,
     ) -> None:
-        """Sent with the next commit (the event id is not returned)."""
+        """Sent with the next commit, stamped now (the event id is not returned)."""
+        t_wall = time.time() if t_wall is None else t_wall
         keywords = {"trial_id": trial_id, "t_sim": t_sim, "t_wall": t_wall}
         self._queue("add_event", (session_id, kind, payload), keywords)
 
