@@ -16,8 +16,7 @@ from workcell.errors import ConfigError
 if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
     from workcell.record.media import CameraOptions
-    from workcell.record.recorder import Recorder
-    from workcell.record.store_process import StoreProcess
+    from workcell.record.recorder import Recorder, RecordingStore
     from workcell.task.runner import SessionRunner, TrialResult
 
 EXIT_INTERRUPTED = 130
@@ -67,6 +66,13 @@ def register(subparsers: Subparsers) -> None:
     )
     parser.add_argument(
         "--no-store", action="store_true", help="do not record (only print the trials)"
+    )
+    parser.add_argument(
+        "--writer",
+        choices=("process", "inline"),
+        default="process",
+        help="who writes the store: a writer process on another core (default), or this "
+        "process (what --workers uses, as its workers fill the cores already)",
     )
     parser.add_argument(
         "--cameras",
@@ -145,8 +151,8 @@ def run(args: argparse.Namespace) -> int:
         ExpertOperator(ExpertConfig(skill=args.skill)),
         max_trials=args.trials,
     )
-    with _open_store(None if args.no_store else args.store) as store:
-        recorder = _recorder(store, runner, cameras)
+    with _open_store(None if args.no_store else args.store, args.writer) as store:
+        recorder = _recorder(store, args.store, runner, cameras)
         printer = _Printer(args.json)
         printer.header()
         runner.start()
@@ -171,23 +177,28 @@ def run(args: argparse.Namespace) -> int:
             print(f"workcell: error: {recorder.failure}", file=sys.stderr)
             return EXIT_STORAGE
         if store is not None and recorder is not None:
-            printer.stored(store, recorder)
+            printer.stored(args.store, recorder)
     return EXIT_INTERRUPTED if shutdown.requested is not None else 0
 
 
 @contextlib.contextmanager
-def _open_store(path: Path | None) -> Iterator[StoreProcess | None]:
+def _open_store(path: Path | None, writer: str) -> Iterator[RecordingStore | None]:
     if path is None:
         yield None
         return
+    from workcell.record.store import Store  # noqa: PLC0415
     from workcell.record.store_process import StoreProcess  # noqa: PLC0415
 
-    with StoreProcess.open(path) as store:  # written on another core
+    opened = StoreProcess.open(path) if writer == "process" else Store.open(path, writer=True)
+    with opened as store:
         yield store
 
 
 def _recorder(
-    store: StoreProcess | None, runner: SessionRunner, cameras: CameraOptions | None
+    store: RecordingStore | None,
+    path: Path,
+    runner: SessionRunner,
+    cameras: CameraOptions | None,
 ) -> Recorder | None:
     if store is None:
         return None
@@ -198,7 +209,7 @@ def _recorder(
     if cameras is not None:
         rate = runner.config.recording.sampling_rate_hz
         model = runner.sim.world.model
-        media = MediaRecorder(model, cameras, media_dir_for(store.path), rate)
+        media = MediaRecorder(model, cameras, media_dir_for(path), rate)
     return Recorder(store, runner, media=media)
 
 
@@ -252,10 +263,9 @@ class _Printer:
         cells = (str(v).rjust(w) for v, w in zip(values, WIDTHS, strict=True))
         print("  ".join(cells), flush=True)
 
-    def stored(self, store: StoreProcess, recorder: Recorder) -> None:
+    def stored(self, path: Path, recorder: Recorder) -> None:
         print(
-            f"recorded session {recorder.session_id} ({recorder.frames_written} frames) "
-            f"in {store.path}",
+            f"recorded session {recorder.session_id} ({recorder.frames_written} frames) in {path}",
             file=sys.stderr if self.as_json else sys.stdout,
         )
 

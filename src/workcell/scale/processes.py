@@ -27,7 +27,8 @@ class WorkerExit:
 
 
 def worker_command(plan: WorkerPlan, common: Sequence[str]) -> list[str]:
-    command = [sys.executable, "-m", "workcell", "collect", "--json", *common]
+    # the workers fill the cores: each writes its shard itself, not through a writer process
+    command = [sys.executable, "-m", "workcell", "collect", "--json", "--writer", "inline", *common]
     command += ["--store", str(plan.shard), "--seed", str(plan.seed)]
     if plan.trials is not None:
         command += ["--trials", str(plan.trials)]

@@ -40,7 +40,7 @@ def _collect_in_task(argv: list[str]) -> tuple[int, list[dict[str, Any]], bytes,
 
 
 def task_arguments(plan: WorkerPlan, common: Sequence[str]) -> list[str]:
-    argv = ["collect", "--json", *common, "--seed", str(plan.seed)]
+    argv = ["collect", "--json", "--writer", "inline", *common, "--seed", str(plan.seed)]
     if plan.trials is not None:
         argv += ["--trials", str(plan.trials)]
     return argv
