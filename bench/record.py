@@ -28,8 +28,8 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
 from workcell.record.frame_capture import FrameCapture, input_from_command
-from workcell.record.recorder import Recorder, RecordingStore, session_info
-from workcell.record.records import TrialStart
+from workcell.record.recorder import Recorder, session_info
+from workcell.record.records import TrialEnd, TrialStart
 from workcell.record.store import Store
 from workcell.record.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
@@ -67,28 +67,26 @@ def session(config: SessionConfig, variant: str, path: Path) -> tuple[float, int
 
 def durable_rate(folder: Path, config: SessionConfig, variant: str, batches: int) -> float:
     """Captured frames per second through add_captured_frames + commit, 5 a batch, until
-    the writer has committed them all."""
+    the writer has committed them all (end_session waits for everything before it)."""
     sim = Simulation(config.world)
     sim.reset(0)
     capture = FrameCapture(sim.world, sim.controller, capacity=5)
     command = Command()
-    batch = []
     for k in range(5):
         capture.capture(command, input_from_command(command), t_sim=k / 20, step_wall_ms=1.0)
-    batch.append(capture.take())
-    store: RecordingStore | None = open_store(variant, folder / f"durable-{variant}.sqlite")
+    frames = capture.take()
+    store = open_store(variant, folder / f"durable-{variant}.sqlite")
     assert store is not None
-    session_id = store.create_session(session_info(config))
-    trial_id = store.start_trial(session_id, TrialStart("collection", 1, 120.0))
-    start = time.perf_counter()
-    for _ in range(batches):
-        store.add_captured_frames(trial_id, batch[0])
-        store.commit()
-    store.try_mark_interrupted(trial_id, "operator_stop")  # waits for everything before it
-    elapsed = time.perf_counter() - start
-    if isinstance(store, StoreProcess | Store):  # what open_store returns
-        store.close()
-    return batches * 5 / elapsed
+    with store:
+        session_id = store.create_session(session_info(config))
+        trial_id = store.start_trial(session_id, TrialStart("collection", 1, 120.0))
+        start = time.perf_counter()
+        for _ in range(batches):
+            store.add_captured_frames(trial_id, frames)
+            store.commit()
+        store.end_trial(trial_id, TrialEnd("interrupted", 0.0, 0, 0, "operator_stop"))
+        store.end_session(session_id, "interrupted")
+        return batches * 5 / (time.perf_counter() - start)
 
 
 def writer_startup_cpu(folder: Path) -> float:
