@@ -1,0 +1,64 @@
+"""The shared-memory frame ring between a recording process and its writer."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from workcell.record.frame_ring import FrameRing
+
+
+def _rows(start: int, n: int, width: int = 4) -> np.ndarray:
+    return np.arange(start * width, (start + n) * width, dtype=np.float64).reshape(n, width)
+
+
+def test_rows_come_out_in_order_by_trial_and_free_their_space() -> None:
+    writer_side = FrameRing.create(width=4, capacity=8)
+    try:
+        reader_side = FrameRing.attach(writer_side.path, width=4, capacity=8)
+        writer_side.publish(0, _rows(0, 3), alive=lambda: True)
+        writer_side.publish(1, _rows(3, 2), alive=lambda: True)
+        # trial 1's start has not arrived: its rows wait
+        [(number, rows)] = reader_side.take(trials_known=1)
+        assert number == 0 and np.array_equal(rows, _rows(0, 3))
+        assert reader_side.consumed == 3 and writer_side.published == 5
+        [(number, rows)] = reader_side.take(trials_known=2)
+        assert number == 1 and np.array_equal(rows, _rows(3, 2))
+        # wrapping around the end of the ring
+        writer_side.publish(1, _rows(5, 6), alive=lambda: True)
+        [(_, rows)] = reader_side.take(upto=8, trials_known=2)
+        assert np.array_equal(rows, _rows(5, 3)) and reader_side.consumed == 8
+        reader_side.close()
+    finally:
+        writer_side.unlink()
+        writer_side.close()
+
+
+def test_an_incomplete_row_is_not_taken() -> None:
+    writer_side = FrameRing.create(width=4, capacity=8)
+    try:
+        writer_side.publish(0, _rows(0, 2), alive=lambda: True)
+        writer_side._rows[1, 2] = -1.0  # as if the row's values were not all visible yet
+        taken = writer_side.take(trials_known=1)
+        assert [len(rows) for _, rows in taken] == [1]
+        assert writer_side.consumed == 1
+    finally:
+        writer_side.unlink()
+        writer_side.close()
+
+
+def test_a_full_ring_waits_for_the_writer_and_stops_when_it_is_gone() -> None:
+    ring = FrameRing.create(width=4, capacity=4)
+    calls = []
+
+    def alive() -> bool:
+        calls.append(1)
+        return len(calls) < 3
+
+    try:
+        with pytest.raises(BrokenPipeError):
+            ring.publish(0, _rows(0, 6), alive=alive)
+        assert ring.published == 4 and len(calls) == 3  # it waited, then gave up
+    finally:
+        ring.unlink()
+        ring.close()
