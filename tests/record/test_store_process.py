@@ -155,7 +155,7 @@ RECORDER_SCRIPT = textwrap.dedent(
     for batch in range(int(sys.argv[2])):
         store.add_captured_frames(trial_id, _frames(capture, 5 * batch))
         store.commit()
-    print(store.pid, flush=True)
+    print(store._ring.path, flush=True)  # removed already; the writer removes it too
     os.kill(os.getpid(), signal.SIGKILL)
     """
 )
@@ -173,9 +173,20 @@ def test_what_was_sent_survives_the_death_of_the_recording_process(tmp_path: Pat
         check=False,
     )
     assert result.returncode == -signal.SIGKILL, result.stderr
+    assert not Path(result.stdout.strip()).exists()
     with Store.open(path, writer=True) as store:  # waits for the writer to finish
         (trial,) = store.trials()
         assert store.recovered == (trial.trial_id,)
         assert trial.n_frames == 5 * batches  # every batch sent was written
         assert (trial.outcome, trial.interruption_reason) == ("interrupted", "crash_recovered")
     assert verify_store(path) == []
+
+
+def test_the_writer_removes_its_ring_file_when_the_recorder_could_not(tmp_path: Path) -> None:
+    layout = _capture().layout
+    store = StoreProcess.open(tmp_path / "s.sqlite")
+    # as if the recording process died between the writer making the ring and mapping it
+    ring_path = Path(store._call("create_ring", layout, 8))
+    assert ring_path.exists()
+    store.close()
+    assert not ring_path.exists()

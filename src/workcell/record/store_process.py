@@ -255,21 +255,22 @@ class StoreProcess:
             raise self._died() from None
 
     def _attach_ring(self, layout: FrameLayout) -> None:
-        """A new ring for rows of ``layout``, mapped by the writer, its file then removed."""
+        """A new ring for rows of ``layout``: the writer makes it (so that its file goes
+        with the writer even if this process dies now), this process maps it and removes
+        the file."""
         if self._ring is not None:
             self._call("commit")  # the old ring's frames are written first
             self._ring.close()
+            self._ring = None
+        path = self._call("create_ring", layout, RING_CAPACITY)
         try:
-            ring = FrameRing.create(layout.width, RING_CAPACITY)
+            ring = FrameRing.attach(path, layout.width, RING_CAPACITY)
+            ring.unlink()
         except OSError as error:
             raise StorageError(
-                f"store {self.path}: could not create the shared-memory frame ring "
-                f"({error.strerror or error}); recording stopped — free memory or disk space"
+                f"store {self.path}: could not map the frame ring {path} "
+                f"({error.strerror or error}); recording stopped"
             ) from None
-        try:
-            self._call("attach_ring", str(ring.path), layout, RING_CAPACITY)
-        finally:
-            ring.unlink()
         self._ring, self._ring_layout = ring, layout
 
     def _writer_alive(self) -> bool:

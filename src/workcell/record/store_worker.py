@@ -11,8 +11,8 @@ leave on stdout (see :mod:`workcell.record.pipe_messages`):
   ``Store.<method>(*args, **keywords)``. A call with an id is answered
   ``("ok", call_id, result)`` or ``("error", call_id, kind, text)``; a call sent without
   waiting has ``call_id`` None and is answered only when it fails (the first failure).
-  ``attach_ring`` maps the ring; trials are numbered in the ring in the order of their
-  ``start_trial`` calls.
+  ``create_ring`` makes the ring (this process owns its file) and answers its path;
+  trials are numbered in the ring in the order of their ``start_trial`` calls.
 - ``"close"`` or the end of stdin: write every complete frame in the ring, close the
   store, exit.
 
@@ -90,8 +90,7 @@ class Writer:
                 for call in calls:
                     self.run(*call)
         finally:
-            if self.ring is not None:
-                self.ring.close()
+            self._drop_ring()
 
     def run(self, call_id: int | None, method: str, args: Any, keywords: Any) -> None:
         try:
@@ -134,18 +133,32 @@ class Writer:
                         "stayed incomplete; recording stopped"
                     ),
                 )
-                self.ring = None  # nothing more is read from it
+                self._drop_ring()  # nothing more is read from it
                 return
             time.sleep(WAIT_S)
 
+    def _drop_ring(self) -> None:
+        """Unmap the ring and remove its file (the recording side removes it as soon as it
+        has mapped it; this covers a recording process that died before)."""
+        if self.ring is not None:
+            self.ring.unlink()
+            self.ring.close()
+            self.ring = None
+
     def _dispatch(self, method: str, args: Any, keywords: Any) -> Any:
-        if method == "attach_ring":
-            path, layout, capacity = args
-            if self.ring is not None:
-                self.ring.close()
-            self.ring = FrameRing.attach(path, layout.width, capacity)
+        if method == "create_ring":
+            layout, capacity = args
+            self._drop_ring()
+            try:
+                self.ring = FrameRing.create(layout.width, capacity)
+            except OSError as error:
+                raise StorageError(
+                    f"store {self.store.path}: could not create the shared-memory frame ring "
+                    f"({error.strerror or error}); recording stopped — free memory or disk "
+                    "space"
+                ) from None
             self.layout = layout
-            return None
+            return str(self.ring.path)
         if method not in STORE_CALLS:
             raise WorkcellError(f"store writer: unknown call {method!r}")
         if method != "start_trial":
