@@ -14,7 +14,7 @@ from workcell.audit.csv_source import CsvSource
 from workcell.audit.errors import AuditError
 from workcell.audit.parallel import shares, worker_count
 from workcell.audit.run import run_audit
-from workcell.audit.source import FRAME_COLUMNS_READ, frame_arrays
+from workcell.audit.source import FRAME_COLUMNS_READ
 from workcell.audit.store_source import StoreSource
 from workcell.metrics import FrameArrays
 from workcell.record.export_csv import export_csv
@@ -22,7 +22,7 @@ from workcell.record.export_csv import export_csv
 
 def test_frame_arrays_match_frame_arrays_from_columns() -> None:
     matrix = np.random.default_rng(0).normal(size=(25, len(FRAME_COLUMNS_READ)))
-    ours = frame_arrays(matrix)
+    ours = FrameArrays.from_matrix(matrix)
     theirs = FrameArrays.from_columns({n: matrix[:, i] for i, n in enumerate(FRAME_COLUMNS_READ)})
     for field in dataclasses.fields(FrameArrays):
         assert np.array_equal(getattr(ours, field.name), getattr(theirs, field.name))

@@ -22,7 +22,6 @@ from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
     FloatArray,
-    frame_arrays,
     midpoint_xy,
 )
 from workcell.metrics import FrameArrays
@@ -63,7 +62,7 @@ class CsvSource:
 
     def frames(self) -> Iterator[tuple[str, FrameArrays]]:
         for trial_id, rows in self._frame_groups(FRAME_COLUMNS_READ, None):
-            yield trial_id, frame_arrays(_floats(rows, self.path, trial_id))
+            yield trial_id, FrameArrays.from_matrix(_floats(rows, self.path, trial_id))
 
     def midpoints(self, trial_ids: Collection[str]) -> dict[str, FloatArray]:
         wanted = set(trial_ids)

@@ -20,7 +20,7 @@ from workcell.audit.parallel import (
     worker_count,
 )
 from workcell.audit.rows import Annotation, SessionRow, TrialRow
-from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray, frame_arrays
+from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray
 from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit, audit_trial
 from workcell.metrics import FrameArrays
@@ -147,7 +147,7 @@ def run_audit(
         done[trial_id] = auditor.audit(row, frames)
         frames_read += len(frames)
         tick()
-    empty = frame_arrays(np.empty((0, len(FRAME_COLUMNS_READ))))
+    empty = FrameArrays.from_matrix(np.empty((0, len(FRAME_COLUMNS_READ))))
     for trial_id, row in rows.items():
         if trial_id not in done:
             done[trial_id] = auditor.audit(row, empty)

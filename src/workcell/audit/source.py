@@ -16,7 +16,6 @@ import numpy.typing as npt
 
 from workcell.audit.rows import Annotation, SessionRow, TrialRow
 from workcell.metrics import REQUIRED_COLUMNS, FrameArrays
-from workcell.sim.joints import ARM_JOINTS_PER_SIDE
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -54,40 +53,6 @@ class AuditSource(Protocol):
         ...
 
     def close(self) -> None: ...
-
-
-_FIELD_WIDTHS: tuple[tuple[str, int], ...] = (
-    ("t_sim", 1),
-    ("t_wall", 1),
-    ("base_v", 3),
-    ("tcp_l", 3),
-    ("tcp_r", 3),
-    ("q_l", ARM_JOINTS_PER_SIDE),
-    ("q_r", ARM_JOINTS_PER_SIDE),
-    ("dq_l", ARM_JOINTS_PER_SIDE),
-    ("dq_r", ARM_JOINTS_PER_SIDE),
-    ("grip_l", 1),
-    ("grip_r", 1),
-)
-"""FrameArrays' fields and how many of REQUIRED_COLUMNS each takes, in column order."""
-
-
-def frame_arrays(matrix: npt.NDArray[Any]) -> FrameArrays:
-    """FrameArrays from an (n, k) float matrix whose columns are FRAME_COLUMNS_READ
-    (REQUIRED_COLUMNS: FrameArrays' fields in order, each a run of columns).
-
-    Same values as ``FrameArrays.from_columns`` of those columns, with one copy: the
-    matrix is laid out column-major so that every field is a contiguous view.
-    """
-    data = np.asfortranarray(matrix, dtype=np.float64).reshape(
-        (-1, len(FRAME_COLUMNS_READ)), order="F"
-    )
-    blocks: dict[str, FloatArray] = {}
-    at = 0
-    for name, width in _FIELD_WIDTHS:
-        blocks[name] = data[:, at] if width == 1 else data[:, at : at + width]
-        at += width
-    return FrameArrays(**blocks)
 
 
 def midpoint_xy(matrix: npt.NDArray[Any]) -> FloatArray:

@@ -24,7 +24,6 @@ from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
     FloatArray,
-    frame_arrays,
     midpoint_xy,
 )
 from workcell.metrics import FrameArrays
@@ -84,16 +83,16 @@ class StoreSource:
     def frames_of(self, trial_ids: Collection[str]) -> Iterator[tuple[str, FrameArrays]]:
         """(trial_id, frames) of the given trials, in the order given."""
         sql = _frames_sql(FRAME_COLUMNS_READ)
-        n_frames = dict(self._conn.execute("SELECT trial_id, n_frames FROM trials").fetchall())
+        n_frames = self._frame_counts()
         for trial_id in trial_ids:
             matrix = self._block(trial_id, n_frames.get(trial_id))
             if matrix is None:
                 matrix = self._matrix(sql, trial_id, len(FRAME_COLUMNS_READ))
-            yield trial_id, frame_arrays(matrix)
+            yield trial_id, FrameArrays.from_matrix(matrix)
 
     def midpoints(self, trial_ids: Collection[str]) -> dict[str, FloatArray]:
         sql = _frames_sql(MIDPOINT_COLUMNS)
-        n_frames = dict(self._conn.execute("SELECT trial_id, n_frames FROM trials").fetchall())
+        n_frames = self._frame_counts()
         out = {}
         for trial_id in trial_ids:
             block = self._block(trial_id, n_frames.get(trial_id), count=False)
@@ -102,6 +101,10 @@ class StoreSource:
             else:
                 out[trial_id] = midpoint_xy(self._matrix(sql, trial_id, len(MIDPOINT_COLUMNS)))
         return out
+
+    def _frame_counts(self) -> dict[str, int | None]:
+        """Each trial's n_frames as its row says (None while it runs)."""
+        return dict(self._conn.execute("SELECT trial_id, n_frames FROM trials").fetchall())
 
     def _block(
         self, trial_id: str, n_frames: int | None, *, count: bool = True

@@ -28,7 +28,7 @@ from workcell.errors import ConfigError
 from workcell.export.boxes import parse_boxes
 from workcell.export.features import STATE_NAMES
 from workcell.record.frame_capture import input_from_command
-from workcell.record.frame_format import build_frame
+from workcell.record.frame_format import FrameReader
 from workcell.render.renderer import OffscreenRenderer
 from workcell.sim.events import BoxDelivered
 
@@ -61,6 +61,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": config.fps}
         self.sim = Simulation(config.session.world)
+        self._reader = FrameReader(self.sim.world, self.sim.controller)
         self.pool_size = config.session.world.feeder.pool_size
         self.observation_space = observation_space(self.pool_size)
         self.action_space = action_space(config, self.sim.world)
@@ -123,10 +124,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
     def _observe(self) -> Observation:
         """The dataset features of the current state, through the recorder's own frame
         builder, so that they mean exactly what the exported columns mean."""
-        world = self.sim.world
-        row = build_frame(
-            world,
-            self.sim.controller,
+        row = self._reader.read(
             self._command,
             input_from_command(self._command),
             t_sim=self.t_sim,

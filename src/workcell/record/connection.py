@@ -17,10 +17,10 @@ from pathlib import Path
 
 from workcell import __version__
 from workcell.record.errors import StoreError
-from workcell.record.frame_blocks import FRAME_BLOCKS_SQL
 from workcell.record.ids import new_id
 from workcell.record.schema import (
     APPLICATION_ID,
+    FRAME_BLOCKS_SQL,
     LAYOUTS,
     SCHEMA_VERSION,
     schema_statements,

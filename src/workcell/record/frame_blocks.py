@@ -18,19 +18,14 @@ from numpy.typing import NDArray
 
 from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.checksum import canonical_reals
+from workcell.record.schema import FRAMES
 
 BLOCK_COLUMNS: tuple[str, ...] = REQUIRED_COLUMNS
 """The frame columns a block holds, in order: those the metrics and detectors use."""
 COLUMNS_TEXT = ",".join(BLOCK_COLUMNS)
 
-FRAME_BLOCKS_SQL = """CREATE TABLE IF NOT EXISTS frame_blocks (
-    trial_id TEXT PRIMARY KEY REFERENCES trials (trial_id),
-    n_frames INTEGER NOT NULL,
-    columns TEXT NOT NULL,
-    data BLOB NOT NULL,
-    checksum TEXT NOT NULL
-) STRICT"""
-"""The table (a store written before blocks existed gets it when a writer opens it)."""
+BLOCK_REALS = np.array([FRAMES.of_kind("real").index(name) for name in BLOCK_COLUMNS])
+"""Where the block's columns are among the real columns of a frames batch."""
 
 
 def block_data(matrix: NDArray[np.float64]) -> bytes:
@@ -56,9 +51,10 @@ def write_block(conn: sqlite3.Connection, trial_id: str, matrix: NDArray[np.floa
     )
 
 
-def has_blocks(conn: sqlite3.Connection) -> bool:
+def has_blocks(conn: sqlite3.Connection, schema: str = "main") -> bool:
+    """Whether the database (``schema``: main, or an attached one) has frame blocks."""
     row = conn.execute(
-        "SELECT 1 FROM sqlite_schema WHERE type = 'table' AND name = 'frame_blocks'"
+        f"SELECT 1 FROM {schema}.sqlite_schema WHERE type = 'table' AND name = 'frame_blocks'"
     ).fetchone()
     return row is not None
 

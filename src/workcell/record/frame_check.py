@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from workcell.record import rowio
 from workcell.record.findings import frames_label
-from workcell.record.frame_blocks import BLOCK_COLUMNS, block_problems, has_blocks
+from workcell.record.frame_blocks import BLOCK_REALS, block_problems, has_blocks
 from workcell.record.schema import FRAMES
 
 Report = Callable[[str, str, str], None]
@@ -21,7 +21,6 @@ _REAL = FRAMES.of_kind("real")
 _INTEGER = FRAMES.of_kind("integer")
 _T_SIM, _T_WALL = _REAL.index("t_sim"), _REAL.index("t_wall")
 _INDEX = _INTEGER.index("frame_index")
-_BLOCK = np.array([_REAL.index(name) for name in BLOCK_COLUMNS])
 _REAL_NULLABLE = np.array([FRAMES.column(c).nullable for c in _REAL], dtype=bool)
 _INTEGER_NULLABLE = [FRAMES.column(c).nullable for c in _INTEGER]
 
@@ -62,7 +61,7 @@ def check_trial_frames(conn: sqlite3.Connection, trial_id: str, report: Report) 
         count += len(batch)
 
         real = batch.real
-        block_columns.append(real[:, _BLOCK])
+        block_columns.append(real[:, BLOCK_REALS])
         t_sim = np.concatenate([[last_sim], real[:, _T_SIM]])
         t_wall = np.concatenate([[last_wall], real[:, _T_WALL]])
         problems.add(
@@ -96,7 +95,7 @@ def check_trial_frames(conn: sqlite3.Connection, trial_id: str, report: Report) 
     for problem, where in problems.by_problem.items():
         report("frames", frames_label(trial_id, where), problem)
     if has_blocks(conn):
-        matrix = np.concatenate(block_columns) if block_columns else np.zeros((0, len(_BLOCK)))
+        matrix = np.concatenate(block_columns) if block_columns else np.zeros((0, len(BLOCK_REALS)))
         for problem in block_problems(conn, trial_id, matrix):
             report("frame_blocks", f"trial {trial_id}", problem)
     return count

@@ -130,6 +130,30 @@ class FrameFormatter:
             self._box_text = [None] * len(layout.box_qpos)
 
 
+class FrameReader:
+    """Frames of one world by column name, one at a time (for an environment's
+    observation): capture and formatting set up once."""
+
+    def __init__(self, world: World, controller: RobotController) -> None:
+        self._capture = FrameCapture(world, controller, capacity=1)
+        self._formatter = FrameFormatter()
+
+    def read(
+        self,
+        command: Command,
+        operator_input: OperatorInput,
+        *,
+        t_sim: float,
+        t_wall: float,
+        step_wall_ms: float,
+    ) -> dict[str, Any]:
+        """As :func:`build_frame`."""
+        self._capture.capture(
+            command, operator_input, t_sim=t_sim, step_wall_ms=step_wall_ms, t_wall=t_wall
+        )
+        return _as_dict(self._formatter.batch(self._capture.take(), "", "", 0))
+
+
 def build_frame(
     world: World,
     controller: RobotController,
@@ -142,10 +166,13 @@ def build_frame(
 ) -> dict[str, Any]:
     """Every frame column but ``session_id``, ``trial_id`` and ``frame_index``, by name,
     of the world now (no value as None): what the recorder would store."""
-    capture = FrameCapture(world, controller, capacity=1)
-    capture.capture(command, operator_input, t_sim=t_sim, step_wall_ms=step_wall_ms, t_wall=t_wall)
-    frames = capture.take()
-    batch = FrameFormatter().batch(frames, "", "", 0)
+    return FrameReader(world, controller).read(
+        command, operator_input, t_sim=t_sim, t_wall=t_wall, step_wall_ms=step_wall_ms
+    )
+
+
+def _as_dict(batch: RowBatch) -> dict[str, Any]:
+    """The one row of ``batch`` by column name, ids and index left out."""
     row: dict[str, Any] = {
         name: None if math.isnan(value) else value
         for name, value in zip(REAL_COLUMNS, batch.real[0].tolist(), strict=True)

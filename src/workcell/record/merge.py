@@ -13,6 +13,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workcell.record.errors import StoreError
+from workcell.record.frame_blocks import has_blocks
 from workcell.record.schema import SCHEMA_VERSION
 from workcell.record.store import Store
 from workcell.record.verify import verify_store
@@ -108,9 +109,7 @@ def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
         try:
             for table in TABLE_ORDER:
                 conn.execute(f"INSERT INTO main.{table} SELECT * FROM shard.{table}")
-            if conn.execute(
-                "SELECT 1 FROM shard.sqlite_schema WHERE type = 'table' AND name = 'frame_blocks'"
-            ).fetchone():
+            if has_blocks(conn, "shard"):
                 conn.execute("INSERT INTO main.frame_blocks SELECT * FROM shard.frame_blocks")
             conn.execute("COMMIT")
         except sqlite3.Error as error:

@@ -20,7 +20,6 @@ from workcell.record.columns import (
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
 )
-from workcell.record.frame_blocks import FRAME_BLOCKS_SQL
 
 SCHEMA_VERSION = 1
 APPLICATION_ID = 0x57434C31
@@ -262,6 +261,17 @@ def create_table_sql(layout: TableLayout) -> str:
 
 
 META_TABLE_SQL = "CREATE TABLE meta (key TEXT NOT NULL PRIMARY KEY, value TEXT NOT NULL) STRICT"
+
+
+FRAME_BLOCKS_SQL = """CREATE TABLE IF NOT EXISTS frame_blocks (
+    trial_id TEXT PRIMARY KEY REFERENCES trials (trial_id),
+    n_frames INTEGER NOT NULL,
+    columns TEXT NOT NULL,
+    data BLOB NOT NULL,
+    checksum TEXT NOT NULL
+) STRICT"""
+"""Per-trial frame blocks (:mod:`workcell.record.frame_blocks`); a store written before
+they existed gets the table when a writer opens it."""
 
 
 def schema_statements() -> tuple[str, ...]:

@@ -38,7 +38,7 @@ from workcell.record.batch import Columnar, RowBatch
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
 from workcell.record.errors import RecordError, StoreError
-from workcell.record.frame_blocks import write_block
+from workcell.record.frame_blocks import BLOCK_REALS, write_block
 from workcell.record.frame_capture import CapturedFrames
 from workcell.record.frame_format import FrameFormatter
 from workcell.record.ids import new_id
@@ -59,8 +59,6 @@ FrameRows = Sequence[Mapping[str, object]] | Columnar | RowBatch
 """Frames as rows (one mapping per frame), as columns (name → values) or as a batch."""
 
 _FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
-_METRIC_REALS = np.array([FRAMES.of_kind("real").index(name) for name in REQUIRED_COLUMNS])
-"""Where the metrics' frame columns are among the real columns of a frames batch."""
 CLOSING_STATUSES = ("completed", "interrupted")
 
 
@@ -274,7 +272,7 @@ class Store(StoreReading):
             with self._write(commit=False) as conn:
                 rowio.insert(conn, batch)
             trial.next_index += n
-            trial.metric_rows.append(batch.real[:, _METRIC_REALS])
+            trial.metric_rows.append(batch.real[:, BLOCK_REALS])
         return n
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
@@ -296,14 +294,12 @@ class Store(StoreReading):
         With ``thresholds``, the metrics stored are computed here from the trial's frames
         as stored (``end.metrics`` is ignored)."""
         trial = self._running_trial(trial_id)
+        matrix = trial.metric_matrix()
         m = end.metrics
         if thresholds is not None:
-            matrix = trial.metric_matrix()
-            columns = {name: matrix[:, j] for j, name in enumerate(REQUIRED_COLUMNS)}
+            frames = FrameArrays.from_matrix(matrix)
             m = StoredMetrics.of(
-                compute_trial_metrics(
-                    FrameArrays.from_columns(columns), end.outcome == "success", thresholds
-                )
+                compute_trial_metrics(frames, end.outcome == "success", thresholds)
             )
         changes = {
             "outcome": end.outcome,
@@ -325,7 +321,7 @@ class Store(StoreReading):
         }
         with self._write() as conn:
             lifecycle.close_trial(conn, trial_id, changes)
-            write_block(conn, trial_id, trial.metric_matrix())
+            write_block(conn, trial_id, matrix)
         self._forget_trial(trial_id, trial)
 
     def end_session(self, session_id: str, status: str = "completed") -> None:
