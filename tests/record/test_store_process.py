@@ -69,6 +69,18 @@ def test_the_writer_process_records_what_the_store_records_in_process(tmp_path: 
             assert started.t_wall <= first_frame_wall
 
 
+def test_the_frame_ring_is_made_before_the_first_trial_and_once(tmp_path: Path) -> None:
+    config = SessionConfig(task=TaskConfig(mode="collection", trials=2), seed=4)
+    runner = SessionRunner(config, Simulation(config.world), ExpertOperator())
+    with StoreProcess.open(tmp_path / "s.sqlite") as store:
+        recorder = Recorder(store, runner)
+        ring = store._ring
+        assert ring is not None and ring.published == 0  # made at once, before any frame
+        runner.run()
+        recorder.close(interrupted=False)
+        assert store._ring is ring and ring.published == recorder.frames_written > 100
+
+
 def _capture(n: int = 5) -> FrameCapture:
     sim = Simulation(SessionConfig().world)
     sim.reset(0)

@@ -198,6 +198,8 @@ class FrameCapture:
         self._sites = [model.site(f"tcp_{side}").id for side in SIDES]
         self._rows = np.empty((capacity, self.layout.width))
         self._count = 0
+        self._data: mujoco.MjData | None = None
+        self._state: tuple[NDArray[np.float64], ...] = ()
 
     def __len__(self) -> int:
         return self._count
@@ -218,35 +220,28 @@ class FrameCapture:
         """Copy the state of this instant (``t_sim`` on the trial clock, ``t_wall`` Unix
         seconds, now if not given); the buffer must not be :attr:`full`."""
         world = self.world
-        model, data = world.model, world.data
+        data = world.data
         # After mj_step the body and site poses are those of the step's start; bring them up
         # to the joint positions so that every pose in the frame belongs to the same instant.
-        mujoco.mj_kinematics(model, data)
-        layout = self.layout
+        mujoco.mj_kinematics(world.model, data)
+        if data is not self._data:
+            self._watch(data)
         row = self._rows[self._count]
-        nq, nv = layout.nq, layout.nv
-        row[:nq] = data.qpos
-        row[nq : nq + nv] = data.qvel
-        left, right = self._sites
-        at = nq + nv
-        row[at : at + 3] = data.site_xpos[left]
-        row[at + 3 : at + 6] = data.site_xpos[right]
-        row[at + 6 : at + 15] = data.site_xmat[left]
-        row[at + 15 : at + 24] = data.site_xmat[right]
-        at += 24
+        at = self.layout.extras_at
+        np.concatenate(self._state, out=row[:at])
         grasp = world.grasp
         holding = grasp.holding
         buttons = operator_input.buttons
-        row[at : at + EXTRA_REALS] = extra_reals(
+        ik = self.ik
+        extras = extra_reals(
             command,
             operator_input,
             t_sim=t_sim,
             t_wall=time.time() if t_wall is None else t_wall,
             step_wall_ms=step_wall_ms,
-            ik_residuals=(self.ik.residual("l"), self.ik.residual("r")),
+            ik_residuals=(ik.residual("l"), ik.residual("r")),
         )
-        at += EXTRA_REALS
-        row[at : at + EXTRA_INTEGERS] = (
+        integers = (
             command.left.follow,
             command.right.follow,
             NAN if buttons is None else buttons[0],
@@ -255,8 +250,7 @@ class FrameCapture:
             -1 if grasp.contact_r is None else grasp.contact_r.index,
             -1 if holding is None else holding.index,
         )
-        at += EXTRA_INTEGERS
-        row[at:] = [_STATE_NUMBER[slot.state] for slot in world.boxes.slots]
+        row[at:] = (*extras, *integers, *[_STATE_NUMBER[slot.state] for slot in world.boxes.slots])
         self._count += 1
 
     def take(self) -> CapturedFrames:
@@ -264,3 +258,17 @@ class FrameCapture:
         frames = CapturedFrames(self.layout, self._rows[: self._count].copy())
         self._count = 0
         return frames
+
+    def _watch(self, data: mujoco.MjData) -> None:
+        """Views of the state a row starts with, in row order: MjData's arrays keep their
+        memory for the life of the MjData, so the views are made once."""
+        left, right = self._sites
+        self._data = data
+        self._state = (
+            data.qpos,
+            data.qvel,
+            data.site_xpos[left],
+            data.site_xpos[right],
+            data.site_xmat[left],
+            data.site_xmat[right],
+        )

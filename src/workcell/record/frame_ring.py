@@ -3,8 +3,10 @@
 The recording process copies each batch of captured rows into the ring and moves a
 counter; it makes no system call and builds no Python object per frame. The writer
 process polls the ring, takes the rows in order and moves its own counter back. Each row
-carries the number of the trial it belongs to and a CRC-32 of its contents, so the writer
-takes a row only once it is completely visible, whatever the CPU's memory ordering.
+carries the number of the trial it belongs to and a CRC-32 of its contents seeded with its
+position in the ring, so the writer takes a row only once it is completely visible,
+whatever the CPU's memory ordering, and never a row left from an earlier lap of the ring.
+Rows are copied in blocks (at most two per batch, at the ring's end).
 
 Layout of the mapped file: the published count (int64) at byte 0, the consumed count
 (int64) at byte 64 (another cache line), then ``capacity`` rows of ``width + 2`` float64:
@@ -27,6 +29,8 @@ from numpy.typing import NDArray
 
 _HEADER_BYTES = 128
 _PUBLISHED, _CONSUMED = 0, 8  # int64 slots of the header
+_MASK = 0xFFFFFFFF
+_POPULATE = getattr(mmap, "MAP_POPULATE", 0)  # Linux
 SPACE_WAIT_S = 0.0005
 """How long the recording process sleeps while the ring is full."""
 
@@ -43,12 +47,19 @@ class FrameRing:
         self.path = path
         self.width = width
         self.capacity = capacity
-        self._map = mmap.mmap(file, _HEADER_BYTES + capacity * (width + 2) * 8)
+        # Mapped with its page tables filled in at once: a page fault per 4 KiB page on
+        # the first lap would cost the simulation more than the copies themselves.
+        self._map = mmap.mmap(
+            file,
+            _HEADER_BYTES + capacity * (width + 2) * 8,
+            flags=mmap.MAP_SHARED | _POPULATE,
+        )
         os.close(file)
         self._counts = np.frombuffer(self._map, dtype=np.int64, count=16)
         self._rows = np.frombuffer(self._map, dtype=np.float64, offset=_HEADER_BYTES).reshape(
             capacity, width + 2
         )
+        self._bytes = memoryview(self._map)[_HEADER_BYTES:]
 
     @classmethod
     def create(cls, width: int, capacity: int) -> FrameRing:
@@ -65,7 +76,8 @@ class FrameRing:
         self.path.unlink(missing_ok=True)
 
     def close(self) -> None:
-        del self._counts, self._rows
+        self._bytes.release()
+        del self._counts, self._rows, self._bytes
         self._map.close()
 
     @property
@@ -81,18 +93,25 @@ class FrameRing:
     def publish(
         self, trial_number: int, rows: NDArray[np.float64], *, alive: Callable[[], bool]
     ) -> None:
-        """Copy ``rows`` into the ring (waiting while it is full, as long as ``alive()``)."""
+        """Copy ``rows`` into the ring (waiting while it is full, as long as ``alive()``),
+        in as few block copies as the ring's end allows."""
         published = self.published
-        for values in rows:
-            while published - self.consumed >= self.capacity:
+        done, n = 0, len(rows)
+        while done < n:
+            free = self.capacity - (published - self.consumed)
+            if free <= 0:
                 if not alive():
                     raise BrokenPipeError("the writer process is gone")
                 time.sleep(SPACE_WAIT_S)
-            row = self._rows[published % self.capacity]
-            row[0] = trial_number
-            row[1:-1] = values
-            row[-1] = zlib.crc32(row[:-1])
-            published += 1
+                continue
+            slot = published % self.capacity
+            k = min(n - done, free, self.capacity - slot)
+            block = self._rows[slot : slot + k]
+            block[:, 0] = trial_number
+            block[:, 1:-1] = rows[done : done + k]
+            block[:, -1] = self._checksums(slot, published, k)
+            published += k
+            done += k
             self._counts[_PUBLISHED // 8] = published
 
     # --- the writer side -------------------------------------------------------------------
@@ -104,19 +123,40 @@ class FrameRing:
         the first row of a trial numbered ``trials_known`` or more (whose start has not
         arrived yet), as runs of (trial number, rows); the ring space is freed."""
         end = self.published if upto is None else upto
-        start = self.consumed
-        runs: list[tuple[int, list[NDArray[np.float64]]]] = []
-        position = start
+        position = self.consumed
+        runs: list[tuple[int, NDArray[np.float64]]] = []
         while position < end:
-            row = self._rows[position % self.capacity]
-            if row[-1] != zlib.crc32(row[:-1]):
-                break  # not completely visible yet
-            number = int(row[0])
-            if number >= trials_known:
+            slot = position % self.capacity
+            k = min(end - position, self.capacity - slot)
+            block = self._rows[slot : slot + k]
+            complete = block[:, -1] == self._checksums(slot, position, k)
+            numbers = block[:, 0]
+            usable = complete & (numbers < trials_known)
+            k = k if usable.all() else int(np.argmin(usable))  # up to the first unusable
+            if k == 0:
                 break
-            if not runs or runs[-1][0] != number:
-                runs.append((number, []))
-            runs[-1][1].append(row[1:-1].copy())
-            position += 1
+            starts = np.flatnonzero(np.diff(numbers[:k])) + 1
+            for first, last in zip((0, *starts), (*starts, k), strict=True):
+                number = int(numbers[first])
+                chunk = block[first:last, 1:-1].copy()
+                if runs and runs[-1][0] == number:  # a trial's run across the ring's end
+                    runs[-1] = (number, np.concatenate((runs[-1][1], chunk)))
+                else:
+                    runs.append((number, chunk))
+            position += k
+            if not usable.all():
+                break
         self._counts[_CONSUMED // 8] = position
-        return [(number, np.array(rows)) for number, rows in runs]
+        return runs
+
+    def _checksums(self, slot: int, position: int, k: int) -> list[int]:
+        """The CRC-32 of rows ``slot`` .. ``slot + k`` (trial number and values), each
+        seeded with its ring position, so that a row left from an earlier lap of the ring
+        never passes for the one published at its place."""
+        stride = (self.width + 2) * 8
+        data = self._bytes
+        at = slot * stride
+        return [
+            zlib.crc32(data[at + i * stride : at + (i + 1) * stride - 8], (position + i) & _MASK)
+            for i in range(k)
+        ]

@@ -29,6 +29,7 @@ from workcell.record.errors import StorageError
 from workcell.record.frame_capture import (
     CapturedFrames,
     FrameCapture,
+    FrameLayout,
     OperatorInput,
     input_from_command,
 )
@@ -62,6 +63,8 @@ class RecordingStore(Protocol):
         t_sim: float | None = None,
         t_wall: float | None = None,
     ) -> object: ...
+
+    def prepare_frames(self, layout: FrameLayout) -> None: ...
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int: ...
 
@@ -126,6 +129,7 @@ class Recorder:
         self._capture = FrameCapture(
             runner.sim.world, runner.sim.controller, self._frames_per_commit
         )
+        store.prepare_frames(self._capture.layout)  # not while the first trial runs
         self.next_step = -1
         self._unsubscribe = runner.bus.subscribe(self._on_event)
 

@@ -39,7 +39,7 @@ from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
 from workcell.record.errors import RecordError, StoreError
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
-from workcell.record.frame_capture import CapturedFrames
+from workcell.record.frame_capture import CapturedFrames, FrameLayout
 from workcell.record.frame_format import FrameFormatter
 from workcell.record.ids import new_id
 from workcell.record.reading import StoreReading
@@ -274,6 +274,10 @@ class Store(StoreReading):
             trial.next_index += n
             trial.metric_rows.append(batch.real[:, BLOCK_REALS])
         return n
+
+    def prepare_frames(self, layout: FrameLayout) -> None:
+        """Nothing to prepare in-process (a :class:`~workcell.record.store_process.
+        StoreProcess` makes its frame ring here)."""
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
         """Append frames as captured during recording (see :mod:`workcell.record.

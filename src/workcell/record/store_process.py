@@ -3,9 +3,12 @@
 The recorder hands over captured frames and events and goes on; the writer process (see
 :mod:`workcell.record.store_worker`) formats, checksums, inserts and commits them on
 another core. Frames go through a shared-memory ring (:mod:`workcell.record.frame_ring`),
-no system call per frame; events and other calls through a pipe, sent at the next
-:meth:`StoreProcess.commit`. Calls whose answer the recorder needs (ids, the end of a trial
-or session) wait for it, and for every frame handed over before them to be written.
+copied there in blocks; the writer polls it on its own timer, so that handing frames over
+makes no system call and wakes no process (on a virtual machine, waking a process on
+another core costs the waker tens of microseconds). Events and other calls go through a
+pipe, sent at the next :meth:`StoreProcess.commit`. Calls whose answer the recorder needs
+(ids, the end of a session) wait for it, and for every frame handed over before them to be
+written.
 
 Guarantees are those of :class:`~workcell.record.store.Store`, kept across the pipe:
 
@@ -141,9 +144,17 @@ class StoreProcess:
         keywords = {"trial_id": trial_id, "t_sim": t_sim, "t_wall": t_wall}
         self._queue("add_event", (session_id, kind, payload), keywords)
 
+    def prepare_frames(self, layout: FrameLayout) -> None:
+        """Make the frame ring for rows of ``layout`` now (waits for the writer), so that
+        the first batch of a trial does not wait for it."""
+        if self._failure is not None:
+            raise self._failure
+        if layout != self._ring_layout:
+            self._attach_ring(layout)
+
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
-        """Copied into the ring at once (waiting only while it is full); the writer
-        formats, adds and commits them within milliseconds."""
+        """Copied into the ring at once (waiting only while it is full); the writer finds
+        them at its next poll and formats, adds and commits them."""
         if self._failure is not None:
             raise self._failure
         number = self._trial_numbers.get(trial_id)
@@ -151,7 +162,7 @@ class StoreProcess:
             raise RecordError(
                 f"trial {trial_id} was not started through this store: start it first"
             )
-        if frames.layout != self._ring_layout:
+        if frames.layout is not self._ring_layout and frames.layout != self._ring_layout:
             self._attach_ring(frames.layout)
         self._send_pending()  # the trial's start goes before its frames
         assert self._ring is not None
@@ -243,6 +254,8 @@ class StoreProcess:
         return answer[2]
 
     def _send_pending(self, *, check: bool = True) -> None:
+        """Send the pending calls, with the ring position the writer is to write frames up
+        to first."""
         if check and self._failure is not None:
             raise self._failure
         calls, self._pending = self._pending, []

@@ -23,10 +23,8 @@ next writer to open the store closes it as ``interrupted``/``crash_recovered``.
 
 from __future__ import annotations
 
-import queue
 import signal
 import sys
-import threading
 import time
 from typing import IO, Any
 
@@ -34,10 +32,10 @@ from workcell.errors import WorkcellError
 from workcell.record.errors import StorageError
 from workcell.record.frame_capture import CapturedFrames, FrameLayout
 from workcell.record.frame_ring import FrameRing
-from workcell.record.pipe_messages import receive, send
+from workcell.record.pipe_messages import MessageReader, send
 from workcell.record.store import Store
 
-POLL_S = 0.002
+POLL_S = 0.005
 """How often the ring is polled for new frames when no call arrives."""
 WAIT_S = 0.0005
 """How long to wait for a frame published but not yet completely visible."""
@@ -71,24 +69,23 @@ class Writer:
         self.failed = False
 
     def serve(self, requests: IO[bytes]) -> None:
-        """Until ``"close"`` or the end of ``requests``."""
-        messages: queue.SimpleQueue[Any] = queue.SimpleQueue()
-        reader = threading.Thread(target=_read, args=(requests, messages), daemon=True)
-        reader.start()
+        """Until ``"close"`` or the end of ``requests``: messages as they come, the ring's
+        frames every :data:`POLL_S` (one thread; the timer is this process's own, so the
+        recording process is never asked to wake it)."""
+        inbox = MessageReader(requests.fileno())
         try:
             while True:
-                try:
-                    message = messages.get(timeout=POLL_S)
-                except queue.Empty:
+                messages = inbox.wait(POLL_S)
+                if not messages:
                     self.write_frames()
-                    continue
-                if message is None or message == "close":
-                    self.write_frames()
-                    return
-                position, calls = message
-                self.write_frames(upto=position)
-                for call in calls:
-                    self.run(*call)
+                for message in messages:
+                    if message is None or message == "close":
+                        self.write_frames()
+                        return
+                    position, calls = message
+                    self.write_frames(upto=position)
+                    for call in calls:
+                        self.run(*call)
         finally:
             self._drop_ring()
 
@@ -168,15 +165,6 @@ class Writer:
         finally:  # numbered in the order started, failed or not
             self.trials.append(keywords["trial_id"])
         return trial_id
-
-
-def _read(requests: IO[bytes], messages: queue.SimpleQueue[Any]) -> None:
-    while True:
-        try:
-            messages.put(receive(requests))
-        except (EOFError, OSError, ValueError):
-            messages.put(None)
-            return
 
 
 def main(argv: list[str]) -> int:
