@@ -3,11 +3,13 @@ in order, nothing sent is lost when the recording process dies."""
 
 from __future__ import annotations
 
+import math
 import os
 import signal
 import subprocess
 import sys
 import textwrap
+import threading
 import time
 from pathlib import Path
 
@@ -117,6 +119,42 @@ def test_a_failure_of_a_call_not_waited_for_is_raised_by_the_next_call(tmp_path:
         (trial,) = reopened.trials()
         assert trial.n_frames == len(frames)  # what came before the failure is kept
     assert verify_store(tmp_path / "s.sqlite") == []
+
+
+def test_a_filling_ring_wakes_a_writer_that_would_poll_only_much_later(tmp_path: Path) -> None:
+    capture = _capture(8)
+    batches = [_frames(capture, 8 * k) for k in range(150)]  # 1200 frames, ring of 512
+    done = threading.Event()
+    with StoreProcess.open(tmp_path / "s.sqlite", poll_s=3600.0) as store:
+        session_id = store.create_session(synthetic.session_info())
+        store.prepare_frames(capture.layout)
+        trial_id = store.start_trial(session_id, synthetic.trial_start())
+
+        def hand_over() -> None:
+            for frames in batches:
+                store.add_captured_frames(trial_id, frames)
+                store.commit()
+            done.set()
+
+        worker = threading.Thread(target=hand_over, daemon=True)
+        worker.start()
+        worker.join(timeout=60)
+        # without a wake-up the recorder would wait for a free slot for an hour
+        assert done.is_set(), "handing over frames stalled on a full ring"
+        store.end_trial(trial_id, synthetic.trial_end(1200))
+        store.end_session(session_id)
+    with Store.open(tmp_path / "s.sqlite", writer=False) as reader:
+        (trial,) = reader.trials()
+        assert trial.n_frames == 1200
+        np.testing.assert_array_equal(reader.frames(trial.trial_id)["frame_index"], range(1200))
+    assert verify_store(tmp_path / "s.sqlite") == []
+
+
+@pytest.mark.parametrize("poll_s", [0.0, -1.0, math.nan, math.inf])
+def test_a_bad_poll_interval_is_one_clear_error(tmp_path: Path, poll_s: float) -> None:
+    with pytest.raises(RecordError, match="poll_s: must be a positive number of seconds"):
+        StoreProcess.open(tmp_path / "s.sqlite", poll_s=poll_s)
+    assert not (tmp_path / "s.sqlite").exists()  # nothing was started
 
 
 def test_opening_fails_with_the_store_error_and_leaves_no_process(tmp_path: Path) -> None:

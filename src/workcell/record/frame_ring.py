@@ -91,10 +91,17 @@ class FrameRing:
     # --- the recording side ----------------------------------------------------------------
 
     def publish(
-        self, trial_number: int, rows: NDArray[np.float64], *, alive: Callable[[], bool]
+        self,
+        trial_number: int,
+        rows: NDArray[np.float64],
+        *,
+        alive: Callable[[], bool],
+        full: Callable[[], None] | None = None,
     ) -> None:
-        """Copy ``rows`` into the ring (waiting while it is full, as long as ``alive()``),
-        in as few block copies as the ring's end allows."""
+        """Copy ``rows`` into the ring (waiting while it is full, as long as ``alive()``;
+        ``full()`` is called once when it starts waiting), in as few block copies as the
+        ring's end allows."""
+        waited = False
         published = self.published
         done, n = 0, len(rows)
         while done < n:
@@ -102,6 +109,9 @@ class FrameRing:
             if free <= 0:
                 if not alive():
                     raise BrokenPipeError("the writer process is gone")
+                if full is not None and not waited:
+                    full()
+                waited = True
                 time.sleep(SPACE_WAIT_S)
                 continue
             slot = published % self.capacity

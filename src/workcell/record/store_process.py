@@ -26,6 +26,7 @@ from __future__ import annotations
 
 import contextlib
 import itertools
+import math
 import os
 import queue
 import subprocess
@@ -82,15 +83,25 @@ class StoreProcess:
         """Trials crash recovery closed when the writer opened the store."""
 
     @classmethod
-    def open(cls, path: str | os.PathLike[str]) -> StoreProcess:
-        """Start a writer process on the store at ``path`` (created if missing).
+    def open(cls, path: str | os.PathLike[str], *, poll_s: float | None = None) -> StoreProcess:
+        """Start a writer process on the store at ``path`` (created if missing); it polls
+        the frame ring every ``poll_s`` seconds (default
+        :data:`~workcell.record.store_worker.POLL_S`).
 
         Raises what :meth:`Store.open` raises for a writer (a directory that does not
         exist, a file that is not a store, a store another process is writing...).
         """
         path = Path(path)
+        if poll_s is not None and not (math.isfinite(poll_s) and poll_s > 0):
+            raise RecordError(f"poll_s: must be a positive number of seconds, got {poll_s!r}")
         process = subprocess.Popen(
-            [sys.executable, "-m", "workcell.record.store_worker", str(path)],
+            [
+                sys.executable,
+                "-m",
+                "workcell.record.store_worker",
+                str(path),
+                *(() if poll_s is None else (repr(poll_s),)),
+            ],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             start_new_session=True,  # a terminal's Ctrl-C goes to the recording process only
@@ -165,11 +176,14 @@ class StoreProcess:
         if frames.layout is not self._ring_layout and frames.layout != self._ring_layout:
             self._attach_ring(frames.layout)
         self._send_pending()  # the trial's start goes before its frames
-        assert self._ring is not None
+        ring = self._ring
+        assert ring is not None
         try:
-            self._ring.publish(number, frames.rows, alive=self._writer_alive)
+            ring.publish(number, frames.rows, alive=self._writer_alive, full=self._wake_writer)
         except BrokenPipeError:
             raise self._failure or self._died() from None
+        if ring.published - ring.consumed > ring.capacity // 2:
+            self._wake_writer()  # more than half full: do not wait for the writer's poll
         return len(frames)
 
     def commit(self) -> None:
@@ -253,13 +267,13 @@ class StoreProcess:
             raise self._failure  # an earlier call, run before this one, failed
         return answer[2]
 
-    def _send_pending(self, *, check: bool = True) -> None:
+    def _send_pending(self, *, check: bool = True, wake: bool = False) -> None:
         """Send the pending calls, with the ring position the writer is to write frames up
-        to first."""
+        to first; with ``wake`` even when no call is pending."""
         if check and self._failure is not None:
             raise self._failure
         calls, self._pending = self._pending, []
-        if not calls:
+        if not calls and not wake:
             return
         position = 0 if self._ring is None else self._ring.published
         try:
@@ -285,6 +299,10 @@ class StoreProcess:
                 f"({error.strerror or error}); recording stopped"
             ) from None
         self._ring, self._ring_layout = ring, layout
+
+    def _wake_writer(self) -> None:
+        """Tell the writer to take the ring's frames now (one short message)."""
+        self._send_pending(wake=True)
 
     def _writer_alive(self) -> bool:
         """Whether the writer may still free ring space (running, and not failed)."""

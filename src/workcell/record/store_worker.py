@@ -1,7 +1,8 @@
 """The store writer process: owns one store opened for writing and runs what a
 :class:`~workcell.record.store_process.StoreProcess` sends it, in order.
 
-Run as ``python -m workcell.record.store_worker STORE`` by :class:`StoreProcess` only.
+Run as ``python -m workcell.record.store_worker STORE [POLL_S]`` by :class:`StoreProcess`
+only.
 Frames arrive through a shared-memory :class:`~workcell.record.frame_ring.FrameRing`,
 polled every :data:`POLL_S` and committed as they come. Calls arrive on stdin and answers
 leave on stdout (see :mod:`workcell.record.pipe_messages`):
@@ -64,9 +65,10 @@ STORE_CALLS = frozenset(
 class Writer:
     """Runs calls and writes ring frames into ``store``, reporting on ``answers``."""
 
-    def __init__(self, store: Store, answers: IO[bytes]) -> None:
+    def __init__(self, store: Store, answers: IO[bytes], poll_s: float = POLL_S) -> None:
         self.store = store
         self.answers = answers
+        self.poll_s = poll_s
         self.ring: FrameRing | None = None
         self.layout: FrameLayout | None = None
         self.trials: list[str] = []
@@ -75,12 +77,12 @@ class Writer:
 
     def serve(self, requests: IO[bytes]) -> None:
         """Until ``"close"`` or the end of ``requests``: messages as they come, the ring's
-        frames every :data:`POLL_S` (one thread; the timer is this process's own, so the
-        recording process is never asked to wake it)."""
+        frames every ``poll_s`` (one thread; the timer is this process's own, so the
+        recording process does not have to wake it, except when the ring fills up)."""
         inbox = MessageReader(requests.fileno())
         try:
             while True:
-                messages = inbox.wait(POLL_S)
+                messages = inbox.wait(self.poll_s)
                 if not messages:
                     self.write_frames()
                 for message in messages:
@@ -176,6 +178,7 @@ def main(argv: list[str]) -> int:
     # Ctrl-C is for the recording process, which ends the trial and then closes this one.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     requests, answers = sys.stdin.buffer, sys.stdout.buffer
+    poll_s = float(argv[2]) if len(argv) > 2 else POLL_S
     try:
         store = Store.open(argv[1], writer=True)
     except WorkcellError as error:
@@ -183,7 +186,7 @@ def main(argv: list[str]) -> int:
         return 1
     with store:
         send(answers, ("ready", store.recovered))
-        Writer(store, answers).serve(requests)
+        Writer(store, answers, poll_s).serve(requests)
     return 0
 
 
