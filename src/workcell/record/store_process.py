@@ -79,6 +79,8 @@ class StoreProcess:
         self._ring: FrameRing | None = None
         self._ring_layout: FrameLayout | None = None
         self._trial_numbers: dict[str, int] = {}
+        self._woken_at = 0
+        """Ring position of the last wake-up message sent to the writer."""
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when the writer opened the store."""
 
@@ -299,9 +301,16 @@ class StoreProcess:
                 f"({error.strerror or error}); recording stopped"
             ) from None
         self._ring, self._ring_layout = ring, layout
+        self._woken_at = 0
 
     def _wake_writer(self) -> None:
-        """Tell the writer to take the ring's frames now (one short message)."""
+        """Tell the writer to take the ring's frames now (one short message), unless it
+        has not yet taken those of the last such message."""
+        ring = self._ring
+        assert ring is not None
+        if ring.consumed < self._woken_at:
+            return
+        self._woken_at = ring.published
         self._send_pending(wake=True)
 
     def _writer_alive(self) -> bool:
