@@ -198,8 +198,18 @@ class FrameCapture:
         self._sites = [model.site(f"tcp_{side}").id for side in SIDES]
         self._rows = np.empty((capacity, self.layout.width))
         self._count = 0
-        self._data: mujoco.MjData | None = None
-        self._state: tuple[NDArray[np.float64], ...] = ()
+        # Views of the state a row starts with, in row order: the world keeps one MjData,
+        # whose arrays keep their memory for its life, so the views are made once.
+        data = world.data
+        left, right = self._sites
+        self._state = (
+            data.qpos,
+            data.qvel,
+            data.site_xpos[left],
+            data.site_xpos[right],
+            data.site_xmat[left],
+            data.site_xmat[right],
+        )
 
     def __len__(self) -> int:
         return self._count
@@ -220,12 +230,9 @@ class FrameCapture:
         """Copy the state of this instant (``t_sim`` on the trial clock, ``t_wall`` Unix
         seconds, now if not given); the buffer must not be :attr:`full`."""
         world = self.world
-        data = world.data
         # After mj_step the body and site poses are those of the step's start; bring them up
         # to the joint positions so that every pose in the frame belongs to the same instant.
-        mujoco.mj_kinematics(world.model, data)
-        if data is not self._data:
-            self._watch(data)
+        mujoco.mj_kinematics(world.model, world.data)
         row = self._rows[self._count]
         at = self.layout.extras_at
         np.concatenate(self._state, out=row[:at])
@@ -258,17 +265,3 @@ class FrameCapture:
         frames = CapturedFrames(self.layout, self._rows[: self._count].copy())
         self._count = 0
         return frames
-
-    def _watch(self, data: mujoco.MjData) -> None:
-        """Views of the state a row starts with, in row order: MjData's arrays keep their
-        memory for the life of the MjData, so the views are made once."""
-        left, right = self._sites
-        self._data = data
-        self._state = (
-            data.qpos,
-            data.qvel,
-            data.site_xpos[left],
-            data.site_xpos[right],
-            data.site_xmat[left],
-            data.site_xmat[right],
-        )

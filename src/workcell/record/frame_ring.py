@@ -142,7 +142,8 @@ class FrameRing:
             complete = block[:, -1] == self._checksums(slot, position, k)
             numbers = block[:, 0]
             usable = complete & (numbers < trials_known)
-            k = k if usable.all() else int(np.argmin(usable))  # up to the first unusable
+            whole = bool(usable.all())
+            k = k if whole else int(np.argmin(usable))  # up to the first unusable
             if k == 0:
                 break
             starts = np.flatnonzero(np.diff(numbers[:k])) + 1
@@ -154,7 +155,7 @@ class FrameRing:
                 else:
                     runs.append((number, chunk))
             position += k
-            if not usable.all():
+            if not whole:
                 break
         self._counts[_CONSUMED // 8] = position
         return runs

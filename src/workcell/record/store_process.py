@@ -162,7 +162,7 @@ class StoreProcess:
         the first batch of a trial does not wait for it."""
         if self._failure is not None:
             raise self._failure
-        if layout != self._ring_layout:
+        if layout is not self._ring_layout and layout != self._ring_layout:
             self._attach_ring(layout)
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
@@ -175,8 +175,7 @@ class StoreProcess:
             raise RecordError(
                 f"trial {trial_id} was not started through this store: start it first"
             )
-        if frames.layout is not self._ring_layout and frames.layout != self._ring_layout:
-            self._attach_ring(frames.layout)
+        self.prepare_frames(frames.layout)  # at once when the ring is made already
         self._send_pending()  # the trial's start goes before its frames
         ring = self._ring
         assert ring is not None
