@@ -86,3 +86,29 @@ def test_targets_are_independent_per_side(ik: BimanualIK, tcp_quats: dict[str, Q
         ik.step(DT)
     assert ik.residual("l") < TOLERANCE
     np.testing.assert_allclose(ik.tcp_pose("r").translation(), right_before, atol=0.005)
+
+
+def test_target_positions_are_the_frame_tasks_targets(
+    ik: BimanualIK, tcp_quats: dict[str, Quat]
+) -> None:
+    """The targets the recorder captures (and the residuals made from them) are those the
+    frame tasks hold, after a reset, a new target, a step and a hold."""
+
+    def check() -> None:
+        for i, side in enumerate(("l", "r")):
+            target = ik.frame_tasks[side].transform_target_to_world
+            assert target is not None
+            np.testing.assert_array_equal(ik.target_positions[i], target.translation())
+            error = ik.tcp_pose(side).translation() - target.translation()
+            assert ik.residual(side) == pytest.approx(np.linalg.norm(error), abs=1e-12)
+
+    ik.reset(ik.home)
+    check()
+    ik.set_target("l", (0.6, 0.15, 0.9), tcp_quats["l"])
+    check()
+    assert ik.residual("l") > 0.01  # the target moved, the TCP not yet
+    ik.step(DT)
+    check()
+    ik.hold("l")
+    check()
+    assert ik.residual("l") < 1e-12

@@ -138,3 +138,32 @@ def test_bulk_formatting_equals_one_frame_at_a_time() -> None:
     np.testing.assert_array_equal(real_matrix(frames), batch.real)
     # the box texts kept between frames are those a fresh formatter writes
     assert FrameFormatter().boxes_json(frames) == [t[2] for t in batch.text]
+
+
+def test_no_device_reads_as_the_command_and_clears_an_earlier_device(sim: Simulation) -> None:
+    """A frame captured without a device (None) formats exactly as one captured with
+    input_from_command, even in a buffer row that held a VR device's values before."""
+    command = Command(right=ArmCommand(follow=True), gripper_left=0.25, gripper_right=1.0)
+    capture = FrameCapture(sim.world, sim.controller, capacity=2)
+    formatter = FrameFormatter()
+    capture.capture(command, VR_INPUT, t_sim=0.0, step_wall_ms=1.0, t_wall=5.0)
+    capture.capture(command, input_from_command(command), t_sim=0.0, step_wall_ms=1.0, t_wall=5.0)
+    with_device, explicit = formatter.batch(capture.take(), "s", "t", 0).real
+    capture.capture(command, None, t_sim=0.0, step_wall_ms=1.0, t_wall=5.0)  # VR's row
+    capture.capture(command, None, t_sim=0.0, step_wall_ms=1.0, t_wall=5.0)
+    batch = formatter.batch(capture.take(), "s", "t", 0)
+    for real in batch.real:
+        np.testing.assert_array_equal(real, explicit)
+    assert not np.array_equal(with_device, explicit, equal_nan=True)
+    for integers in batch.integer:
+        named = dict(zip(INTEGER_COLUMNS, integers, strict=True))
+        assert (named["follow_l"], named["follow_r"]) == (0, 1)
+        assert named["buttons_l"] is None and named["buttons_r"] is None
+    real = dict(zip(REAL_COLUMNS, batch.real[0].tolist(), strict=True))
+    assert (real["grip_l"], real["grip_r"], real["trigger_l"], real["trigger_r"]) == (
+        0.0,
+        1.0,
+        0.25,
+        1.0,
+    )
+    assert math.isnan(real["ctrl_l_x"]) and math.isnan(real["input_age_s"])

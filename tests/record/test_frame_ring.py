@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import struct
+
 import numpy as np
 import pytest
 
@@ -96,6 +98,25 @@ def test_a_batch_across_the_ring_end_comes_out_as_one_run_per_trial() -> None:
         ring.publish(1, _rows(7, 4), alive=lambda: True)  # slots 2, 3, 4, then 0
         [(number, rows)] = ring.take(trials_known=2)
         assert number == 1 and np.array_equal(rows, _rows(7, 4))
+    finally:
+        ring.unlink()
+        ring.close()
+
+
+def test_the_file_layout_is_as_documented() -> None:
+    """Counts at bytes 0 and 64 (two cache lines: the two processes do not write one
+    line), then rows of trial number, values and checksum."""
+    ring = FrameRing.create(width=4, capacity=8)
+    try:
+        ring.publish(3, _rows(0, 2), alive=lambda: True)
+        ring.take(trials_known=4)
+        raw = ring.path.read_bytes()
+        assert struct.unpack_from("=q", raw, 0)[0] == 2
+        assert struct.unpack_from("=q", raw, 64)[0] == 2
+        first = struct.unpack_from("=5d", raw, 128)
+        assert first == (3.0, 0.0, 1.0, 2.0, 3.0)
+        words = np.frombuffer(raw, dtype=np.uint64, count=5, offset=128)
+        assert struct.unpack_from("=Q", raw, 128 + 5 * 8)[0] == int(words.sum(dtype=np.uint64))
     finally:
         ring.unlink()
         ring.close()

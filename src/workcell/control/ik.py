@@ -14,6 +14,7 @@ import mink
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.control.ik_residual import residuals
 from workcell.sim import panda
 from workcell.sim.config import WorldConfig
 from workcell.sim.joints import JOINT_ORDER, SIDES, SPINE_JOINT, arm_joint_names
@@ -69,7 +70,10 @@ class BimanualIK:
             [self.model.jnt_qposadr[self.model.joint(name).id] for name in JOINT_ORDER]
         )
         self._proxy = self.model.body(CONVEYOR_PROXY).mocapid[0]
-        self._tcp_sites = {side: self.model.site(f"tcp_{side}").id for side in SIDES}
+        self.tcp_sites = {side: self.model.site(f"tcp_{side}").id for side in SIDES}
+        """Each TCP's site id in the IK model (``configuration.data.site_xpos`` rows)."""
+        self.target_positions = np.zeros((len(SIDES), 3))
+        """Each TCP's target position (rows in SIDES order), kept with the frame tasks."""
         self.home = np.zeros(len(JOINT_ORDER))
         self.home[0] = home_spine
         self.home[3:10] = HOME_ARM
@@ -85,8 +89,8 @@ class BimanualIK:
         q[self._qadr] = joints
         self.configuration.update(q)
         self.posture.set_target(q)
-        for task in self.frame_tasks.values():
-            task.set_target_from_configuration(self.configuration)
+        for side in SIDES:
+            self.hold(side)
 
     @property
     def joints(self) -> NDArray[np.float64]:
@@ -105,14 +109,19 @@ class BimanualIK:
 
     def hold(self, side: str) -> None:
         """Make the arm's current pose its target."""
-        self.frame_tasks[side].set_target_from_configuration(self.configuration)
+        task = self.frame_tasks[side]
+        task.set_target_from_configuration(self.configuration)
+        assert task.transform_target_to_world is not None
+        self.target_positions[SIDES.index(side)] = task.transform_target_to_world.translation()
 
     def set_target(self, side: str, position: Sequence[float], quaternion: Sequence[float]) -> None:
         wxyz = np.asarray(quaternion, dtype=float)
+        translation = np.asarray(position, dtype=float)
         pose = mink.SE3.from_rotation_and_translation(
-            mink.SO3(wxyz / np.linalg.norm(wxyz)), np.asarray(position, dtype=float)
+            mink.SO3(wxyz / np.linalg.norm(wxyz)), translation
         )
         self.frame_tasks[side].set_target(pose)
+        self.target_positions[SIDES.index(side)] = translation
 
     def step(self, dt: float) -> NDArray[np.float64]:
         """One differential IK step of length ``dt``; returns the joints (JOINT_ORDER)."""
@@ -124,12 +133,15 @@ class BimanualIK:
         return self.joints
 
     def residual(self, side: str) -> float:
-        """Position error of one TCP from its target, metres."""
-        target = self.frame_tasks[side].transform_target_to_world
-        assert target is not None
-        site = self._tcp_sites[side]
-        error = self.configuration.data.site_xpos[site] - target.translation()
-        return float(np.sqrt(error @ error))
+        """Position error of one TCP from its target, metres (as :func:`residuals`)."""
+        i = SIDES.index(side)
+        here = self.tcp_positions()[i : i + 1]
+        return float(residuals(here, self.target_positions[i : i + 1])[0])
+
+    def tcp_positions(self) -> NDArray[np.float64]:
+        """Where the IK configuration has each TCP now (rows in SIDES order)."""
+        sites = self.configuration.data.site_xpos
+        return np.stack([sites[self.tcp_sites[side]] for side in SIDES])
 
 
 def _mirror(arm: Sequence[float]) -> tuple[float, ...]:

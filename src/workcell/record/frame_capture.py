@@ -10,6 +10,7 @@ through a :class:`~workcell.record.store_process.StoreProcess`, in the writer pr
 from __future__ import annotations
 
 import math
+import struct
 import time
 from dataclasses import dataclass
 from typing import TYPE_CHECKING
@@ -67,11 +68,23 @@ def input_from_command(command: Command) -> OperatorInput:
 
 @dataclass(frozen=True)
 class FrameLayout:
-    """Where a frame's values sit in a captured row: ``qpos`` (nq), ``qvel`` (nv), the
-    TCP sites' positions (2 x 3) and rotation matrices (2 x 9), left first, then
-    :data:`EXTRA_REALS` values (see :func:`extra_reals`), :data:`EXTRA_INTEGERS` integers
-    (NaN for none) and each box's state (its position in :data:`BOX_STATES`).
-    Plain numbers, so that it travels to a writer process cheaply."""
+    """Where a frame's values sit in a captured row (plain numbers, so that it travels to a
+    writer process cheaply). A row holds, in this order:
+
+    - the state: ``qpos`` (nq), ``qvel`` (nv), the TCP sites' positions (2 x 3) and
+      rotation matrices (2 x 9), the IK configuration's TCP positions (2 x 3) and the IK
+      targets' positions (2 x 3), left first;
+    - :data:`COMMAND_REALS` reals: t_sim, t_wall, the command's 21 columns (base twist,
+      both arm targets, both gripper commands, head) and step_wall_ms;
+    - :data:`CAPTURED_INTEGERS` integers: follow_l, follow_r, contact_l, contact_r,
+      attached (-1 for none);
+    - each box's state (its position in :data:`BOX_STATES`);
+    - :data:`DEVICE_VALUES` values of the operator's device: grip (2), trigger (2), both
+      controllers and the headset (3 x 7), both thumbsticks (2 x 2), input age, buttons
+      (2); NaN where the device has no such part, and all NaN without a device (a
+      command-only operator: grip and trigger then read from the command, as
+      :func:`input_from_command` says).
+    """
 
     nq: int
     nv: int
@@ -88,13 +101,30 @@ class FrameLayout:
     box_index: tuple[int, ...]
 
     @property
-    def extras_at(self) -> int:
-        """Where the extra reals start; the integers and box states follow them."""
-        return self.nq + self.nv + 24
+    def tcp_at(self) -> int:
+        """Where the TCP poses start: positions (6), rotation matrices (18), the IK's TCP
+        positions (6) and its targets' positions (6)."""
+        return self.nq + self.nv
+
+    @property
+    def command_at(self) -> int:
+        return self.tcp_at + 36
+
+    @property
+    def integers_at(self) -> int:
+        return self.command_at + COMMAND_REALS
+
+    @property
+    def boxes_at(self) -> int:
+        return self.integers_at + CAPTURED_INTEGERS
+
+    @property
+    def device_at(self) -> int:
+        return self.boxes_at + len(self.box_qpos)
 
     @property
     def width(self) -> int:
-        return self.extras_at + EXTRA_REALS + EXTRA_INTEGERS + len(self.box_qpos)
+        return self.device_at + DEVICE_VALUES
 
     @classmethod
     def of(cls, world: World) -> FrameLayout:
@@ -121,56 +151,32 @@ class FrameLayout:
         )
 
 
-EXTRA_REALS = 56
-"""Real values of a frame that are not the world's state (see :func:`extra_reals`)."""
-EXTRA_INTEGERS = 7
-"""follow_l, follow_r, buttons_l, buttons_r, contact_l, contact_r, attached."""
+COMMAND_REALS = 24
+"""t_sim, t_wall, the command's 21 real columns and step_wall_ms."""
+CAPTURED_INTEGERS = 5
+"""follow_l, follow_r, contact_l, contact_r, attached."""
+DEVICE_VALUES = 32
+"""grip (2), trigger (2), controller_l, controller_r, headset (7 each), stick_l, stick_r
+(2 each), age_s, buttons (2)."""
 
 NAN = math.nan
 _NO_POSE: tuple[float, ...] = (NAN,) * 7
 _NO_PAIR: tuple[float, float] = (NAN, NAN)
 
 
-def extra_reals(
-    command: Command,
-    device: OperatorInput,
-    *,
-    t_sim: float,
-    t_wall: float,
-    step_wall_ms: float,
-    ik_residuals: tuple[float, float],
-) -> tuple[float, ...]:
-    """t_sim, t_wall, then grip and trigger (4), then the command columns but the follow
-    flags (21), the device columns (25), step_wall_ms, both IK residuals and
-    input_age_s: the frame's real columns in table order, less the state's."""
-    base, left, right = command.base, command.left, command.right
+def device_values(device: OperatorInput) -> tuple[float, ...]:
+    """The :data:`DEVICE_VALUES` values of ``device`` in row order (NaN for a missing
+    part)."""
     return (
-        t_sim,
-        t_wall,
-        device.grip[0],
-        device.grip[1],
-        device.trigger[0],
-        device.trigger[1],
-        base.vx,
-        base.vy,
-        base.wz,
-        *left.position,
-        *left.quaternion,
-        *right.position,
-        *right.quaternion,
-        command.gripper_left,
-        command.gripper_right,
-        command.head[0],
-        command.head[1],
+        *device.grip,
+        *device.trigger,
         *(device.controller_l or _NO_POSE),
         *(device.controller_r or _NO_POSE),
         *(device.headset or _NO_POSE),
         *(device.stick_l or _NO_PAIR),
         *(device.stick_r or _NO_PAIR),
-        step_wall_ms,
-        ik_residuals[0],
-        ik_residuals[1],
         NAN if device.age_s is None else device.age_s,
+        *(device.buttons or _NO_PAIR),
     )
 
 
@@ -187,29 +193,41 @@ class CapturedFrames:
 
 
 class FrameCapture:
-    """Captures frames of one world into a buffer of ``capacity`` rows."""
+    """Captures frames of one world into a buffer of ``capacity`` rows.
+
+    A capture is what recording costs the simulation at every frame, in its thread, so it
+    does the least it can: one :func:`mujoco.mj_kinematics`, one concatenate of views
+    into the state and one :class:`struct.Struct` packing of the other numbers straight
+    into the row, with no object made on the way."""
 
     def __init__(self, world: World, controller: RobotController, capacity: int) -> None:
         self.world = world
-        self.ik = controller.ik
-        self.layout = FrameLayout.of(world)
+        self.layout = layout = FrameLayout.of(world)
         self.capacity = capacity
         model = world.model
-        self._sites = [model.site(f"tcp_{side}").id for side in SIDES]
-        self._rows = np.empty((capacity, self.layout.width))
+        self._rows = np.full((capacity, layout.width), NAN)
+        self._buffer = self._rows.data.cast("B")  # what the packing writes into
         self._count = 0
-        # Views of the state a row starts with, in row order: the world keeps one MjData,
-        # whose arrays keep their memory for its life, so the views are made once.
-        data = world.data
-        left, right = self._sites
+        # Views of the state a row starts with, in row order: the world and the IK each
+        # keep one MjData, whose arrays keep their memory for its life, and the IK keeps
+        # its targets in one array, so the views are made once.
+        data, ik = world.data, controller.ik
+        sites = [model.site(f"tcp_{side}").id for side in SIDES]
+        ik_sites = [ik.tcp_sites[side] for side in SIDES]
         self._state = (
             data.qpos,
             data.qvel,
-            data.site_xpos[left],
-            data.site_xpos[right],
-            data.site_xmat[left],
-            data.site_xmat[right],
+            *_rows_of(data.site_xpos, sites),
+            *_rows_of(data.site_xmat, sites),
+            *_rows_of(ik.configuration.data.site_xpos, ik_sites),
+            ik.target_positions.reshape(-1),
         )
+        self._slots = world.boxes.slots
+        self._pack = struct.Struct(f"={layout.device_at - layout.command_at}d").pack_into
+        self._pack_device = struct.Struct(f"={DEVICE_VALUES}d").pack_into
+        self._row_bytes = layout.width * 8
+        self._device_rows: set[int] = set()
+        """Rows whose device values were written (the others hold NaN)."""
 
     def __len__(self) -> int:
         return self._count
@@ -221,47 +239,68 @@ class FrameCapture:
     def capture(
         self,
         command: Command,
-        operator_input: OperatorInput,
+        operator_input: OperatorInput | None,
         *,
         t_sim: float,
         step_wall_ms: float,
         t_wall: float | None = None,
     ) -> None:
         """Copy the state of this instant (``t_sim`` on the trial clock, ``t_wall`` Unix
-        seconds, now if not given); the buffer must not be :attr:`full`."""
+        seconds, now if not given) and of the operator's device (None for a command-only
+        operator, see :func:`input_from_command`); the buffer must not be :attr:`full`."""
         world = self.world
         # After mj_step the body and site poses are those of the step's start; bring them up
         # to the joint positions so that every pose in the frame belongs to the same instant.
         mujoco.mj_kinematics(world.model, world.data)
-        row = self._rows[self._count]
-        at = self.layout.extras_at
-        np.concatenate(self._state, out=row[:at])
+        count = self._count
+        at = self.layout.command_at
+        rows = self._rows
+        np.concatenate(self._state, out=rows[count, :at])
+        base, left, right = command.base, command.left, command.right
         grasp = world.grasp
-        holding = grasp.holding
-        buttons = operator_input.buttons
-        ik = self.ik
-        extras = extra_reals(
-            command,
-            operator_input,
-            t_sim=t_sim,
-            t_wall=time.time() if t_wall is None else t_wall,
-            step_wall_ms=step_wall_ms,
-            ik_residuals=(ik.residual("l"), ik.residual("r")),
-        )
-        integers = (
-            command.left.follow,
-            command.right.follow,
-            NAN if buttons is None else buttons[0],
-            NAN if buttons is None else buttons[1],
-            -1 if grasp.contact_l is None else grasp.contact_l.index,
-            -1 if grasp.contact_r is None else grasp.contact_r.index,
+        contact_l, contact_r, holding = grasp.contact_l, grasp.contact_r, grasp.holding
+        self._pack(
+            self._buffer,
+            count * self._row_bytes + at * 8,
+            t_sim,
+            time.time() if t_wall is None else t_wall,
+            base.vx,
+            base.vy,
+            base.wz,
+            *left.position,
+            *left.quaternion,
+            *right.position,
+            *right.quaternion,
+            command.gripper_left,
+            command.gripper_right,
+            *command.head,
+            step_wall_ms,
+            left.follow,
+            right.follow,
+            -1 if contact_l is None else contact_l.index,
+            -1 if contact_r is None else contact_r.index,
             -1 if holding is None else holding.index,
+            *[_STATE_NUMBER[slot.state] for slot in self._slots],
         )
-        row[at:] = (*extras, *integers, *[_STATE_NUMBER[slot.state] for slot in world.boxes.slots])
-        self._count += 1
+        if operator_input is not None:
+            at = count * self._row_bytes + self.layout.device_at * 8
+            self._pack_device(self._buffer, at, *device_values(operator_input))
+            self._device_rows.add(count)
+        elif count in self._device_rows:
+            rows[count, self.layout.device_at :] = NAN
+            self._device_rows.discard(count)
+        self._count = count + 1
 
     def take(self) -> CapturedFrames:
         """The frames captured since the last take (the buffer is emptied)."""
         frames = CapturedFrames(self.layout, self._rows[: self._count].copy())
         self._count = 0
         return frames
+
+
+def _rows_of(array: NDArray[np.float64], rows: list[int]) -> list[NDArray[np.float64]]:
+    """Views of ``array``'s ``rows``, flattened: one view when the rows are consecutive
+    (fewer arrays to concatenate at each frame)."""
+    if rows == list(range(rows[0], rows[0] + len(rows))):
+        return [array[rows[0] : rows[0] + len(rows)].reshape(-1)]
+    return [array[row] for row in rows]

@@ -16,11 +16,13 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.control.ik_residual import residuals
 from workcell.record.batch import RowBatch
 from workcell.record.frame_capture import (
     BOX_STATES,
-    EXTRA_INTEGERS,
-    EXTRA_REALS,
+    CAPTURED_INTEGERS,
+    COMMAND_REALS,
+    DEVICE_VALUES,
     CapturedFrames,
     FrameCapture,
     FrameLayout,
@@ -48,14 +50,15 @@ def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
     n = len(frames)
     nq, nv = layout.nq, layout.nv
     qpos, qvel = rows[:n, :nq], rows[:n, nq : nq + nv]
-    at = nq + nv
+    at = layout.tcp_at
     quats = np.empty((n, 2, 4))
     for i in range(n):
         mujoco.mju_mat2Quat(quats[i, 0], rows[i, at + 6 : at + 15])
         mujoco.mju_mat2Quat(quats[i, 1], rows[i, at + 15 : at + 24])
-    extras = rows[:n, layout.extras_at : layout.extras_at + EXTRA_REALS]
+    command = rows[:n, layout.command_at : layout.command_at + COMMAND_REALS]
+    device = rows[:n, layout.device_at : layout.device_at + DEVICE_VALUES]
     real = np.empty((n, len(REAL_COLUMNS)))
-    real[:, 0:2] = extras[:, 0:2]
+    real[:, 0:2] = command[:, 0:2]
     real[:, 2:5] = qpos[:, layout.base_qpos]
     real[:, 5:8] = qvel[:, layout.base_dof]
     real[:, 8:11] = rows[:n, at : at + 3]
@@ -65,11 +68,22 @@ def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
     joints = len(layout.joint_qpos)
     real[:, 22 : 22 + joints] = qpos[:, layout.joint_qpos]
     real[:, 22 + joints : 2 + _STATE_WIDTH] = qvel[:, layout.joint_dof]
-    real[:, 56:60] = extras[:, 2:6]
+    # grip and trigger: the device's, or without a device the follow flags and the
+    # gripper commands (what input_from_command says a command-only operator pressed)
+    follow = rows[:n, layout.integers_at : layout.integers_at + 2]
+    no_device = np.isnan(device[:, 0:1])
+    real[:, 56:58] = np.where(no_device, follow, device[:, 0:2])
+    real[:, 58:60] = np.where(no_device, command[:, 19:21], device[:, 2:4])
     fingers = qpos[:, layout.finger_qpos]
     real[:, 60] = (fingers[:, 0] + fingers[:, 1]) / layout.finger_span
     real[:, 61] = (fingers[:, 2] + fingers[:, 3]) / layout.finger_span
-    real[:, 62:] = extras[:, 6:]
+    real[:, 62:83] = command[:, 2:23]
+    real[:, 83:108] = device[:, 4:29]
+    real[:, 108] = command[:, 23]
+    ik_tcp, ik_target = rows[:n, at + 24 : at + 30], rows[:n, at + 30 : at + 36]
+    for k in range(2):
+        real[:, 109 + k] = residuals(ik_tcp[:, 3 * k : 3 * k + 3], ik_target[:, 3 * k : 3 * k + 3])
+    real[:, 111] = device[:, 29]
     return real
 
 
@@ -88,10 +102,21 @@ class FrameFormatter:
     ) -> RowBatch:
         """The frames as rows of the frames table, numbered from ``first_index``."""
         real = real_matrix(frames)
-        at = frames.layout.extras_at + EXTRA_REALS
+        layout = frames.layout
+        at, device_at = layout.integers_at, layout.device_at
+        buttons = device_at + DEVICE_VALUES - 2
         integer: list[tuple[int | None, ...]] = [
             (first_index + i, *(None if math.isnan(v) else int(v) for v in values))
-            for i, values in enumerate(frames.rows[:, at : at + EXTRA_INTEGERS].tolist())
+            for i, values in enumerate(
+                np.concatenate(
+                    (
+                        frames.rows[:, at : at + 2],
+                        frames.rows[:, buttons : buttons + 2],
+                        frames.rows[:, at + 2 : at + CAPTURED_INTEGERS],
+                    ),
+                    axis=1,
+                ).tolist()
+            )
         ]
         boxes = self.boxes_json(frames)
         text: list[tuple[str | None, ...]] = [(session_id, trial_id, b) for b in boxes]
@@ -103,7 +128,7 @@ class FrameFormatter:
         layout = frames.layout
         self._use(layout)
         poses = np.round(frames.rows[:, self._box_columns], 6) + 0.0
-        states = frames.rows[:, layout.width - len(layout.box_qpos) :].astype(np.intp)
+        states = frames.rows[:, layout.boxes_at : layout.device_at].astype(np.intp)
         width = 7
         prefixes = [f'[{index},"' for index in layout.box_index]
         out = []
@@ -141,7 +166,7 @@ class FrameReader:
     def read(
         self,
         command: Command,
-        operator_input: OperatorInput,
+        operator_input: OperatorInput | None,
         *,
         t_sim: float,
         t_wall: float,

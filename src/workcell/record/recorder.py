@@ -31,7 +31,6 @@ from workcell.record.frame_capture import (
     FrameCapture,
     FrameLayout,
     OperatorInput,
-    input_from_command,
 )
 from workcell.record.media import MediaRecorder
 from workcell.record.records import SessionInfo, TrialEnd, TrialStart
@@ -116,7 +115,7 @@ class Recorder:
         self.runner = runner
         self.config = runner.config
         self.thresholds = metric_thresholds(self.config)
-        self._input = operator_input or (lambda: None)
+        self._input = operator_input
         self.media = media
         self.session_id = store.create_session(session_info(self.config))
         self.failure: StorageError | None = None
@@ -138,18 +137,18 @@ class Recorder:
     def sample(self) -> None:
         """Take the frame due now (called by the world at exact physics steps)."""
         runner = self.runner
-        world = runner.sim.world
-        command = runner.last_command
-        self._capture.capture(
-            command,
-            self._input() or input_from_command(command),
+        capture = self._capture
+        source = self._input
+        capture.capture(
+            runner.last_command,
+            None if source is None else source(),  # None: a command-only operator
             t_sim=runner.trial_time,
             step_wall_ms=runner.last_step_wall_s * 1000.0,
         )
         if self.media is not None:
-            self.media.frame(world.data)
+            self.media.frame(runner.sim.world.data)
         self.next_step += self._steps_per_frame
-        if self._capture.full:
+        if capture.full:
             try:
                 self._flush()
             except StorageError as error:
@@ -236,9 +235,8 @@ class Recorder:
         if self._trial_id is None or not len(self._capture):
             return
         frames = self._capture.take()
-        self.store.add_captured_frames(self._trial_id, frames)
+        self.frames_written += self.store.add_captured_frames(self._trial_id, frames)
         self.store.commit()
-        self.frames_written += len(frames)
 
     def _fail(self, error: StorageError) -> None:
         self.failure = error

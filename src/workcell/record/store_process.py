@@ -175,22 +175,27 @@ class StoreProcess:
             raise RecordError(
                 f"trial {trial_id} was not started through this store: start it first"
             )
-        self.prepare_frames(frames.layout)  # at once when the ring is made already
-        self._send_pending()  # the trial's start goes before its frames
+        if frames.layout is not self._ring_layout:
+            self.prepare_frames(frames.layout)  # the ring was made for another layout
+        if self._pending:
+            self._send_pending()  # the trial's start goes before its frames
         ring = self._ring
         assert ring is not None
         try:
-            ring.publish(number, frames.rows, alive=self._writer_alive, full=self._wake_writer)
+            backlog = ring.publish(
+                number, frames.rows, alive=self._writer_alive, full=self._wake_writer
+            )
         except BrokenPipeError:
             raise self._failure or self._died() from None
-        if ring.published - ring.consumed > ring.capacity // 2:
+        if backlog > ring.capacity // 2:
             self._wake_writer()  # more than half full: do not wait for the writer's poll
         return len(frames)
 
     def commit(self) -> None:
         """Send the events added since the last commit (frames are on their way already).
         Raises a failure the writer reported since the last call."""
-        self._send_pending()
+        if self._pending or self._failure is not None:
+            self._send_pending()
 
     def end_trial(
         self, trial_id: str, end: TrialEnd, *, thresholds: MetricThresholds | None = None
