@@ -13,11 +13,13 @@ every session simulates exactly the same trajectory):
   machines on the host), and a Python process's memory layout shifts its speed by a few
   percent for its whole life. So the sessions run in ``--blocks`` fresh processes (layouts
   averaged), and in each, ``--repeats`` rounds of back-to-back sessions, one per variant,
-  in a rotated order (drift shared within a round). Each round gives one paired ratio per
-  variant against its round's session without recording; the figure is the median of
-  those ratios with a 95 % bootstrap interval (blocks, then rounds in them, resampled). A
-  second session without recording in each round shows the noise floor (it should read
-  0 %). Target: under 5 %, met when the whole interval is below it.
+  in a random order (drift shared within a round; no variant always follows the same
+  one, whose after-effects it would carry), each after a garbage collection. Each round
+  gives one paired ratio per variant against its round's session without recording; the
+  figure is the median of those ratios with a 95 % bootstrap interval (blocks, then
+  rounds in them, resampled). A second session without recording in each round shows
+  the noise floor (it should read 0 %). Target: under 5 %, met when the whole interval
+  is below it.
 - the recorder's cost per frame against the cost of simulating one frame period (ratio);
 - the writer process's CPU time per frame (on the other core);
 - durable frames per second: captured frames handed over and committed.
@@ -30,6 +32,7 @@ Run: ``.venv/bin/python bench/record.py [--trials N] [--blocks B] [--repeats R]`
 from __future__ import annotations
 
 import argparse
+import gc
 import multiprocessing
 import os
 import statistics
@@ -92,7 +95,7 @@ def session(
 
 
 def block(config: SessionConfig, repeats: int, first: int, folder: str) -> Block:
-    """One fresh process: a session of each variant per round, in a rotated order (the
+    """One fresh process: a session of each variant per round, in a random order (the
     stores stay open for the whole block, as a server keeps its store)."""
     sim = Simulation(config.world)
     results: Block = {v: [] for v in (*VARIANTS, "writer cpu", "frames")}
@@ -104,8 +107,8 @@ def block(config: SessionConfig, repeats: int, first: int, folder: str) -> Block
         session(config, sim, process)  # warm up: first-time costs of every path
         session(config, sim, inline)
         for k in range(first, first + repeats):
-            for j in range(len(VARIANTS)):
-                variant = VARIANTS[(j + k) % len(VARIANTS)]
+            for variant in np.random.default_rng(k).permutation(VARIANTS).tolist():
+                gc.collect()  # no variant pays for the garbage of the one before
                 before = cpu_seconds(process.pid)
                 wall, frames = session(config, sim, stores[variant])
                 results[variant].append(wall)
@@ -166,7 +169,7 @@ def durable_rate(folder: Path, config: SessionConfig, variant: str, batches: int
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=2)
-    parser.add_argument("--blocks", type=int, default=5)
+    parser.add_argument("--blocks", type=int, default=8)
     parser.add_argument("--repeats", type=int, default=5)
     args = parser.parse_args()
     config = SessionConfig(task=TaskConfig(mode="collection", trials=args.trials))

@@ -18,8 +18,8 @@ def test_rows_come_out_in_order_by_trial_and_free_their_space() -> None:
     writer_side = FrameRing.create(width=4, capacity=8)
     try:
         reader_side = FrameRing.attach(writer_side.path, width=4, capacity=8)
-        writer_side.publish(0, _rows(0, 3), alive=lambda: True)
-        writer_side.publish(1, _rows(3, 2), alive=lambda: True)
+        assert writer_side.publish(0, _rows(0, 3), alive=lambda: True) == 3  # rows waiting
+        assert writer_side.publish(1, _rows(3, 2), alive=lambda: True) == 5
         # trial 1's start has not arrived: its rows wait
         [(number, rows)] = reader_side.take(trials_known=1)
         assert number == 0 and np.array_equal(rows, _rows(0, 3))
@@ -27,7 +27,7 @@ def test_rows_come_out_in_order_by_trial_and_free_their_space() -> None:
         [(number, rows)] = reader_side.take(trials_known=2)
         assert number == 1 and np.array_equal(rows, _rows(3, 2))
         # wrapping around the end of the ring
-        writer_side.publish(1, _rows(5, 6), alive=lambda: True)
+        assert writer_side.publish(1, _rows(5, 6), alive=lambda: True) == 6
         [(_, rows)] = reader_side.take(upto=8, trials_known=2)
         assert np.array_equal(rows, _rows(5, 3)) and reader_side.consumed == 8
         reader_side.close()
