@@ -12,7 +12,12 @@ import pytest
 from workcell.control.command import ArmCommand, Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
-from workcell.record.frame_capture import FrameCapture, OperatorInput, input_from_command
+from workcell.record.frame_capture import (
+    FrameCapture,
+    OperatorInput,
+    _rows_of,
+    input_from_command,
+)
 from workcell.record.frame_format import (
     INTEGER_COLUMNS,
     REAL_COLUMNS,
@@ -167,3 +172,13 @@ def test_no_device_reads_as_the_command_and_clears_an_earlier_device(sim: Simula
         1.0,
     )
     assert math.isnan(real["ctrl_l_x"]) and math.isnan(real["input_age_s"])
+
+
+def test_site_rows_are_one_view_when_consecutive_and_views_either_way() -> None:
+    array = np.arange(12.0).reshape(4, 3)
+    [joined] = _rows_of(array, [1, 2])
+    assert joined.tolist() == [3.0, 4.0, 5.0, 6.0, 7.0, 8.0]
+    apart = _rows_of(array, [0, 2])
+    assert [a.tolist() for a in apart] == [[0.0, 1.0, 2.0], [6.0, 7.0, 8.0]]
+    array[2, 0] = -1.0  # views: they follow the array, as the capture needs
+    assert joined[3] == -1.0 and apart[1][0] == -1.0
