@@ -134,14 +134,9 @@ class BimanualIK:
 
     def residual(self, side: str) -> float:
         """Position error of one TCP from its target, metres (as :func:`residuals`)."""
-        i = SIDES.index(side)
-        here = self.tcp_positions()[i : i + 1]
-        return float(residuals(here, self.target_positions[i : i + 1])[0])
-
-    def tcp_positions(self) -> NDArray[np.float64]:
-        """Where the IK configuration has each TCP now (rows in SIDES order)."""
-        sites = self.configuration.data.site_xpos
-        return np.stack([sites[self.tcp_sites[side]] for side in SIDES])
+        here = self.configuration.data.site_xpos[self.tcp_sites[side]]
+        target = self.target_positions[SIDES.index(side)]
+        return float(residuals(here[np.newaxis], target[np.newaxis])[0])
 
 
 def _mirror(arm: Sequence[float]) -> tuple[float, ...]:

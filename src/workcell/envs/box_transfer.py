@@ -27,7 +27,6 @@ from workcell.envs.spaces import action_space, observation_space
 from workcell.errors import ConfigError
 from workcell.export.boxes import parse_boxes
 from workcell.export.features import STATE_NAMES
-from workcell.record.frame_capture import input_from_command
 from workcell.record.frame_format import FrameReader
 from workcell.render.renderer import OffscreenRenderer
 from workcell.sim.events import BoxDelivered
@@ -126,7 +125,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         builder, so that they mean exactly what the exported columns mean."""
         row = self._reader.read(
             self._command,
-            input_from_command(self._command),
+            None,  # a command-only operator: grip and trigger read from the command
             t_sim=self.t_sim,
             t_wall=0.0,
             step_wall_ms=0.0,

@@ -81,8 +81,7 @@ def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
     real[:, 83:108] = device[:, 4:29]
     real[:, 108] = command[:, 23]
     ik_tcp, ik_target = rows[:n, at + 24 : at + 30], rows[:n, at + 30 : at + 36]
-    for k in range(2):
-        real[:, 109 + k] = residuals(ik_tcp[:, 3 * k : 3 * k + 3], ik_target[:, 3 * k : 3 * k + 3])
+    real[:, 109:111] = residuals(ik_tcp.reshape(-1, 3), ik_target.reshape(-1, 3)).reshape(n, 2)
     real[:, 111] = device[:, 29]
     return real
 

@@ -107,16 +107,10 @@ class FrameRing:
         ring's end allows. Returns the rows now in the ring, not yet taken."""
         counts, capacity = self._counts, self.capacity
         published, n = counts[_PUBLISHED], len(rows)
-        slot = published % capacity
-        backlog = published - counts[_CONSUMED] + n
-        if backlog <= capacity and slot + n <= capacity:
-            self._write(slot, published, trial_number, rows)  # the usual case: one block
-            counts[_PUBLISHED] = published + n
-            return backlog
         waited = False
         done = 0
-        while done < n:
-            free = self.capacity - (published - self.consumed)
+        while done < n:  # once, as a rule: the ring has room and does not wrap
+            free = capacity - (published - counts[_CONSUMED])
             if free <= 0:
                 if not alive():
                     raise BrokenPipeError("the writer process is gone")
@@ -125,13 +119,13 @@ class FrameRing:
                 waited = True
                 time.sleep(SPACE_WAIT_S)
                 continue
-            slot = published % self.capacity
-            k = min(n - done, free, self.capacity - slot)
+            slot = published % capacity
+            k = min(n - done, free, capacity - slot)
             self._write(slot, published, trial_number, rows[done : done + k])
             published += k
             done += k
             counts[_PUBLISHED] = published
-        return published - self.consumed
+        return published - counts[_CONSUMED]
 
     def _write(
         self, slot: int, position: int, trial_number: int, rows: NDArray[np.float64]

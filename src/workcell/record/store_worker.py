@@ -41,7 +41,7 @@ POLL_S = 0.05
 are safe from the recording process's death (this process writes them all when it sees
 the end of stdin); the interval bounds only what the death of this process itself would
 lose, in wall time. Longer polls commit more frames at once (every poll and every commit has
-a fixed cost): at 50 ms the writer spends 75 µs of CPU a recorded frame, 135 µs at 5 ms
+a fixed cost): at 50 ms the writer spends 70 µs of CPU a recorded frame, 135 µs at 5 ms
 (bench/record.py). The recording process wakes the writer early when the ring is half
 full."""
 WAIT_S = 0.0005
