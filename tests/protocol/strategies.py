@@ -15,6 +15,7 @@ from workcell.protocol.validation import MAX_TEXT, POSITION_LIMIT_M, RANGES
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
 json_scalars = st.none() | st.booleans() | st.integers(-(2**53), 2**53) | finite | st.text()
+"""Scalars a valid message may carry in its free-form fields."""
 json_values = st.recursive(
     json_scalars,
     lambda inner: (
@@ -22,6 +23,18 @@ json_values = st.recursive(
     ),
     max_leaves=12,
 )
+huge_integers = st.builds(
+    lambda digits, sign: sign * (10**digits + 7), st.integers(300, 4000), st.sampled_from((1, -1))
+)
+"""Integers JSON allows but no float holds: 301 to 4001 digits."""
+hostile_values = st.recursive(
+    json_scalars | huge_integers,
+    lambda inner: (
+        st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4)
+    ),
+    max_leaves=12,
+)
+"""Any JSON, valid in a message or not."""
 
 
 def _unit(quat: tuple[float, float, float, float]) -> tuple[float, float, float, float]:

@@ -8,7 +8,7 @@ from typing import Any
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from tests.protocol.strategies import for_message, json_values
+from tests.protocol.strategies import for_message, hostile_values
 from workcell.protocol import messages as m
 from workcell.protocol.codec import ProtocolError, decode_client, encode
 
@@ -33,7 +33,7 @@ def test_arbitrary_bytes(data: bytes) -> None:
 
 
 @settings(max_examples=300, deadline=None)
-@given(json_values)
+@given(hostile_values)
 def test_arbitrary_json(value: Any) -> None:
     check(json.dumps(value))
 
@@ -41,7 +41,7 @@ def test_arbitrary_json(value: Any) -> None:
 @settings(max_examples=300, deadline=None)
 @given(st.sampled_from(["hello", "start_session", "input", "stop", "ping"]), st.dictionaries(
     st.sampled_from(["role", "resume_token", "settings", "seq", "t_client", "source", "headset",
-                     "left", "right", "pose", "grip", "x"]), json_values, max_size=6))  # fmt: skip
+                     "left", "right", "pose", "grip", "x"]), hostile_values, max_size=6))  # fmt: skip
 def test_objects_with_a_known_type(kind: str, fields: dict[str, Any]) -> None:
     check(json.dumps({**fields, "type": kind}))
 
@@ -63,7 +63,8 @@ def _mutate(value: Any, path: list[int], replacement: Any) -> Any:
 @given(
     st.sampled_from(CLIENT).flatmap(for_message),
     st.lists(st.integers(0, 10), min_size=1, max_size=4),
-    json_values | st.sampled_from([float("nan"), float("inf"), 1e308, -(2**64), True, None]),
+    hostile_values
+    | st.sampled_from([float("nan"), float("inf"), 1e308, -(2**64), 10**400, True, None]),
 )
 def test_valid_messages_with_one_part_replaced(message: Any, path: list[int], new: Any) -> None:
     data = _mutate(json.loads(encode(message)), path, new)

@@ -79,6 +79,26 @@ def input_with(path: str, value: Any) -> str:
         ),
         ('{"type":"start_session","settings":[1]}', "malformed", "start_session.settings"),
         ('{"type":"ping","t_client":1' + "0" * 5000 + "}", "malformed", ""),
+        # integers of any length are valid JSON, but not every one is a float
+        (
+            '{"type":"ping","t_client":1' + "0" * 400 + "}",
+            "invalid_value",
+            "ping.t_client = 1000000000000000000000000000000000000...: must be a finite number",
+        ),
+        (input_with("t_client", -(10**400)), "invalid_value", "input.t_client = -100000"),
+        (input_with("left.grip", 10**309), "invalid_value", "input.left.grip = 1000"),
+        (input_with("left.stick", [0, 10**400]), "invalid_value", "input.left.stick[1] = 1000"),
+        (input_with("headset", [0, 1, 0, 10**400, 0, 0, 0]), "invalid_value", "headset[3]"),
+        (
+            '{"type":"start_session","settings":{"task":{"time_limit_s":1' + "0" * 400 + "}}}",
+            "invalid_value",
+            "start_session.settings.task.time_limit_s = 1000",
+        ),
+        (
+            '{"type":"start_session","settings":{"seed":[2,-1' + "0" * 309 + "]}}",
+            "invalid_value",
+            "start_session.settings.seed[1] = -10000000000000000000000000000000000",
+        ),
     ],
 )
 def test_refused_with_code_and_field(text: str | bytes, code: str, says: str) -> None:

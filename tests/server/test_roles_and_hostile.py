@@ -49,6 +49,8 @@ HOSTILE: list[str | bytes] = [
     '"right":{"pose":null,"grip":0,"trigger":0,"stick":[0,0],"buttons":0}}',
     '{"type":"start_session","settings":{"a":"' + "x" * 70_000 + '"}}',
     "[" * 10_000 + "]" * 10_000,
+    '{"type":"ping","t_client":1' + "0" * 400 + "}",  # too large for a float
+    '{"type":"start_session","settings":{"task":{"time_limit_s":-1' + "0" * 400 + "}}}",
 ]
 
 

@@ -103,10 +103,7 @@ def convert(value: Any, hint: Any, path: str) -> Any:
     if hint is float:
         if type(value) not in (int, float):
             raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a number")
-        number = float(value)
-        if not math.isfinite(number):
-            raise ProtocolError("invalid_value", f"{path} = {value}: must be a finite number")
-        return number
+        return _finite_float(value, path)
     if hint is str:
         if not isinstance(value, str):
             raise ProtocolError("malformed", f"{path} = {_show(value)}: must be text")
@@ -138,10 +135,25 @@ def convert(value: Any, hint: Any, path: str) -> Any:
     raise TypeError(f"{path}: no conversion for {hint!r}")  # a protocol author's mistake
 
 
+def _finite_float(value: int | float, path: str) -> float:
+    """``value`` as a finite float; an integer too large for a float (JSON allows any
+    number of digits) is refused like infinity, never raised as OverflowError."""
+    try:
+        number = float(value)
+    except OverflowError:
+        number = math.inf
+    if not math.isfinite(number):
+        raise ProtocolError(
+            "invalid_value", f"{path} = {_show(value)}: must be a finite number (within +-1.8e308)"
+        )
+    return number
+
+
 def _require_finite(value: Any, path: str) -> None:
-    """Free-form JSON (settings, event fields) holds finite numbers only."""
-    if isinstance(value, float) and not math.isfinite(value):
-        raise ProtocolError("invalid_value", f"{path} = {value}: must be a finite number")
+    """Free-form JSON (settings, event fields) holds finite numbers only: no NaN or
+    infinity, no integer beyond what a float holds."""
+    if type(value) in (int, float):
+        _finite_float(value, path)
     if isinstance(value, list):
         for i, item in enumerate(value):
             _require_finite(item, f"{path}[{i}]")
