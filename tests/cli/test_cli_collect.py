@@ -103,11 +103,21 @@ def test_config_defaults_is_a_loadable_complete_file(
     assert "rounds = 2" in capsys.readouterr().out
 
 
-def test_sigint_ends_the_running_trial_as_application_quit(tmp_path: Path) -> None:
+def _column_ends(line: str) -> list[int]:
+    """Where each right-aligned cell of a table line ends."""
+    return [
+        i + 1 for i, c in enumerate(line) if c != " " and (i + 1 == len(line) or line[i + 1] == " ")
+    ]
+
+
+@pytest.mark.parametrize("signum", [signal.SIGINT, signal.SIGTERM])
+def test_a_signal_ends_the_running_trial_as_application_quit(
+    tmp_path: Path, signum: signal.Signals
+) -> None:
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
     process = subprocess.Popen(
         [
-            *(sys.executable, "-m", "workcell", "collect", "--mode", "collection", "--json"),
+            *(sys.executable, "-m", "workcell", "collect", "--mode", "collection"),
             *("--store", str(tmp_path / "s.sqlite")),
         ],
         stdout=subprocess.PIPE,
@@ -116,13 +126,16 @@ def test_sigint_ends_the_running_trial_as_application_quit(tmp_path: Path) -> No
         env=env,
     )
     assert process.stdout is not None
-    first = json.loads(process.stdout.readline())  # one trial finished: it is running
-    assert first["outcome"] == "success"
+    header = process.stdout.readline().rstrip("\n")
+    first = process.stdout.readline().rstrip("\n")  # one trial finished: the next runs
+    assert first.split()[4] == "success"
     time.sleep(0.5)
-    process.send_signal(signal.SIGINT)
+    process.send_signal(signum)
     out, err = process.communicate(timeout=60)
-    assert process.returncode == 130
-    last = json.loads(out.strip().splitlines()[-1])
-    assert (last["outcome"], last["interruption_reason"]) == ("interrupted", "application_quit")
-    assert last["trial_index"] == 1
+    assert process.returncode == 128 + signum  # 130 for SIGINT, 143 for SIGTERM
+    last = out.splitlines()[0]
+    assert last.split()[:5] == ["1", "collection", "-", "-", "interrupted:application_quit"]
+    # the longest outcome label keeps the table aligned under its header
+    assert len(header) == len(first) == len(last)
+    assert _column_ends(header) == _column_ends(first) == _column_ends(last)
     assert "Traceback" not in err

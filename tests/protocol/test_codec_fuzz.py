@@ -38,10 +38,29 @@ def test_arbitrary_json(value: Any) -> None:
     check(json.dumps(value))
 
 
+FIELD_NAMES = st.sampled_from(
+    [
+        "role",
+        "resume_token",
+        "settings",
+        "seq",
+        "t_client",
+        "source",
+        "headset",
+        "left",
+        "right",
+        "pose",
+        "grip",
+        "x",
+    ]
+)
+
+
 @settings(max_examples=300, deadline=None)
-@given(st.sampled_from(["hello", "start_session", "input", "stop", "ping"]), st.dictionaries(
-    st.sampled_from(["role", "resume_token", "settings", "seq", "t_client", "source", "headset",
-                     "left", "right", "pose", "grip", "x"]), hostile_values, max_size=6))  # fmt: skip
+@given(
+    st.sampled_from(["hello", "start_session", "input", "stop", "ping"]),
+    st.dictionaries(FIELD_NAMES, hostile_values, max_size=6),
+)
 def test_objects_with_a_known_type(kind: str, fields: dict[str, Any]) -> None:
     check(json.dumps({**fields, "type": kind}))
 

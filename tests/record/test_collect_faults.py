@@ -62,6 +62,17 @@ def wait_for_recording(store: Path, timeout_s: float = 120.0) -> None:
         time.sleep(0.05)
 
 
+def wait_for_trials(store: Path, count: int, timeout_s: float = 120.0) -> None:
+    """Until the recorder has started ``count`` trials."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        with Store.open(store, writer=False) as reader:
+            if reader.counts().trials >= count:
+                return
+        assert time.monotonic() < deadline, f"{store} never had {count} trials"
+        time.sleep(0.02)
+
+
 def test_sigkill_at_random_moments_loses_nothing_committed(tmp_path: Path) -> None:
     rng = random.Random(20261121)
     # A random moment after recording has begun: within a trial, between two commits, in
@@ -111,10 +122,10 @@ def test_sigint_and_sigterm_end_the_trial_as_application_quit(tmp_path: Path) ->
         process = collect(store, "--mode", "collection")
         assert process.stdout is not None
         json.loads(process.stdout.readline())  # the first trial ended: the second runs
-        time.sleep(0.3)
+        wait_for_trials(store, 2)  # past the countdown: the second trial is recorded
         process.send_signal(signum)
         _, err = process.communicate(timeout=60)
-        assert process.returncode == 130, err
+        assert process.returncode == 128 + signum, err  # 130, 143: the shells' convention
         assert verify_store(store) == []
         with Store.open(store, writer=False) as reader:
             (session,) = reader.sessions()
@@ -122,6 +133,29 @@ def test_sigint_and_sigterm_end_the_trial_as_application_quit(tmp_path: Path) ->
         assert session.status == "interrupted"
         assert [t.outcome for t in trials] == ["success", "interrupted"]
         assert trials[-1].interruption_reason == "application_quit"
+
+
+def test_a_closed_standard_output_ends_the_run_like_sigint(tmp_path: Path) -> None:
+    """``workcell collect --json ... | head -n 1``: no traceback, the running trial ends
+    interrupted (application_quit), the session is closed, the store verifies."""
+    store = tmp_path / "pipe.sqlite"
+    process = collect(store, "--mode", "collection", "--trials", "3")
+    assert process.stdout is not None and process.stderr is not None
+    first = json.loads(process.stdout.readline())  # what head -n 1 reads, then it exits
+    wait_for_trials(store, 2)  # past the next trial's countdown: its trial row exists
+    process.stdout.close()
+    err = process.stderr.read()
+    process.wait(timeout=60)
+    assert process.returncode == 128 + signal.SIGPIPE, err
+    assert "Traceback" not in err and "BrokenPipe" not in err, err
+    assert first["outcome"] == "success"
+    assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        (session,) = reader.sessions()
+        trials = reader.trials()
+    assert session.status == "interrupted"
+    assert [t.outcome for t in trials] == ["success", "interrupted"]
+    assert trials[-1].interruption_reason == "application_quit"
 
 
 def _limit_file_size(limit: int) -> Callable[[], None]:

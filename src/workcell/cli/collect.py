@@ -4,8 +4,8 @@ from __future__ import annotations
 
 import argparse
 import contextlib
-import json
 import math
+import signal
 import sys
 from collections.abc import Iterator
 from pathlib import Path
@@ -17,13 +17,19 @@ if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
     from workcell.record.media import CameraOptions
     from workcell.record.recorder import Recorder, RecordingStore
-    from workcell.task.runner import SessionRunner, TrialResult
+    from workcell.task.runner import SessionRunner
 
-EXIT_INTERRUPTED = 130
 EXIT_STORAGE = 1
+EXIT_OUTPUT_CLOSED = 128 + signal.SIGPIPE
+"""Standard output's reader went away (``collect ... | head``): the shell's status for a
+process SIGPIPE ended."""
 DEFAULT_STORE = "workcell.sqlite"
-COLUMNS = ("index", "mode", "round", "level", "outcome", "boxes", "score", "elapsed")
-WIDTHS = (5, 10, 5, 5, 11, 5, 6, 8)
+
+
+def exit_status(signal_name: str) -> int:
+    """128 + the signal's number: 130 after SIGINT, 143 after SIGTERM (the shells'
+    convention for a process a signal ended)."""
+    return 128 + signal.Signals[signal_name].value
 
 
 def register(subparsers: Subparsers) -> None:
@@ -140,6 +146,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_parallel(args, config.seed)
 
+    from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
     from workcell.control.simulation import Simulation  # noqa: PLC0415
     from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
     from workcell.record.shutdown import ShutdownSignals  # noqa: PLC0415
@@ -153,7 +160,7 @@ def run(args: argparse.Namespace) -> int:
     )
     with _open_store(None if args.no_store else args.store, args.writer) as store:
         recorder = _recorder(store, args.store, runner, cameras)
-        printer = _Printer(args.json)
+        printer = TrialPrinter(args.json)
         printer.header()
         runner.start()
         shown = 0
@@ -161,7 +168,7 @@ def run(args: argparse.Namespace) -> int:
             while runner.current is not None:
                 if recorder is not None and recorder.failure is not None:
                     runner.interrupt("storage_error")
-                elif shutdown.requested is not None:
+                elif shutdown.requested is not None or printer.check_output():
                     runner.interrupt("application_quit")
                 else:
                     runner.step()
@@ -177,8 +184,10 @@ def run(args: argparse.Namespace) -> int:
             print(f"workcell: error: {recorder.failure}", file=sys.stderr)
             return EXIT_STORAGE
         if store is not None and recorder is not None:
-            printer.stored(args.store, recorder)
-    return EXIT_INTERRUPTED if shutdown.requested is not None else 0
+            printer.stored(args.store, recorder.session_id, recorder.frames_written)
+    if shutdown.requested is not None:
+        return exit_status(shutdown.requested)
+    return EXIT_OUTPUT_CLOSED if printer.output_closed else 0
 
 
 @contextlib.contextmanager
@@ -211,102 +220,3 @@ def _recorder(
         model = runner.sim.world.model
         media = MediaRecorder(model, cameras, media_dir_for(path), rate)
     return Recorder(store, runner, media=media)
-
-
-class _Printer:
-    def __init__(self, as_json: bool) -> None:
-        self.as_json = as_json
-        self.live = sys.stderr.isatty()
-        self._last_progress = -1
-
-    def header(self) -> None:
-        if not self.as_json:
-            print("  ".join(c.rjust(w) for c, w in zip(COLUMNS, WIDTHS, strict=True)))
-
-    def progress(self, runner: SessionRunner) -> None:
-        if not self.live:
-            return
-        hud = runner.hud()
-        second = int(runner.sim.time)
-        if second != self._last_progress:
-            self._last_progress = second
-            where = f"round {hud.round} level {hud.level}, " if hud.round else ""
-            print(
-                f"\r  trial {hud.trial_index + 1}: {where}{hud.phase.value}, "
-                f"{hud.remaining_s:5.1f} s left, boxes {hud.boxes_delivered}/"
-                f"{hud.required_boxes}   ",
-                end="",
-                file=sys.stderr,
-                flush=True,
-            )
-
-    def row(self, result: TrialResult) -> None:
-        if self.live:
-            print("\r" + " " * 70 + "\r", end="", file=sys.stderr)
-        spec = result.spec
-        if self.as_json:
-            print(json.dumps(trial_json(result)), flush=True)
-            return
-        outcome: str = result.outcome
-        if result.interruption_reason:
-            outcome = f"{outcome}:{result.interruption_reason}"
-        values = (
-            spec.trial_index,
-            spec.mode,
-            "-" if spec.round is None else spec.round,
-            "-" if spec.level is None else spec.level,
-            outcome,
-            f"{result.boxes_delivered}/{spec.required_boxes}",
-            result.score,
-            f"{result.elapsed_s:.2f}",
-        )
-        cells = (str(v).rjust(w) for v, w in zip(values, WIDTHS, strict=True))
-        print("  ".join(cells), flush=True)
-
-    def stored(self, path: Path, recorder: Recorder) -> None:
-        print(
-            f"recorded session {recorder.session_id} ({recorder.frames_written} frames) in {path}",
-            file=sys.stderr if self.as_json else sys.stdout,
-        )
-
-    def summary(self, runner: SessionRunner) -> None:
-        results = runner.results
-        successes = sum(r.outcome == "success" for r in results)
-        total = sum(r.score for r in results)
-        line = f"{len(results)} trials, {successes} succeeded, total score {total}"
-        if runner.config.task.mode == "challenge":
-            last = results[-1].spec if results else None
-            complete = (
-                not runner.capped
-                and bool(results)
-                and results[-1].outcome == "success"
-                and last is not None
-                and last.round == runner.config.task.rounds
-                and last.level == runner.config.task.levels
-            )
-            if complete:
-                line = f"campaign complete: {line}"
-            elif last is not None:
-                why = "stopped by --trials" if runner.capped else "interrupted"
-                line = (
-                    f"campaign incomplete ({why}) at round {last.round} level {last.level}: {line}"
-                )
-        print(line, file=sys.stderr if self.as_json else sys.stdout)
-
-
-def trial_json(result: TrialResult) -> dict[str, Any]:
-    """The JSON line of one trial (keys are public API)."""
-    spec = result.spec
-    return {
-        "trial_index": spec.trial_index,
-        "mode": spec.mode,
-        "round": spec.round,
-        "level": spec.level,
-        "required_boxes": spec.required_boxes,
-        "time_limit_s": spec.time_limit_s,
-        "outcome": result.outcome,
-        "interruption_reason": result.interruption_reason,
-        "boxes_delivered": result.boxes_delivered,
-        "score": result.score,
-        "elapsed_s": round(result.elapsed_s, 6),
-    }

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import secrets
+import signal
 import socket
 from pathlib import Path
 from types import FrameType
@@ -16,7 +17,8 @@ if TYPE_CHECKING:
     from workcell.server.conductor import Conductor
     from workcell.server.options import ServerOptions
 
-EXIT_INTERRUPTED = 130
+EXIT_INTERRUPTED = 128 + signal.SIGINT
+EXIT_TERMINATED = 128 + signal.SIGTERM
 WS_MAX_BYTES = 1024 * 1024
 """Frames above this close the connection (1009); above 64 KiB they get an Error reply."""
 
@@ -107,14 +109,29 @@ def run(args: argparse.Namespace) -> int:
         print("generated an access token (pass --token to choose one)")
     print(f"workcell serve: open {scheme}://{shown}:{options.port}{query}", flush=True)
     print(f"recording into {options.store}; Ctrl+C stops (the running trial ends interrupted)")
+    # uvicorn handles SIGINT and SIGTERM (a graceful shutdown), then re-raises the signal
+    # to the handler that was there before: Python's for SIGINT (KeyboardInterrupt), this
+    # one for SIGTERM, so that both end here with the shells' status (130, 143).
+    previous = signal.signal(signal.SIGTERM, _raise_terminated)
     try:
         server.run()
-    except KeyboardInterrupt:  # uvicorn re-raises the SIGINT it handled
+    except KeyboardInterrupt:
         return EXIT_INTERRUPTED
+    except _TerminatedError:
+        return EXIT_TERMINATED
     finally:  # whatever uvicorn did, the running trial ends and the store is closed
+        signal.signal(signal.SIGTERM, previous)
         conductor.quit()
         conductor.finish(30.0)
     return 0
+
+
+class _TerminatedError(Exception):
+    """SIGTERM arrived (raised once uvicorn has shut down)."""
+
+
+def _raise_terminated(number: int, frame: FrameType | None) -> None:
+    raise _TerminatedError
 
 
 def quit_first_server(config: uvicorn.Config, conductor: Conductor) -> uvicorn.Server:
