@@ -22,6 +22,7 @@ from workcell.protocol import messages as m
 from workcell.protocol.codec import decode_server, encode
 from workcell.server.app import create_app
 from workcell.server.conductor import Conductor
+from workcell.server.http_config import uvicorn_config
 from workcell.server.options import ServerOptions
 from workcell.server.tls import Certificate
 
@@ -65,10 +66,9 @@ def running_server(
 ) -> Iterator[RunningServer]:
     options = replace(ServerOptions(store=tmp_path / "store.sqlite", grace_s=1.0), **overrides)
     conductor = Conductor(options)
-    config = uvicorn.Config(
+    config = uvicorn_config(
         create_app(options, conductor),
-        log_level="warning",
-        ws_max_size=1024 * 1024,
+        options,
         ssl_certfile=str(tls.cert_file) if tls else None,
         ssl_keyfile=str(tls.key_file) if tls else None,
     )

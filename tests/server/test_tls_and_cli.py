@@ -70,3 +70,9 @@ def test_serve_options() -> None:
     with pytest.raises(ConfigError) as bad:
         serve.options_from(parse("--port", "70000", "--grace", "-1", "--token", "short"))
     assert len(bad.value.problems) == 3
+    options, _ = serve.options_from(
+        parse("--allow-origin", "http://localhost:5173", "--allow-origin", "https://a.example")
+    )
+    assert options.allow_origins == ("http://localhost:5173", "https://a.example")
+    with pytest.raises(ConfigError, match="--allow-origin = 'localhost:5173'"):
+        serve.options_from(parse("--allow-origin", "localhost:5173"))

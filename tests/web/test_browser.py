@@ -91,9 +91,10 @@ def _free_port() -> int:
         return int(sock.getsockname()[1])
 
 
-@pytest.fixture
-def server(tmp_path: Path, one_browser_at_a_time: None) -> Iterator[Server]:
-    """``python -m workcell serve`` recording into a fresh store, stopped with SIGINT."""
+@contextlib.contextmanager
+def serving(tmp_path: Path, *extra: str) -> Iterator[Server]:
+    """``python -m workcell serve EXTRA...`` recording into a fresh store, stopped with
+    SIGINT."""
     port = _free_port()
     store = tmp_path / "store.sqlite"
     log = tmp_path / "server.log"
@@ -107,6 +108,7 @@ def server(tmp_path: Path, one_browser_at_a_time: None) -> Iterator[Server]:
         str(port),
         "--store",
         str(store),
+        *extra,
     ]
     with log.open("w") as out:
         process = subprocess.Popen(command, stdout=out, stderr=subprocess.STDOUT, env=env)
@@ -136,20 +138,27 @@ def server(tmp_path: Path, one_browser_at_a_time: None) -> Iterator[Server]:
                 process.wait()
 
 
+@pytest.fixture
+def server(tmp_path: Path, one_browser_at_a_time: None) -> Iterator[Server]:
+    with serving(tmp_path) as running:
+        yield running
+
+
 def _artifacts(name: str) -> Path:
     root = Path(os.environ.get("WORKCELL_ARTIFACTS", WEB / "test-artifacts"))
     return root / name
 
 
-def run_script(name: str, server: Server) -> dict[str, Any]:
-    """Run ``web/tests/e2e/<name>.mjs`` against ``server``; its RESULT line as a dict."""
+def run_script(name: str, server: Server, *extra: str) -> dict[str, Any]:
+    """Run ``web/tests/e2e/<name>.mjs`` against ``server`` (more arguments: ``extra``);
+    its RESULT line as a dict."""
     artifacts = _artifacts(name)
     if artifacts.exists():
         shutil.rmtree(artifacts)
     env = {**os.environ, "WORKCELL_ARTIFACTS": str(artifacts.parent)}
     started = time.monotonic()
     completed = subprocess.run(
-        ["node", str(E2E / f"{name}.mjs"), server.url],
+        ["node", str(E2E / f"{name}.mjs"), server.url, *extra],
         capture_output=True,
         text=True,
         timeout=SCRIPT_TIMEOUT_S,
@@ -242,3 +251,29 @@ def test_reconnect_sessions_page_and_replay(server: Server) -> None:
     assert trial["interruption_reason"] == "operator_stop"
     assert result["replay_frames"] > 10
     assert result["wall_s"] < 90
+
+
+def test_toolbar_stays_on_top_after_leaving_vr(server: Server) -> None:
+    result = run_script("xr_exit_toolbar", server)
+    assert all(control["ok"] for control in result["toolbar_after_vr"])
+    assert result["reason"] == "operator_stop"  # "Stop session" was clicked with the pointer
+    (trial,) = _rows(
+        server.store, "SELECT * FROM trials WHERE session_id = ?", result["session_id"]
+    )
+    assert (trial["outcome"], trial["interruption_reason"]) == ("interrupted", "operator_stop")
+
+
+def test_a_page_of_another_origin_cannot_drive(tmp_path: Path, one_browser_at_a_time: None) -> None:
+    """A page of another local origin opens the WebSocket in Chromium: refused before it
+    can say hello; an origin given with --allow-origin is let in."""
+    port = _free_port()
+    with serving(tmp_path, "--allow-origin", f"http://127.0.0.1:{port}") as running:
+        result = run_script("cross_origin", running, str(port))
+        foreign, allowed = result["foreign"], result["allowed"]
+        assert not foreign["opened"] and foreign["messages"] == []
+        assert foreign["close_code"] == 1006  # the handshake was refused
+        assert foreign["api"].startswith("refused")  # and the API is not readable from it
+        assert allowed["opened"] and allowed["messages"][0] == "welcome"
+        with urllib.request.urlopen(f"{running.url}/api/diagnostics", timeout=5) as reply:
+            assert json.loads(reply.read())["sim"] is None  # no session was started
+    assert not running.store.exists()  # nothing was recorded

@@ -19,8 +19,6 @@ if TYPE_CHECKING:
 
 EXIT_INTERRUPTED = 128 + signal.SIGINT
 EXIT_TERMINATED = 128 + signal.SIGTERM
-WS_MAX_BYTES = 1024 * 1024
-"""Frames above this close the connection (1009); above 64 KiB they get an Error reply."""
 
 
 def register(subparsers: Subparsers) -> None:
@@ -54,6 +52,14 @@ def register(subparsers: Subparsers) -> None:
         metavar="S",
         help="seconds a dropped operator has to reconnect (default: %(default)s)",
     )
+    parser.add_argument(
+        "--allow-origin",
+        action="append",
+        default=[],
+        metavar="ORIGIN",
+        help="also let pages of ORIGIN (scheme://host[:port]) open the WebSocket, and accept "
+        "its host name in the Host header (repeatable; default: only the server's own pages)",
+    )
     parser.add_argument("--static", type=Path, metavar="DIR", help="built web client folder")
     parser.set_defaults(func=run)
 
@@ -74,16 +80,16 @@ def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
         tls=args.tls,
         grace_s=args.grace,
         static_dir=args.static or DEFAULT_STATIC,
+        allow_origins=tuple(args.allow_origin),
     )
     return options, generated
 
 
 def run(args: argparse.Namespace) -> int:
     options, generated = options_from(args)
-    import uvicorn  # noqa: PLC0415
-
     from workcell.server.app import create_app  # noqa: PLC0415
     from workcell.server.conductor import Conductor  # noqa: PLC0415
+    from workcell.server.http_config import uvicorn_config  # noqa: PLC0415
     from workcell.server.tls import lan_address, self_signed  # noqa: PLC0415
 
     ssl: dict[str, str] = {}
@@ -92,15 +98,7 @@ def run(args: argparse.Namespace) -> int:
         ssl = {"ssl_certfile": str(cert.cert_file), "ssl_keyfile": str(cert.key_file)}
         print(f"TLS certificate {cert.cert_file}\n  SHA-256 fingerprint {cert.fingerprint}")
     conductor = Conductor(options)
-    config = uvicorn.Config(
-        create_app(options, conductor),
-        host=options.host,
-        port=options.port,
-        ws_max_size=WS_MAX_BYTES,
-        log_level="warning",
-        timeout_graceful_shutdown=5,
-        **ssl,  # type: ignore[arg-type]
-    )
+    config = uvicorn_config(create_app(options, conductor), options, **ssl)
     server = quit_first_server(config, conductor)
     shown = options.host if options.host not in ("0.0.0.0", "::") else lan_address() or "HOST"
     scheme = "https" if options.tls else "http"

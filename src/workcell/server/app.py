@@ -1,4 +1,5 @@
-"""The ASGI application: pages, JSON API and the WebSocket, behind the token check."""
+"""The ASGI application: pages, JSON API and the WebSocket, behind the Host and Origin
+checks (:mod:`workcell.server.origin`) and the token check."""
 
 from __future__ import annotations
 
@@ -13,7 +14,8 @@ from starlette.websockets import WebSocket
 from workcell.server.auth import TokenAuth
 from workcell.server.conductor import Conductor
 from workcell.server.http_api import routes
-from workcell.server.options import ServerOptions
+from workcell.server.options import ServerOptions, is_loopback
+from workcell.server.origin import OriginGuard, allowed_origins
 from workcell.server.static import ClientFiles, index_route
 from workcell.server.websocket import serve_client
 
@@ -38,7 +40,15 @@ def create_app(options: ServerOptions, conductor: Conductor | None = None) -> St
             WebSocketRoute("/ws", ws),
             Mount("/", ClientFiles(options.static_dir)),
         ],
-        middleware=[Middleware(TokenAuth, token=options.token, secure=options.tls)],
+        middleware=[
+            Middleware(
+                OriginGuard,
+                check_host=is_loopback(options.host),
+                bound_host=options.host,
+                allowed=allowed_origins(options.allow_origins),
+            ),
+            Middleware(TokenAuth, token=options.token, secure=options.tls),
+        ],
         lifespan=lifespan,
     )
     app.state.conductor = conductor

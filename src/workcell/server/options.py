@@ -8,6 +8,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workcell.errors import ConfigError
+from workcell.server.origin import allowed_origins
 
 DEFAULT_STORE = Path("workcell.sqlite")
 DEFAULT_STATIC = Path(__file__).resolve().parents[3] / "web" / "dist"
@@ -45,6 +46,12 @@ class ServerOptions:
     """Messages a client may send at once above the sustained rate."""
     max_catch_up_s: float = 0.25
     """How far the simulation may fall behind the wall clock before it drops time."""
+    allow_origins: tuple[str, ...] = ()
+    """Origins (``scheme://host[:port]``) whose pages may open the WebSocket besides the
+    server's own, and whose host names the Host check accepts."""
+    header_timeout_s: float = 10.0
+    """How long a connection may take to send a request's headers (from connecting, or
+    from the end of the previous response) before it is closed."""
 
     def __post_init__(self) -> None:
         problems = []
@@ -63,5 +70,11 @@ class ServerOptions:
             problems.append(f"state_hz = {self.state_hz}: must be 1 to 240")
         if not (math.isfinite(self.max_messages_per_s) and self.max_messages_per_s > 0):
             problems.append(f"max_messages_per_s = {self.max_messages_per_s}: must be > 0")
+        if not (math.isfinite(self.header_timeout_s) and 0 < self.header_timeout_s <= 3600):
+            problems.append(f"header_timeout_s = {self.header_timeout_s}: must be 0 to 3600 s")
+        try:
+            allowed_origins(self.allow_origins)
+        except ConfigError as error:
+            problems += error.problems
         if problems:
             raise ConfigError(problems)
