@@ -34,7 +34,10 @@ def store(tmp_path: Path) -> Path:
 
 def test_verify_a_good_store(store: Path, capsys: pytest.CaptureFixture[str]) -> None:
     assert _run(["verify", "--store", str(store)]) == 0
-    assert capsys.readouterr().out == "ok: 2 sessions, 4 trials, 38 frames verified\n"
+    assert capsys.readouterr().out == (
+        "ok: 2 sessions, 4 trials, 38 frames; hash chains of 2 sessions (8 links, unsigned) "
+        "verified\n"
+    )
 
 
 def test_verify_names_each_problem(store: Path, capsys: pytest.CaptureFixture[str]) -> None:
@@ -93,7 +96,8 @@ def test_verify_recover_closes_an_orphan_trial(
     out = capsys.readouterr().out.splitlines()
     assert out == [
         f"recovered: trial {trial_id} closed as interrupted (crash_recovered)",
-        "ok: 1 sessions, 1 trials, 0 frames verified",
+        "ok: 1 sessions, 1 trials, 0 frames; hash chains of 1 sessions (3 links, unsigned) "
+        "verified",
     ]
 
 

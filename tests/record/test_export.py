@@ -24,7 +24,7 @@ from workcell.record.columns import (
 )
 from workcell.record.csv_format import FILES
 from workcell.record.export_csv import columns_equal, export_csv, read_csv_export
-from workcell.record.schema import TableLayout, column_list
+from workcell.record.schema import SCHEMA_VERSION, TableLayout, column_list
 from workcell.record.verify import verify_export
 from workcell.sim.joints import JOINT_ORDER
 
@@ -81,7 +81,9 @@ def test_round_trip_is_exact(exported: tuple[Path, Path]) -> None:
 def test_manifest_records_parameters_and_checksums(exported: tuple[Path, Path]) -> None:
     store, out = exported
     manifest = json.loads((out / "manifest.json").read_text())
-    assert manifest["schema_version"] == 1 and manifest["joint_order"] == list(JOINT_ORDER)
+    assert manifest["schema_version"] == SCHEMA_VERSION and manifest["joint_order"] == list(
+        JOINT_ORDER
+    )
     with Store.open(store, writer=False) as reader:
         sessions = reader.sessions()
         n_frames = reader.counts().frames

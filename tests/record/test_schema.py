@@ -1,4 +1,5 @@
-"""Schema version 1: tables, column names, ids, and refusing what is not a readable store."""
+"""Schema version 2: tables, column names, ids, migrating version 1, and refusing what is not
+a readable store."""
 
 from __future__ import annotations
 
@@ -9,27 +10,28 @@ from pathlib import Path
 import pytest
 
 from tests.record import synthetic
-from workcell.record import RecordError, Store, StoreError
+from workcell.record import RecordError, Store, StoreError, rowio
 from workcell.record.columns import FRAME_COLUMNS, TRIAL_COLUMNS
-from workcell.record.schema import APPLICATION_ID, SCHEMA_VERSION
+from workcell.record.schema import APPLICATION_ID, SCHEMA_VERSION, SESSIONS
+from workcell.record.verify import verify_store, verify_store_report
 
 
 def _columns(conn: sqlite3.Connection, table: str) -> list[str]:
     return [row[1] for row in conn.execute(f"PRAGMA table_info({table})")]
 
 
-def test_new_store_has_the_version_1_schema(tmp_path: Path) -> None:
+def test_new_store_has_the_version_2_schema(tmp_path: Path) -> None:
     path = tmp_path / "s.db"
     synthetic.fill_store(path)
     conn = sqlite3.connect(path)
-    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 1
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 2
     assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
     assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     meta = dict(conn.execute("SELECT key, value FROM meta"))
-    assert meta["schema_version"] == "1"
+    assert meta["schema_version"] == "2"
     assert meta["software_version"]
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
-    assert {"meta", "sessions", "trials", "events", "frames", "annotations"} <= tables
+    assert {"meta", "sessions", "trials", "events", "frames", "annotations", "chain"} <= tables
     # the contract's names, in the contract's order, first
     assert _columns(conn, "frames")[: len(FRAME_COLUMNS)] == list(FRAME_COLUMNS)
     assert _columns(conn, "trials")[: len(TRIAL_COLUMNS)] == list(TRIAL_COLUMNS)
@@ -79,13 +81,14 @@ def test_newer_schema_is_refused(tmp_path: Path) -> None:
     path = tmp_path / "s.db"
     synthetic.fill_store(path)
     conn = sqlite3.connect(path)
-    conn.execute("PRAGMA user_version = 2")
+    conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION + 1}")
     conn.close()
     for writer in (False, True):
         with pytest.raises(StoreError) as error:
             Store.open(path, writer=writer)
         message = str(error.value)
-        assert "schema version 2" in message and "reads up to 1" in message
+        assert f"schema version {SCHEMA_VERSION + 1}" in message
+        assert f"reads up to {SCHEMA_VERSION}" in message
         assert "upgrade Workcell" in message and str(path) in message
 
 
@@ -121,3 +124,44 @@ def test_a_second_writer_is_refused_and_readers_are_not(tmp_path: Path) -> None:
         first.end_session(session_id)
     with Store.open(path, writer=True):  # released on close
         pass
+
+
+def _as_version_1(path: Path) -> None:
+    """Turn a store into what schema version 1 wrote: no chain table, version 1 in the
+    pragma, the meta table and every session row (its checksum kept consistent)."""
+    conn = sqlite3.connect(path, isolation_level=None)
+    conn.execute("BEGIN")
+    conn.execute("DROP TABLE chain")
+    conn.execute("UPDATE meta SET value = '1' WHERE key = 'schema_version'")
+    for (session_id,) in conn.execute("SELECT session_id FROM sessions").fetchall():
+        rowio.update(conn, SESSIONS, {"session_id": session_id}, {"schema_version": 1})
+    conn.execute("PRAGMA user_version = 1")
+    conn.execute("COMMIT")
+    conn.close()
+
+
+def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
+    tmp_path: Path,
+) -> None:
+    path = tmp_path / "old.db"
+    ids = synthetic.fill_store(path)
+    _as_version_1(path)
+    with pytest.raises(StoreError) as refused:
+        Store.open(path, writer=False)
+    message = str(refused.value)
+    assert "schema version 1" in message and "migrating it to version 2" in message
+    assert f"workcell verify --recover --store {path}" in message
+    with pytest.raises(StoreError, match="schema version 1"):
+        verify_store(path)
+    with Store.open(path, writer=True) as store:  # migrates, in one transaction
+        meta = store.meta()
+        sessions = store.sessions()
+        links = store.chain()
+        counts = store.counts()
+    assert meta["schema_version"] == "2" and "migrated_wall" in meta
+    assert [s.schema_version for s in sessions] == [1, 1]  # as they were recorded
+    assert counts.trials == len(ids["trials"]) and counts.frames == 38  # every row kept
+    assert len(links) == 8 and all(link.signature is None for link in links)
+    assert verify_store(path) == []
+    findings, stats = verify_store_report(path)
+    assert findings == [] and stats.migrated_sessions == 2

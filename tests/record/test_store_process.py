@@ -177,13 +177,37 @@ def test_a_dead_writer_process_stops_recording_with_a_storage_error(tmp_path: Pa
         assert time.monotonic() < deadline
         time.sleep(0.01)
     os.kill(store.pid, signal.SIGKILL)
-    with pytest.raises(StorageError, match="store writer process exited"):
+    wait_until_dead(store.pid)
+    # the very next hand-over notices (one batch, 0.25 s of sim time), with no message sent
+    with pytest.raises(StorageError, match=r"store writer process was killed \(SIGKILL\)"):
         store.add_captured_frames(trial_id, frames)
-        store.end_trial(trial_id, synthetic.trial_end(len(frames)))
-    assert store.try_mark_interrupted(trial_id) is False
+    # and this process closes the session itself, with the reason the operator is told
+    assert store.try_interrupt_session(session_id, "storage_error") is True
     store.close()
     with Store.open(tmp_path / "s.sqlite", writer=True) as reopened:
-        assert reopened.recovered == (trial_id,)
+        assert reopened.recovered == ()  # nothing was left for crash recovery
+        (session,) = reopened.sessions()
+        (trial,) = reopened.trials()
+        events = reopened.events(trial_id)
+    assert session.status == "interrupted"
+    assert (trial.outcome, trial.interruption_reason) == ("interrupted", "storage_error")
+    assert events[-1].kind == "interruption"
+    assert "store writer process was killed (SIGKILL)" in str(events[-1].payload["error"])
+    assert verify_store(tmp_path / "s.sqlite") == []
+
+
+def wait_until_dead(pid: int, timeout_s: float = 10.0) -> None:
+    """Until ``pid`` has exited (a zombie its parent has not reaped yet, or gone)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+        except FileNotFoundError:
+            return
+        if state in ("Z", "X"):
+            return
+        time.sleep(0.005)
+    raise AssertionError(f"process {pid} did not die")
 
 
 def _trial_ids(path: Path) -> list[str]:

@@ -18,6 +18,7 @@ import pytest
 from workcell.cli.main import main
 from workcell.record import Store, StoreError
 from workcell.record.merge import MergeError, merge_stores
+from workcell.record.schema import SCHEMA_VERSION
 from workcell.record.verify import verify_store
 from workcell.scale.plan import plan_workers
 
@@ -111,10 +112,10 @@ def test_merge_refuses_what_cannot_be_combined(tmp_path: Path) -> None:
     newer = tmp_path / "newer.sqlite"
     shutil.copy(fresh, newer)
     conn = sqlite3.connect(newer)
-    conn.execute("PRAGMA user_version = 2")
+    conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION + 1}")
     conn.commit()
     conn.close()
-    with pytest.raises(StoreError, match="schema version 2"):
+    with pytest.raises(StoreError, match=f"schema version {SCHEMA_VERSION + 1}"):
         merge_stores([newer], tmp_path / "out3.sqlite")
 
 

@@ -81,6 +81,13 @@ def register(subparsers: Subparsers) -> None:
         "process (what --workers uses, as its workers fill the cores already)",
     )
     parser.add_argument(
+        "--key",
+        type=Path,
+        metavar="FILE",
+        help="sign the store's hash chain with the secret in FILE (at least 16 bytes), so "
+        "that 'workcell verify --key FILE' detects a chain recomputed without it",
+    )
+    parser.add_argument(
         "--cameras",
         metavar="NAMES",
         help="record these cameras at the frame rate, e.g. head_cam,wrist_l_cam,wrist_r_cam "
@@ -114,6 +121,8 @@ def _check(args: argparse.Namespace) -> list[str]:
         problems.append(f"--workers = {args.workers}: must be 1 to 64")
     if (args.workers > 1 or args.ray) and args.no_store:
         problems.append("--workers: workers write store shards; it cannot go with --no-store")
+    if args.key is not None and args.no_store:
+        problems.append("--key: signs what is recorded; it cannot go with --no-store")
     return problems
 
 
@@ -158,7 +167,7 @@ def run(args: argparse.Namespace) -> int:
         ExpertOperator(ExpertConfig(skill=args.skill)),
         max_trials=args.trials,
     )
-    with _open_store(None if args.no_store else args.store, args.writer) as store:
+    with _open_store(None if args.no_store else args.store, args.writer, args.key) as store:
         recorder = _recorder(store, args.store, runner, cameras)
         printer = TrialPrinter(args.json)
         printer.header()
@@ -191,14 +200,22 @@ def run(args: argparse.Namespace) -> int:
 
 
 @contextlib.contextmanager
-def _open_store(path: Path | None, writer: str) -> Iterator[RecordingStore | None]:
+def _open_store(
+    path: Path | None, writer: str, key_file: Path | None
+) -> Iterator[RecordingStore | None]:
     if path is None:
         yield None
         return
+    from workcell.record.chain import ChainKey  # noqa: PLC0415
     from workcell.record.store import Store  # noqa: PLC0415
     from workcell.record.store_process import StoreProcess  # noqa: PLC0415
 
-    opened = StoreProcess.open(path) if writer == "process" else Store.open(path, writer=True)
+    opened: StoreProcess | Store
+    if writer == "process":
+        opened = StoreProcess.open(path, key_file=key_file)
+    else:
+        key = None if key_file is None else ChainKey.from_file(key_file)
+        opened = Store.open(path, writer=True, key=key)
     with opened as store:
         yield store
 

@@ -12,7 +12,7 @@ from typing import Any
 
 from workcell.errors import WorkcellError
 
-PASS_THROUGH = ("mode", "config", "skill", "operator_id", "cameras", "camera_size")
+PASS_THROUGH = ("mode", "config", "skill", "operator_id", "cameras", "camera_size", "key")
 
 
 def common_arguments(args: argparse.Namespace) -> list[str]:

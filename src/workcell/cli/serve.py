@@ -60,6 +60,12 @@ def register(subparsers: Subparsers) -> None:
         help="also let pages of ORIGIN (scheme://host[:port]) open the WebSocket, and accept "
         "its host name in the Host header (repeatable; default: only the server's own pages)",
     )
+    parser.add_argument(
+        "--key",
+        type=Path,
+        metavar="FILE",
+        help="sign the store's hash chain with the secret in FILE (see 'workcell verify --key')",
+    )
     parser.add_argument("--static", type=Path, metavar="DIR", help="built web client folder")
     parser.set_defaults(func=run)
 
@@ -81,6 +87,7 @@ def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
         grace_s=args.grace,
         static_dir=args.static or DEFAULT_STATIC,
         allow_origins=tuple(args.allow_origin),
+        key_file=args.key,
     )
     return options, generated
 

@@ -16,8 +16,10 @@ import urllib.parse
 from pathlib import Path
 
 from workcell import __version__
-from workcell.record.errors import StoreError
+from workcell.record.diagnose import storage_advice
+from workcell.record.errors import StorageError, StoreError
 from workcell.record.ids import new_id
+from workcell.record.migrate import MIGRATIONS, migrate
 from workcell.record.schema import (
     APPLICATION_ID,
     FRAME_BLOCKS_SQL,
@@ -59,8 +61,9 @@ class WriterLock:
                         "or record to another store"
                     ) from None
                 time.sleep(LOCK_RETRY_S)
-        os.ftruncate(self._fd, 0)
-        os.pwrite(self._fd, f"{os.getpid()}\n".encode(), 0)
+        with contextlib.suppress(OSError):  # the pid is a courtesy; a full disk refuses it
+            os.ftruncate(self._fd, 0)
+            os.pwrite(self._fd, f"{os.getpid()}\n".encode(), 0)
 
     def release(self) -> None:
         if self._fd is not None:
@@ -102,11 +105,23 @@ def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
             conn.execute("PRAGMA query_only = ON")
     except sqlite3.DatabaseError as error:
         conn.close()
+        if _storage_trouble(error):
+            cause = str(error).strip()
+            raise StorageError(
+                f"store {path}: could not {'write' if writer else 'read'} it ({cause}) — "
+                f"{storage_advice(path, cause)}"
+            ) from None
         raise StoreError(f"{path} is not a Workcell store ({error})") from None
     except BaseException:
         conn.close()
         raise
     return conn
+
+
+def _storage_trouble(error: sqlite3.DatabaseError) -> bool:
+    """Whether SQLite failed for the disk (full, I/O, cannot open) rather than the file."""
+    name = getattr(error, "sqlite_errorname", "") or ""
+    return name.startswith(("SQLITE_FULL", "SQLITE_IOERR", "SQLITE_CANTOPEN", "SQLITE_READONLY"))
 
 
 def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> None:
@@ -128,10 +143,16 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
             f"store {path} was written by schema version {version}; this Workcell "
             f"({__version__}) reads up to {SCHEMA_VERSION} — upgrade Workcell"
         )
-    if version < SCHEMA_VERSION:
+    if version < SCHEMA_VERSION and not (writer and version in MIGRATIONS):
         raise StoreError(
-            f"store {path} has schema version {version}, which this Workcell cannot read "
-            f"(it reads version {SCHEMA_VERSION})"
+            f"store {path} has schema version {version}, which this Workcell reads only "
+            f"after migrating it to version {SCHEMA_VERSION}"
+            + (
+                f" (from before hash chains): open it for writing once, e.g. "
+                f"'workcell verify --recover --store {path}'; every row is kept"
+                if version in MIGRATIONS
+                else ""
+            )
         )
     mode = conn.execute("PRAGMA journal_mode").fetchone()[0]
     if mode != "wal":
@@ -140,11 +161,16 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
             "not written by Workcell or was altered"
         )
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
-    missing = sorted({"meta", *(layout.name for layout in LAYOUTS)} - tables)
+    required = {"meta", *(layout.name for layout in LAYOUTS)} | (
+        {"chain"} if version >= 2 else set()
+    )
+    missing = sorted(required - tables)
     if missing:
         raise StoreError(f"store {path} lacks tables {', '.join(missing)}; it was altered")
     if writer and "frame_blocks" not in tables:  # a store from before frame blocks
         conn.execute(FRAME_BLOCKS_SQL)
+    if version < SCHEMA_VERSION:
+        migrate(conn, version)
 
 
 def _create(conn: sqlite3.Connection) -> None:

@@ -2,8 +2,10 @@
 
 ``export_csv`` writes sessions.csv, trials.csv, events.csv, frames.csv (exactly the
 interchange contract's columns) and annotations.csv, then manifest.json: schema and
-software version, each session's parameters, thresholds and metric definitions as stored,
-the joint order, the column lists, and the sha256, size and row count of every file. It
+software version, each session's parameters, thresholds, metric definitions and hash-chain
+head as stored, the joint order, the column lists, and the sha256, size and row count of
+every file. Kept apart from the store, the manifest pins each session's record as it was
+exported (``workcell verify --store S --manifest M``). It
 reads one consistent snapshot of the store (a recorder may keep writing) and streams the
 frames trial by trial, so memory does not grow with the store.
 """
@@ -23,7 +25,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell import __version__
+from workcell.record import chain
 from workcell.record.batch import RowBatch
+from workcell.record.chain_check import manifest_entry
 from workcell.record.connection import connect
 from workcell.record.csv_format import (
     FILES,
@@ -88,6 +92,9 @@ def export_csv(
             rows[name] = _write_csv(out / name, layout.names, [conn.execute(sql)])
         rows["frames.csv"] = _write_frames(conn, out / "frames.csv", progress)
         sessions = [SessionRecord.from_row(r) for r in select(conn, SESSIONS)]
+        chains: dict[str, list[chain.Link]] = {}
+        for link in chain.links(conn):
+            chains.setdefault(link.session_id, []).append(link)
         meta = dict(conn.execute("SELECT key, value FROM meta"))
         open_trials = [
             r[0]
@@ -118,6 +125,7 @@ def export_csv(
                 "metric_definitions": s.metric_definitions,
                 "metrics_version": s.metrics_version,
                 "joint_order": list(s.joint_order),
+                "chain": manifest_entry(chains[s.session_id]) if s.session_id in chains else None,
             }
             for s in sessions
         },

@@ -1,5 +1,6 @@
 """Closing trials and sessions, shared by the recorder's path, storage-error handling and
-crash recovery. Every function runs inside the caller's write transaction."""
+crash recovery, each with its hash-chain link (:mod:`workcell.record.chain`). Every
+function runs inside the caller's write transaction."""
 
 from __future__ import annotations
 
@@ -7,7 +8,8 @@ import math
 import sqlite3
 from collections.abc import Mapping
 
-from workcell.record import rowio
+from workcell.record import chain, rowio
+from workcell.record.chain import ChainKey
 from workcell.record.checksum import aggregate_checksum
 from workcell.record.records import to_json
 from workcell.record.schema import EVENTS, SESSIONS, TRIALS
@@ -116,9 +118,11 @@ def interrupt_trial(
     event_id: str,
     now: float,
     detail: Mapping[str, object],
+    key: ChainKey | None,
 ) -> None:
     """Close a trial as interrupted by the store itself (crash recovery, storage error):
-    an ``interruption`` event, elapsed = last sim time seen, ended = last wall time seen."""
+    an ``interruption`` event, elapsed = last sim time seen, ended = last wall time seen;
+    then its chain link."""
     session_id, started_wall = conn.execute(
         "SELECT session_id, started_wall FROM trials WHERE trial_id = ?", (trial_id,)
     ).fetchone()
@@ -144,12 +148,18 @@ def interrupt_trial(
             "ended_wall": max(started_wall, last_wall),
         },
     )
+    chain.link_trial(conn, trial_id, key)
 
 
 def close_session(
-    conn: sqlite3.Connection, session_id: str, status: str, ended_wall: float
+    conn: sqlite3.Connection,
+    session_id: str,
+    status: str,
+    ended_wall: float,
+    key: ChainKey | None,
 ) -> None:
-    """Write the session's status, end time and aggregate checksum."""
+    """Write the session's status, end time and aggregate checksum, then its last chain
+    link."""
     rowio.update(
         conn,
         SESSIONS,
@@ -160,6 +170,7 @@ def close_session(
             "content_checksum": session_content_checksum(conn, session_id),
         },
     )
+    chain.link_end(conn, session_id, key)
 
 
 def running_trials(conn: sqlite3.Connection, session_id: str | None = None) -> list[str]:

@@ -1,6 +1,7 @@
 """Combine store shards (one per worker) into one store, and verify the result.
 
-Ids are unique across stores, so rows are copied as they are. Shards a dead worker left
+Ids are unique across stores, so rows are copied as they are, hash-chain links included
+(their heads and signatures stay valid). Shards a dead worker left
 open are recovered first, like any crashed store. Shards whose sessions disagree on what a
 frame means (joint order, metrics version) or whose schema differs are refused.
 """
@@ -111,6 +112,7 @@ def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
                 conn.execute(f"INSERT INTO main.{table} SELECT * FROM shard.{table}")
             if has_blocks(conn, "shard"):
                 conn.execute("INSERT INTO main.frame_blocks SELECT * FROM shard.frame_blocks")
+            conn.execute("INSERT INTO main.chain SELECT * FROM shard.chain")  # heads unchanged
             conn.execute("COMMIT")
         except sqlite3.Error as error:
             conn.execute("ROLLBACK")

@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from workcell.record import rowio
+from workcell.record import chain, rowio
 from workcell.record.batch import RowBatch
 from workcell.record.records import (
     AnnotationRecord,
@@ -71,6 +71,10 @@ class StoreReading:
         return StoreCounts(
             *(count(t) for t in ("sessions", "trials", "events", "frames", "annotations"))
         )
+
+    def chain(self, session_id: str | None = None) -> list[chain.Link]:
+        """The hash-chain links of one session (or of all), by session and position."""
+        return chain.links(self._conn, session_id)
 
     def meta(self) -> dict[str, str]:
         """The store's ``meta`` table: schema_version, software_version, store_id, ..."""

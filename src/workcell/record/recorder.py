@@ -75,7 +75,7 @@ class RecordingStore(Protocol):
 
     def end_session(self, session_id: str, status: str = "completed") -> None: ...
 
-    def try_mark_interrupted(self, trial_id: str, reason: str = "storage_error") -> bool: ...
+    def try_interrupt_session(self, session_id: str, reason: str = "storage_error") -> bool: ...
 
 
 def metric_thresholds(config: SessionConfig) -> MetricThresholds:
@@ -239,12 +239,13 @@ class Recorder:
         self.store.commit()
 
     def _fail(self, error: StorageError) -> None:
+        """Stop recording and close the session as ``storage_error`` (its running trial
+        ``interrupted``), as far as the store can still write."""
         self.failure = error
         self.runner.sim.world.sampler = None
         self._capture.take()
-        if self._trial_id is not None:
-            self.store.try_mark_interrupted(self._trial_id, "storage_error")
-            self._trial_id = None
+        self._trial_id = None
+        self.store.try_interrupt_session(self.session_id, "storage_error")
 
     # --- the end ----------------------------------------------------------------------------
 

@@ -3,25 +3,48 @@
 A recorder killed outright (SIGKILL, power cut of the process, OOM) leaves its trial with
 no outcome and its session ``running``. Every frame it committed is in the store; the
 uncommitted tail (at most one batch) is gone. Recovery closes such trials as
-``interrupted``/``crash_recovered`` with their committed frame count and checksums, records
-why, and closes their sessions as ``recovered``. It runs only under the writer lock, so it
-never touches a live recorder's trial.
+``interrupted``/``crash_recovered`` with their committed frame count, checksums and chain
+links, records why, and closes their sessions as ``recovered``. It runs only under the
+writer lock, so it never touches a live recorder's trial.
+
+A recording process that knows why its session stopped (its store writer process died
+under it) passes that reason: its session's running trial is closed as ``interrupted``
+with that reason and the session as ``interrupted``, so that the store says what the
+operator was told.
 """
 
 from __future__ import annotations
 
+import contextlib
 import math
 import sqlite3
 import time
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 from workcell.record import lifecycle
+from workcell.record.chain import ChainKey
 from workcell.record.ids import new_id
 
 CRASH_RECOVERED = "crash_recovered"
 
 
-def recover(conn: sqlite3.Connection) -> tuple[str, ...]:
-    """Close every orphan trial and session (in one transaction); returns the trial ids."""
+@dataclass(frozen=True)
+class KnownEnd:
+    """Why a session stopped, as its recording process knows it."""
+
+    reason: str
+    detail: Mapping[str, object] = field(default_factory=dict)
+
+
+def recover(
+    conn: sqlite3.Connection,
+    key: ChainKey | None = None,
+    known: Mapping[str, KnownEnd] | None = None,
+) -> tuple[str, ...]:
+    """Close every orphan trial and session (in one transaction); returns the trial ids.
+    ``known``: session id → why it stopped, for sessions whose recorder said so."""
+    known = known or {}
     now = time.time()
     orphans = lifecycle.running_trials(conn)
     sessions = [
@@ -35,25 +58,39 @@ def recover(conn: sqlite3.Connection) -> tuple[str, ...]:
     conn.execute("BEGIN IMMEDIATE")
     try:
         for trial_id in orphans:
+            (session_id,) = conn.execute(
+                "SELECT session_id FROM trials WHERE trial_id = ?", (trial_id,)
+            ).fetchone()
+            end = known.get(session_id)
             lifecycle.interrupt_trial(
                 conn,
                 trial_id,
-                CRASH_RECOVERED,
+                CRASH_RECOVERED if end is None else end.reason,
                 event_id=new_id(),
                 now=now,
-                detail={"recovered_wall": now},
+                detail={"recovered_wall": now} if end is None else dict(end.detail),
+                key=key,
             )
         for session_id in sessions:
-            _close_session(conn, session_id, orphans, now)
+            if session_id in known:
+                lifecycle.close_session(conn, session_id, "interrupted", now, key)
+            else:
+                _close_session(conn, session_id, orphans, now, key)
         conn.execute("COMMIT")
     except BaseException:
-        conn.execute("ROLLBACK")
+        with contextlib.suppress(sqlite3.Error):  # a full disk may have rolled it back
+            if conn.in_transaction:
+                conn.execute("ROLLBACK")
         raise
     return tuple(orphans)
 
 
 def _close_session(
-    conn: sqlite3.Connection, session_id: str, orphans: list[str], now: float
+    conn: sqlite3.Connection,
+    session_id: str,
+    orphans: list[str],
+    now: float,
+    key: ChainKey | None,
 ) -> None:
     recovered = [
         r[0]
@@ -80,4 +117,4 @@ def _close_session(
         t_sim=None,
         t_wall=max(now, last_wall if last_wall is not None else -math.inf),
     )
-    lifecycle.close_session(conn, session_id, "recovered", last_wall)
+    lifecycle.close_session(conn, session_id, "recovered", last_wall, key)

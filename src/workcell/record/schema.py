@@ -1,9 +1,12 @@
-"""Schema version 1 of a store: the five tables, their column types, and the DDL.
+"""Schema version 2 of a store: the five tables, their column types, and the DDL.
 
 Every table's columns are the interchange contract's names (:mod:`workcell.record.columns`)
 followed by the store's own (``checksum``, ``content_checksum``, ...). The version lives in
 ``PRAGMA user_version`` and in the ``meta`` table; ``PRAGMA application_id`` marks the file
 as a Workcell store. Tables are STRICT, so a column holds only its declared type.
+
+Version 2 added the ``chain`` table (:mod:`workcell.record.chain`); a writer migrates a
+version-1 store (:mod:`workcell.record.migrate`).
 """
 
 from __future__ import annotations
@@ -21,7 +24,7 @@ from workcell.record.columns import (
     TRIAL_COLUMNS,
 )
 
-SCHEMA_VERSION = 1
+SCHEMA_VERSION = 2
 APPLICATION_ID = 0x57434C31
 """``PRAGMA application_id`` of every Workcell store: ASCII "WCL1"."""
 
@@ -274,13 +277,33 @@ FRAME_BLOCKS_SQL = """CREATE TABLE IF NOT EXISTS frame_blocks (
 they existed gets the table when a writer opens it."""
 
 
+CHAIN_SQL = """CREATE TABLE chain (
+    session_id TEXT NOT NULL REFERENCES sessions (session_id),
+    position INTEGER NOT NULL,
+    kind TEXT NOT NULL,
+    subject_id TEXT NOT NULL,
+    events_through INTEGER NOT NULL,
+    previous TEXT NOT NULL,
+    digest TEXT NOT NULL,
+    head TEXT NOT NULL,
+    key_id TEXT,
+    signature TEXT,
+    created_wall REAL NOT NULL,
+    PRIMARY KEY (session_id, position)
+) STRICT"""
+"""The hash chain (:mod:`workcell.record.chain`), one row per link (since version 2):
+``events_through`` says which session-level events (``trial_id`` NULL, ``seq`` up to it)
+this link or one before it commits to (-1: none)."""
+
+
 def schema_statements() -> tuple[str, ...]:
-    """Every statement that creates an empty version-1 store (run in one transaction)."""
+    """Every statement that creates an empty store (run in one transaction)."""
     return (
         META_TABLE_SQL,
         *(create_table_sql(layout) for layout in LAYOUTS),
         *INDEXES,
         FRAME_BLOCKS_SQL,
+        CHAIN_SQL,
         f"PRAGMA application_id = {APPLICATION_ID}",
         f"PRAGMA user_version = {SCHEMA_VERSION}",
     )

@@ -1,18 +1,22 @@
 """The store: one SQLite file (WAL mode) holding sessions, trials, events, frames and
-annotations, linked by foreign keys, every row with a content checksum.
+annotations, linked by foreign keys, every row with a content checksum, each session's
+rows chained by hashes (:mod:`workcell.record.chain`).
 
 Durability contract: frames are appended with :meth:`Store.add_frames` and made durable by
 :meth:`Store.commit`. A committed batch survives the death of the recording process
 (SIGKILL included): the next writer to open the store finds it intact and closes the trial
-as ``interrupted``/``crash_recovered``. (``synchronous=NORMAL``: a power cut of the whole
-machine may lose the last commits, never corrupt earlier ones.) The recorder commits every
-5 frames (0.25 s at 20 Hz), so a crash loses at most 0.25 s. Every other write method
-commits at once, pending frames included.
+as ``interrupted``/``crash_recovered``. The recorder commits every 5 frames (0.25 s at
+20 Hz), so a crash loses at most 0.25 s. Every other write method commits at once,
+pending frames included. A power cut of the whole machine can lose the commits since the
+log was last synced (``synchronous=NORMAL``), never corrupt earlier ones; the end of a
+trial and of a session are synced as they commit (see :mod:`workcell.record.writes`), so
+every trial closed before a power cut is kept whole.
 
 A failed write (disk full, file-size limit, I/O error) rolls its transaction back, raises
 :class:`StorageError` with one line naming the store and the cause, and stops the store
-from recording; :meth:`Store.try_mark_interrupted` then closes the trial as
-``storage_error`` when the disk allows. Data committed before is never touched.
+from recording; :meth:`Store.try_interrupt_session` then closes the session's trial as
+``storage_error`` and the session, into the room the writer keeps free for it
+(:mod:`workcell.record.reserve`). Data committed before is never touched.
 
 A Store is used from one thread.
 """
@@ -33,11 +37,14 @@ from numpy.typing import NDArray
 
 from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
 from workcell.metrics.frames import REQUIRED_COLUMNS
-from workcell.record import lifecycle, rowio
+from workcell.record import chain, lifecycle, rowio
 from workcell.record.batch import Columnar, RowBatch
+from workcell.record.chain import ChainKey
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
-from workcell.record.errors import RecordError, StoreError
+from workcell.record.diagnose import storage_advice
+from workcell.record.errors import RecordError, StorageError, StoreError
+from workcell.record.failure import close_after_failure
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
 from workcell.record.frame_capture import CapturedFrames, FrameLayout
 from workcell.record.frame_format import FrameFormatter
@@ -51,7 +58,8 @@ from workcell.record.records import (
     TrialStart,
     to_json,
 )
-from workcell.record.recovery import recover
+from workcell.record.recovery import KnownEnd, recover
+from workcell.record.reserve import Reserve
 from workcell.record.schema import ANNOTATIONS, FRAMES, SCHEMA_VERSION, SESSIONS, TRIALS
 from workcell.record.writes import WriteGuard
 
@@ -84,10 +92,18 @@ class _Running:
 class Store(StoreReading):
     """A store file opened for reading or for writing; use :meth:`open`."""
 
-    def __init__(self, path: Path, conn: sqlite3.Connection, lock: WriterLock | None) -> None:
+    def __init__(
+        self,
+        path: Path,
+        conn: sqlite3.Connection,
+        lock: WriterLock | None,
+        key: ChainKey | None = None,
+    ) -> None:
         self.path = path
         self._conn = conn
         self._lock = lock
+        self._key = key
+        self._reserve = Reserve(path)
         self._sessions: dict[str, _Running] = {}
         self._trials: dict[str, _Running] = {}
         self._guard = WriteGuard(path, conn, self._resync) if lock is not None else None
@@ -96,32 +112,58 @@ class Store(StoreReading):
         self._formatter = FrameFormatter()
 
     @classmethod
-    def open(cls, path: str | os.PathLike[str], *, writer: bool) -> Store:
-        """Open (a writer also creates) the store at ``path``.
+    def open(
+        cls,
+        path: str | os.PathLike[str],
+        *,
+        writer: bool,
+        key: ChainKey | None = None,
+        known: Mapping[str, KnownEnd] | None = None,
+    ) -> Store:
+        """Open (a writer also creates or migrates) the store at ``path``.
 
-        A writer takes the store's writer lock and recovers what a dead writer left open.
-        Raises :class:`StoreError` for a missing file (reader), a file that is not a store,
-        a store of a newer schema, or a store another process is writing.
+        A writer takes the store's writer lock, keeps the headroom file beside it, signs
+        the chain links it writes with ``key`` (if given), and recovers what a dead writer
+        left open (sessions in ``known`` with the reason given there). Raises
+        :class:`StoreError` for a missing file (reader), a file that is not a store, a
+        store of a newer schema, or a store another process is writing;
+        :class:`StorageError` when the disk has no room for a writer.
         """
         path = Path(path)
-        lock = WriterLock(path) if writer else None
+        if not writer:
+            return cls(path, connect(path, writer=False), None)
+        lock = WriterLock(path)
         try:
-            conn = connect(path, writer=writer)
-            store = cls(path, conn, lock)
+            no_room = _headroom(path)
+            if no_room is not None and not path.exists():
+                raise no_room  # nothing to recover: refuse before creating anything
+            store = cls(path, connect(path, writer=True), lock, key)
         except BaseException:
-            if lock is not None:
-                lock.release()
+            lock.release()
             raise
-        if writer:
-            try:
-                store.recovered = recover(conn)
-            except sqlite3.Error as error:
-                store.close()
-                raise StoreError(
-                    f"store {path}: crash recovery could not write ({error}); free disk "
-                    "space or check the file system, then open it again"
-                ) from None
+        try:
+            store.recovered = store._recover(known or {})
+            if no_room is not None or not store._reserve.path.exists():
+                store._reserve.ensure()  # raises: the disk is still full
+        except BaseException:
+            store.close()
+            raise
         return store
+
+    def _recover(self, known: Mapping[str, KnownEnd]) -> tuple[str, ...]:
+        """Crash recovery; on a full disk, into the room of the headroom file."""
+        for attempt in range(2):
+            try:
+                return recover(self._conn, self._key, known)
+            except (sqlite3.Error, OSError) as error:
+                if attempt == 0 and self._reserve.release():
+                    continue
+                cause = str(error).strip() or type(error).__name__
+                raise StorageError(
+                    f"store {self.path}: crash recovery could not write ({cause}) — "
+                    f"{storage_advice(self.path, cause)}; the store is unchanged"
+                ) from None
+        raise AssertionError("unreachable")
 
     @property
     def writer(self) -> bool:
@@ -175,6 +217,7 @@ class Store(StoreReading):
         batch = RowBatch.from_mappings(SESSIONS, [row])
         with self._write() as conn:
             rowio.insert(conn, batch)
+            chain.link_start(conn, session_id, batch.checksums()[0], self._key)
         self._sessions[session_id] = _Running(session_id)
         return session_id
 
@@ -323,9 +366,10 @@ class Store(StoreReading):
             "exclusion_reason": end.exclusion_reason,
             "ended_wall": time.time(),
         }
-        with self._write() as conn:
+        with self._write(durable=True) as conn:
             lifecycle.close_trial(conn, trial_id, changes)
             write_block(conn, trial_id, matrix)
+            chain.link_trial(conn, trial_id, self._key)
         self._forget_trial(trial_id, trial)
 
     def end_session(self, session_id: str, status: str = "completed") -> None:
@@ -335,8 +379,8 @@ class Store(StoreReading):
             raise RecordError(f"session status {status!r}: must be one of {CLOSING_STATUSES}")
         if session.trial_id is not None:
             raise RecordError(f"trial {session.trial_id} is still running: end it first")
-        with self._write() as conn:
-            lifecycle.close_session(conn, session_id, status, time.time())
+        with self._write(durable=True) as conn:
+            lifecycle.close_session(conn, session_id, status, time.time(), self._key)
         del self._sessions[session_id]
 
     def annotate(self, trial_id: str, kind: str, reason: str, by: str) -> str:
@@ -357,7 +401,7 @@ class Store(StoreReading):
             "at_wall": time.time(),
         }
         batch = RowBatch.from_mappings(ANNOTATIONS, [row])
-        with self._write() as conn:
+        with self._write(durable=True) as conn:
             if conn.execute("SELECT 1 FROM trials WHERE trial_id = ?", (trial_id,)).fetchone():
                 rowio.insert(conn, batch)
             else:
@@ -365,43 +409,36 @@ class Store(StoreReading):
         return annotation_id
 
     def try_mark_interrupted(self, trial_id: str, reason: str = "storage_error") -> bool:
-        """Best effort after a failure: close the trial as interrupted (``reason``) and,
-        with no other trial running, its session as ``interrupted``. Returns whether it
-        was written; never raises for storage trouble (the next writer recovers what is
-        left open)."""
+        """:meth:`try_interrupt_session` for the session of a running trial; False when
+        the trial is not running here."""
+        trial = self._trials.get(trial_id)
+        if trial is None:
+            return False
+        return self.try_interrupt_session(trial.session_id, reason)
+
+    def try_interrupt_session(self, session_id: str, reason: str = "storage_error") -> bool:
+        """Best effort after a failure: close the session's running trial as interrupted
+        (``reason``, with an event naming the error) and the session as ``interrupted``.
+        Returns whether it was written; never raises for storage trouble (the next writer
+        recovers what is left open)."""
         if reason not in INTERRUPTION_REASONS:
             raise RecordError(f"reason {reason!r}: must be one of {INTERRUPTION_REASONS}")
-        trial = self._trials.get(trial_id)
-        if self._guard is None or trial is None:
+        if self._guard is None or session_id not in self._sessions:
             return False
-        failure = self._guard.failure
-        detail = {"error": str(failure)} if failure else {}
-        if failure is None:  # keep what was added; a failing commit rolls back instead
-            with contextlib.suppress(StoreError):
-                self._guard.commit()
-        for attempt in range(2):
-            try:
-                self._guard.rollback()
-                self._conn.execute("BEGIN IMMEDIATE")
-                now = time.time()
-                lifecycle.interrupt_trial(
-                    self._conn, trial_id, reason, event_id=new_id(), now=now, detail=detail
-                )
-                close_session = not lifecycle.running_trials(self._conn, trial.session_id)
-                if close_session:
-                    lifecycle.close_session(self._conn, trial.session_id, "interrupted", now)
-                self._conn.execute("COMMIT")
-            except (sqlite3.Error, OSError):
-                self._guard.rollback()
-                if attempt == 0:  # free WAL space by moving pages into the database file
-                    with contextlib.suppress(sqlite3.Error, OSError):
-                        self._conn.execute("PRAGMA wal_checkpoint(TRUNCATE)")
-                continue
-            self._forget_trial(trial_id, trial)
-            if close_session:
-                del self._sessions[trial.session_id]
-            return True
-        return False
+        if not close_after_failure(
+            self._conn,
+            guard=self._guard,
+            reserve=self._reserve,
+            session_id=session_id,
+            reason=reason,
+            key=self._key,
+        ):
+            return False
+        for trial_id, trial in list(self._trials.items()):
+            if trial.session_id == session_id:
+                del self._trials[trial_id]
+        del self._sessions[session_id]
+        return True
 
     # ------------------------------------------------------------------ internals
 
@@ -436,9 +473,9 @@ class Store(StoreReading):
         return self._guard
 
     def _write(
-        self, *, commit: bool = True
+        self, *, commit: bool = True, durable: bool = False
     ) -> contextlib.AbstractContextManager[sqlite3.Connection]:
-        return self._writable().write(commit=commit)
+        return self._writable().write(commit=commit, durable=durable)
 
     def _resync(self) -> None:
         """After a rollback: counters from what is committed."""
@@ -449,6 +486,15 @@ class Store(StoreReading):
             trial.metric_rows = [trial.metric_matrix()]
         for session_id, session in self._sessions.items():
             session.next_seq = lifecycle.next_seq(self._conn, session_id)
+
+
+def _headroom(path: Path) -> StorageError | None:
+    """Make sure the headroom file of the store at ``path`` exists; the error if not."""
+    try:
+        Reserve(path).ensure()
+    except StorageError as error:
+        return error
+    return None
 
 
 def _checked_batch(batch: RowBatch, fixed: Mapping[str, str]) -> RowBatch:

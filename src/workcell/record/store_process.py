@@ -18,6 +18,11 @@ Guarantees are those of :class:`~workcell.record.store.Store`, kept across the p
 - if the recording process dies, however it dies, the writer still writes everything
   it was sent and then exits, leaving the running trial for crash recovery; what was
   not yet handed over is at most one commit interval;
+- if the writer dies, however it dies, the recording process notices at the next
+  hand-over (every 0.25 s of sim time: one ``waitpid`` per batch), raises
+  :class:`StorageError` naming how it died, and closes the session itself
+  (:meth:`StoreProcess.try_interrupt_session`: the trial ``interrupted`` with the reason
+  given, ``storage_error``), so that the store says what the operator was told;
 - the writer holds the store's writer lock, so no second writer opens the store until
   it has exited.
 """
@@ -29,6 +34,7 @@ import itertools
 import math
 import os
 import queue
+import signal
 import subprocess
 import sys
 import threading
@@ -38,13 +44,17 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
+from workcell.errors import WorkcellError
 from workcell.metrics import MetricThresholds
+from workcell.record.chain import ChainKey
 from workcell.record.errors import RecordError, StorageError, StoreError
 from workcell.record.frame_capture import CapturedFrames, FrameLayout
 from workcell.record.frame_ring import FrameRing
 from workcell.record.ids import new_id
 from workcell.record.pipe_messages import receive, send
 from workcell.record.records import SessionInfo, TrialEnd, TrialStart
+from workcell.record.recovery import KnownEnd
+from workcell.record.store import Store
 
 ANSWER_TIMEOUT_S = 60.0
 """How long a call waits for the writer's answer before giving up on the writer."""
@@ -65,9 +75,12 @@ Call = tuple[int | None, str, tuple[Any, ...], dict[str, Any]]
 class StoreProcess:
     """A store opened for writing in a writer process; use :meth:`open`."""
 
-    def __init__(self, path: Path, process: subprocess.Popen[bytes]) -> None:
+    def __init__(
+        self, path: Path, process: subprocess.Popen[bytes], key_file: Path | None = None
+    ) -> None:
         self.path = path
         self._process = process
+        self._key_file = key_file
         assert process.stdin is not None and process.stdout is not None
         self._requests: IO[bytes] = process.stdin
         self._answers: IO[bytes] = process.stdout
@@ -79,36 +92,49 @@ class StoreProcess:
         self._ring: FrameRing | None = None
         self._ring_layout: FrameLayout | None = None
         self._trial_numbers: dict[str, int] = {}
+        self._trial_sessions: dict[str, str] = {}
         self._woken_at = 0
         """Ring position of the last wake-up message sent to the writer."""
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when the writer opened the store."""
 
     @classmethod
-    def open(cls, path: str | os.PathLike[str], *, poll_s: float | None = None) -> StoreProcess:
+    def open(
+        cls,
+        path: str | os.PathLike[str],
+        *,
+        poll_s: float | None = None,
+        key_file: str | os.PathLike[str] | None = None,
+    ) -> StoreProcess:
         """Start a writer process on the store at ``path`` (created if missing); it polls
         the frame ring every ``poll_s`` seconds (default
-        :data:`~workcell.record.store_worker.POLL_S`).
+        :data:`~workcell.record.store_worker.POLL_S`) and signs chain links with the key
+        in ``key_file`` (if given).
 
         Raises what :meth:`Store.open` raises for a writer (a directory that does not
-        exist, a file that is not a store, a store another process is writing...).
+        exist, a file that is not a store, a store another process is writing, a full
+        disk...).
         """
         path = Path(path)
         if poll_s is not None and not (math.isfinite(poll_s) and poll_s > 0):
             raise RecordError(f"poll_s: must be a positive number of seconds, got {poll_s!r}")
+        if key_file is not None:
+            key_file = Path(key_file).resolve()
+            ChainKey.from_file(key_file)  # a bad key file is refused here, in one line
         process = subprocess.Popen(
             [
                 sys.executable,
                 "-m",
                 "workcell.record.store_worker",
                 str(path),
-                *(() if poll_s is None else (repr(poll_s),)),
+                *(() if poll_s is None else ("--poll", repr(poll_s))),
+                *(() if key_file is None else ("--key", str(key_file))),
             ],
             stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             start_new_session=True,  # a terminal's Ctrl-C goes to the recording process only
         )
-        store = cls(path, process)
+        store = cls(path, process, None if key_file is None else Path(key_file))
         try:
             answer = receive(store._answers)
         except (EOFError, OSError):
@@ -139,6 +165,7 @@ class StoreProcess:
         trial_id = new_id()
         self._queue("start_trial", (session_id, start), {"trial_id": trial_id})
         self._trial_numbers[trial_id] = len(self._trial_numbers)
+        self._trial_sessions[trial_id] = session_id
         self._send_pending()  # its started_wall is now
         return trial_id
 
@@ -167,9 +194,9 @@ class StoreProcess:
 
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
         """Copied into the ring at once (waiting only while it is full); the writer finds
-        them at its next poll and formats, adds and commits them."""
-        if self._failure is not None:
-            raise self._failure
+        them at its next poll and formats, adds and commits them. Raises
+        :class:`StorageError` when the writer has died."""
+        self._check_writer()
         number = self._trial_numbers.get(trial_id)
         if number is None:
             raise RecordError(
@@ -193,8 +220,9 @@ class StoreProcess:
 
     def commit(self) -> None:
         """Send the events added since the last commit (frames are on their way already).
-        Raises a failure the writer reported since the last call."""
-        if self._pending or self._failure is not None:
+        Raises a failure the writer reported since the last call, or its death."""
+        self._check_writer()
+        if self._pending:
             self._send_pending()
 
     def end_trial(
@@ -208,11 +236,38 @@ class StoreProcess:
         self._call("end_session", session_id, status)
 
     def try_mark_interrupted(self, trial_id: str, reason: str = "storage_error") -> bool:
-        """As :meth:`Store.try_mark_interrupted`; False when the writer cannot answer."""
+        """:meth:`try_interrupt_session` for the session of a trial started here."""
+        session_id = self._trial_sessions.get(trial_id)
+        return session_id is not None and self.try_interrupt_session(session_id, reason)
+
+    def try_interrupt_session(self, session_id: str, reason: str = "storage_error") -> bool:
+        """As :meth:`Store.try_interrupt_session`, by the writer; when the writer has died,
+        this process opens the store and closes the session itself, with ``reason``.
+        False when neither could."""
         self._pending.clear()  # what was not sent is not wanted after a failure
+        if self._process.poll() is None:
+            try:
+                return bool(
+                    self._call("try_interrupt_session", session_id, reason, after_failure=True)
+                )
+            except (StorageError, StoreError):
+                if self._process.poll() is None:
+                    return False
+        return self._take_over(session_id, reason)
+
+    def _take_over(self, session_id: str, reason: str) -> bool:
+        """The writer is gone (and its lock with it): close the session in this process."""
+        self._reap()
+        detail = {"error": str(self._failure)} if self._failure is not None else {}
         try:
-            return bool(self._call("try_mark_interrupted", trial_id, reason, after_failure=True))
-        except (StorageError, StoreError):
+            key = None if self._key_file is None else ChainKey.from_file(self._key_file)
+            known = {session_id: KnownEnd(reason, detail)}
+            with Store.open(self.path, writer=True, key=key, known=known) as store:
+                return any(
+                    s.session_id == session_id and s.status == "interrupted"
+                    for s in store.sessions()
+                )
+        except WorkcellError:
             return False
 
     def close(self) -> None:
@@ -321,6 +376,14 @@ class StoreProcess:
         """Whether the writer may still free ring space (running, and not failed)."""
         return self._failure is None and self._process.poll() is None
 
+    def _check_writer(self) -> None:
+        """Raise the writer's failure, or :class:`StorageError` if it has died (one
+        ``waitpid``, no message)."""
+        if self._failure is None and self._process.poll() is not None:
+            self._failure = self._died()
+        if self._failure is not None:
+            raise self._failure
+
     def _read_answers(self) -> None:
         """The reader thread: answers to waiting calls, failures of the others."""
         while True:
@@ -340,11 +403,15 @@ class StoreProcess:
             code: int | None = self._process.wait(timeout=1.0)
         except subprocess.TimeoutExpired:
             code = None
+        if code is None:
+            how = "is not answering"
+        elif code < 0:
+            how = f"was killed ({signal.Signals(-code).name})"
+        else:
+            how = f"exited (status {code})"
         return StorageError(
-            f"store {self.path}: the store writer process "
-            f"{'is not answering' if code is None else f'exited (code {code})'}; recording "
-            "stopped — everything it committed is intact; open the store again to recover "
-            "the running trial"
+            f"store {self.path}: the store writer process {how}; recording stopped — "
+            "everything it committed is intact"
         )
 
     def _reap(self) -> None:

@@ -1,8 +1,9 @@
 """The store writer process: owns one store opened for writing and runs what a
 :class:`~workcell.record.store_process.StoreProcess` sends it, in order.
 
-Run as ``python -m workcell.record.store_worker STORE [POLL_S]`` by :class:`StoreProcess`
-only.
+Run as ``python -m workcell.record.store_worker STORE [--poll S] [--key FILE]`` by
+:class:`StoreProcess` only; it computes the hash-chain links (signed with the key in
+``FILE``) as it closes trials and sessions.
 Frames arrive through a shared-memory :class:`~workcell.record.frame_ring.FrameRing`,
 polled every :data:`POLL_S` and committed as they come. Calls arrive on stdin and answers
 leave on stdout (see :mod:`workcell.record.pipe_messages`):
@@ -24,12 +25,15 @@ next writer to open the store closes it as ``interrupted``/``crash_recovered``.
 
 from __future__ import annotations
 
+import argparse
 import signal
 import sys
 import time
+from pathlib import Path
 from typing import IO, Any
 
 from workcell.errors import WorkcellError
+from workcell.record.chain import ChainKey
 from workcell.record.errors import StorageError
 from workcell.record.frame_capture import CapturedFrames, FrameLayout
 from workcell.record.frame_ring import FrameRing
@@ -58,6 +62,7 @@ STORE_CALLS = frozenset(
         "end_trial",
         "end_session",
         "try_mark_interrupted",
+        "try_interrupt_session",
     }
 )
 """The Store methods a recording process may call."""
@@ -179,12 +184,18 @@ def main(argv: list[str]) -> int:
     # Ctrl-C is for the recording process, which ends the trial and then closes this one.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     requests, answers = sys.stdin.buffer, sys.stdout.buffer
-    poll_s = float(argv[2]) if len(argv) > 2 else POLL_S
+    parser = argparse.ArgumentParser(prog="workcell.record.store_worker")
+    parser.add_argument("store")
+    parser.add_argument("--poll", type=float, default=POLL_S)
+    parser.add_argument("--key", type=Path)
+    args = parser.parse_args(argv[1:])
     try:
-        store = Store.open(argv[1], writer=True)
+        key = None if args.key is None else ChainKey.from_file(args.key)
+        store = Store.open(args.store, writer=True, key=key)
     except WorkcellError as error:
         send(answers, ("error", None, type(error).__name__, str(error)))
         return 1
+    poll_s = args.poll
     with store:
         send(answers, ("ready", store.recovered))
         Writer(store, answers, poll_s).serve(requests)

@@ -3,9 +3,11 @@
 A store is checked for its schema, SQLite integrity and foreign keys, the vocabulary of
 outcomes and statuses, every row's content checksum and every closed trial's and
 session's aggregate checksum, frame counts against trial rows, frame indices without gaps,
-monotonic timestamps and finite values (NULL only where it is legitimate). Each problem is
-one :class:`Finding` naming the store, the table and the row. A store a recorder is
-writing can be verified: its running trial is not a problem then.
+monotonic timestamps and finite values (NULL only where it is legitimate), and every
+session's hash chain (:mod:`workcell.record.chain_check`), with a key its signatures, with
+an export's manifest the heads it pinned. Each problem is one :class:`Finding` naming the
+store, the table and the row. A store a recorder is writing can be verified: its running
+trial is not a problem then.
 """
 
 from __future__ import annotations
@@ -14,10 +16,13 @@ import json
 import math
 import os
 import sqlite3
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
 from workcell.record import lifecycle, rowio
+from workcell.record.chain import ChainKey
+from workcell.record.chain_check import ChainStats, check_chains, check_manifest
 from workcell.record.columns import (
     ANNOTATION_KINDS,
     INTERRUPTION_REASONS,
@@ -41,22 +46,44 @@ from workcell.record.schema import (
 )
 from workcell.sim.joints import JOINT_ORDER
 
-__all__ = ["Finding", "verify_export", "verify_store"]
+__all__ = ["ChainStats", "Finding", "verify_export", "verify_store", "verify_store_report"]
 
 RECOVER_HINT = "run 'workcell verify --recover --store PATH' to close it as crash_recovered"
 
 
-def verify_store(path: str | os.PathLike[str]) -> list[Finding]:
-    """Every problem found in the store at ``path`` (empty when it verifies).
+def verify_store(
+    path: str | os.PathLike[str],
+    *,
+    key: ChainKey | None = None,
+    manifest: Mapping[str, Any] | None = None,
+) -> list[Finding]:
+    """Every problem found in the store at ``path`` (empty when it verifies); with
+    ``key``, every chain link must carry its signature; with an export's ``manifest``,
+    every session it lists must still have the chain head it had then.
 
-    Raises :class:`StoreError` when the file is missing, not a store, or newer than this
-    Workcell reads.
+    Raises :class:`StoreError` when the file is missing, not a store, or of a schema this
+    Workcell does not read.
     """
+    return verify_store_report(path, key=key, manifest=manifest)[0]
+
+
+def verify_store_report(
+    path: str | os.PathLike[str],
+    *,
+    key: ChainKey | None = None,
+    manifest: Mapping[str, Any] | None = None,
+) -> tuple[list[Finding], ChainStats]:
+    """:func:`verify_store`, and what the store's chains hold."""
     path = Path(path)
     conn = connect(path, writer=False)
     try:
         conn.execute("BEGIN")  # one snapshot for every check, even while a recorder writes
-        return _Verifier(path, conn).run()
+        verifier = _Verifier(path, conn)
+        findings = verifier.run()
+        stats = check_chains(conn, verifier.add, key)
+        if manifest is not None:
+            check_manifest(conn, manifest, "manifest", verifier.add)
+        return findings, stats
     finally:
         conn.close()
 
@@ -124,7 +151,10 @@ class _Verifier:
             if message != "ok":
                 self.add("database", "", f"SQLite integrity check: {message}")
         for table, rowid, parent, _ in self.conn.execute("PRAGMA foreign_key_check"):
-            layout = next(x for x in LAYOUTS if x.name == table)
+            layout = next((x for x in LAYOUTS if x.name == table), None)
+            if layout is None:  # frame_blocks, chain
+                self.add(table, f"rowid {rowid}", f"refers to a missing row of {parent}")
+                continue
             key = self.conn.execute(
                 f"SELECT {', '.join(quote(k) for k in layout.key)} FROM {quote(table)} "
                 "WHERE rowid = ?",
@@ -148,11 +178,11 @@ class _Verifier:
             status = row["status"]
             if status not in SESSION_STATUSES:
                 self.add("sessions", label, f"status {status!r} is not one of {SESSION_STATUSES}")
-            if row["schema_version"] != SCHEMA_VERSION:
+            if not 1 <= row["schema_version"] <= SCHEMA_VERSION:  # as it was recorded
                 self.add(
                     "sessions",
                     label,
-                    f"schema_version {row['schema_version']} is not {SCHEMA_VERSION}",
+                    f"schema_version {row['schema_version']} is not 1 to {SCHEMA_VERSION}",
                 )
             for name in ("parameters_json", "thresholds_json", "metric_definitions_json"):
                 if _json(row[name]) is None:

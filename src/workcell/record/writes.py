@@ -1,4 +1,12 @@
-"""Write transactions of a store, and what happens when the disk refuses a write."""
+"""Write transactions of a store, and what happens when the disk refuses a write.
+
+The store runs with ``synchronous=NORMAL`` (WAL mode): a commit is durable against the
+death of the process at once, but against a power cut of the machine only once SQLite has
+synced the log (at its next checkpoint): a power cut can lose the last commits (never
+corrupt the file). Durable writes (a trial's or a session's end, a reviewer's
+annotation) run with ``synchronous=FULL`` instead: their commit syncs the log, so once
+they return, the trial's end and everything before it survive a power cut.
+"""
 
 from __future__ import annotations
 
@@ -32,19 +40,27 @@ class WriteGuard:
             raise StorageError(f"{self.failure} (no further writes)")
 
     @contextlib.contextmanager
-    def write(self, *, commit: bool = True) -> Iterator[sqlite3.Connection]:
+    def write(self, *, commit: bool = True, durable: bool = False) -> Iterator[sqlite3.Connection]:
+        """A write inside the open transaction (one is begun if needed), committed unless
+        ``commit`` is False. ``durable``: commit what is pending first, then run this write
+        in its own transaction that syncs the log as it commits (see the module)."""
         self.require()
         conn = self._conn
         try:
+            if durable:
+                if conn.in_transaction:
+                    conn.execute("COMMIT")
+                conn.execute("PRAGMA synchronous = FULL")
             if not conn.in_transaction:
                 conn.execute("BEGIN IMMEDIATE")
             conn.execute("SAVEPOINT write")
         except (sqlite3.Error, OSError) as error:
+            self._normal(durable)
             raise self.fail(error) from error
         try:
             yield conn
             conn.execute("RELEASE write")
-            if commit:
+            if commit or durable:
                 conn.execute("COMMIT")
         except sqlite3.IntegrityError as error:
             self._undo_write()
@@ -54,6 +70,14 @@ class WriteGuard:
         except BaseException:
             self._undo_write()
             raise
+        finally:
+            self._normal(durable)
+
+    def _normal(self, durable: bool) -> None:
+        """Back to ``synchronous=NORMAL`` after a durable write (outside a transaction)."""
+        if durable and not self._conn.in_transaction:
+            with contextlib.suppress(sqlite3.Error):
+                self._conn.execute("PRAGMA synchronous = NORMAL")
 
     def commit(self) -> None:
         self.require()

@@ -138,7 +138,7 @@ class Conductor:
         try:
             session = LiveSession(
                 config, self.options.store, _Listener(self), self.options.state_hz,
-                self.options.max_catch_up_s,
+                self.options.max_catch_up_s, key_file=self.options.key_file,
             )  # fmt: skip
             await asyncio.to_thread(session.start)
         except WorkcellError as error:  # e.g. the store is another process's

@@ -57,9 +57,12 @@ class LiveSession:
         listener: SessionListener,
         state_hz: float = 60.0,
         max_catch_up_s: float = 0.25,
+        *,
+        key_file: Path | None = None,
     ) -> None:
         self.config = config
         self.store_path = store_path
+        self.key_file = key_file
         self.listener = listener
         self.state_period = 1.0 / state_hz
         self.max_catch_up_s = max_catch_up_s
@@ -100,7 +103,7 @@ class LiveSession:
 
     def _main(self) -> None:
         try:
-            store = StoreProcess.open(self.store_path)
+            store = StoreProcess.open(self.store_path, key_file=self.key_file)
         except BaseException as error:  # reported to the caller of start()
             self._startup_error = error
             self._ready.set()

@@ -8,6 +8,8 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workcell.errors import ConfigError
+from workcell.record.chain import ChainKey
+from workcell.record.errors import StoreError
 from workcell.server.origin import allowed_origins
 
 DEFAULT_STORE = Path("workcell.sqlite")
@@ -49,6 +51,8 @@ class ServerOptions:
     allow_origins: tuple[str, ...] = ()
     """Origins (``scheme://host[:port]``) whose pages may open the WebSocket besides the
     server's own, and whose host names the Host check accepts."""
+    key_file: Path | None = None
+    """Sign the store's hash chain with the secret in this file (``--key``)."""
     header_timeout_s: float = 10.0
     """How long a connection may take to send a request's headers (from connecting, or
     from the end of the previous response) before it is closed."""
@@ -76,5 +80,10 @@ class ServerOptions:
             allowed_origins(self.allow_origins)
         except ConfigError as error:
             problems += error.problems
+        if self.key_file is not None:
+            try:
+                ChainKey.from_file(self.key_file)
+            except StoreError as error:
+                problems.append(f"--key: {error}")
         if problems:
             raise ConfigError(problems)

@@ -1,0 +1,52 @@
+"""Migrating a store written by an older schema version, when a writer opens it.
+
+Version 1 → 2 adds the hash chain (:mod:`workcell.record.chain`): the ``chain`` table, and
+for every session already in the store its links, computed from its rows as they are at
+the moment of migration (unsigned). Every row is kept as it is. Those chains prove only
+that nothing changed *after* the migration; ``meta`` records when it happened
+(``migrated_wall``) so that ``workcell verify`` can say which sessions it concerns. It all
+runs in one transaction: a failed migration leaves the store as it was.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import sqlite3
+import time
+
+from workcell import __version__
+from workcell.record import chain
+from workcell.record.schema import CHAIN_SQL, SCHEMA_VERSION
+
+
+def _v1_to_v2(conn: sqlite3.Connection) -> None:
+    conn.execute(CHAIN_SQL)
+    chain.chain_existing(conn, None)
+
+
+MIGRATIONS = {1: _v1_to_v2}
+"""Version → the step that takes a store of that version to the next."""
+
+
+def migrate(conn: sqlite3.Connection, version: int) -> None:
+    """Take the store from ``version`` to :data:`SCHEMA_VERSION`, in one transaction."""
+    conn.execute("BEGIN IMMEDIATE")
+    try:
+        while version < SCHEMA_VERSION:
+            MIGRATIONS[version](conn)
+            version += 1
+        conn.executemany(
+            "INSERT OR REPLACE INTO meta (key, value) VALUES (?, ?)",
+            [
+                ("schema_version", str(SCHEMA_VERSION)),
+                ("migrated_wall", repr(time.time())),
+                ("migrated_by", __version__),
+            ],
+        )
+        conn.execute(f"PRAGMA user_version = {SCHEMA_VERSION}")
+        conn.execute("COMMIT")
+    except BaseException:
+        with contextlib.suppress(sqlite3.Error):
+            if conn.in_transaction:
+                conn.execute("ROLLBACK")
+        raise

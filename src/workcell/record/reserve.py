@@ -1,0 +1,82 @@
+"""Headroom on the disk, so that a trial can still be closed when the disk fills up.
+
+When the disk is full, SQLite cannot append even the few pages that record a trial's end
+(its outcome, the ``interruption`` event, the session's end and their hash-chain links),
+and the trial would stay open until a later writer found it. So a writer keeps a file of
+:data:`RESERVE_BYTES` beside the store, ``<store>.reserve``, its blocks allocated on the
+disk. When a write fails for lack of space the store deletes that file, which gives back
+exactly that much room, and writes the trial's and the session's end into it. The next
+writer makes the file again, and refuses to open the store (before anything is recorded)
+while the disk has no room for it.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import errno
+import os
+from pathlib import Path
+
+from workcell.record.diagnose import storage_advice
+from workcell.record.errors import StorageError
+
+RESERVE_BYTES = 256 * 1024
+"""Room kept for closing a trial and its session on a full disk: 64 pages of 4 KiB, four
+times what the closing transaction appends to the write-ahead log (measured: 15 pages, see
+tests/record/test_disk_full.py)."""
+
+
+def reserve_path(store: Path) -> Path:
+    return store.with_name(store.name + ".reserve")
+
+
+class Reserve:
+    """The headroom file of the store at ``store``."""
+
+    def __init__(self, store: Path, size: int = RESERVE_BYTES) -> None:
+        self.store = store
+        self.path = reserve_path(store)
+        self.size = size
+
+    def ensure(self) -> None:
+        """Make the file (all its blocks allocated) unless it is there already. Raises
+        :class:`StorageError` naming the full disk when there is no room for it."""
+        with contextlib.suppress(OSError):
+            if self.path.stat().st_size >= self.size:
+                return
+        try:
+            fd = os.open(self.path, os.O_WRONLY | os.O_CREAT, 0o644)
+            try:
+                _allocate(fd, self.size)
+                os.fsync(fd)
+            finally:
+                os.close(fd)
+        except OSError as error:
+            with contextlib.suppress(OSError):
+                self.path.unlink()
+            cause = error.strerror or str(error)
+            raise StorageError(
+                f"store {self.store}: no room for the {self.size // 1024} KiB a writer keeps "
+                f"free to close a trial on a full disk ({cause}) — "
+                f"{storage_advice(self.store, cause)}; nothing was recorded"
+            ) from None
+
+    def release(self) -> bool:
+        """Delete the file, giving its room back; whether there was one."""
+        try:
+            self.path.unlink()
+        except OSError:
+            return False
+        return True
+
+
+def _allocate(fd: int, size: int) -> None:
+    """Allocate ``size`` bytes of ``fd`` on the disk (not a sparse file)."""
+    try:
+        os.posix_fallocate(fd, 0, size)
+    except OSError as error:
+        if error.errno not in (errno.EOPNOTSUPP, errno.EINVAL):
+            raise
+        block = b"\0" * 65536  # a file system without fallocate: write the zeros
+        for offset in range(0, size, len(block)):
+            os.pwrite(fd, block[: size - offset], offset)
