@@ -1,11 +1,16 @@
-"""Running ``writer_process`` as a real child process and reading what it printed."""
+"""Real child processes of the record tests: ``workcell collect``, and ``writer_process``
+(and reading what they printed and recorded)."""
 
 from __future__ import annotations
 
+import os
 import subprocess
 import sys
+import time
 from collections.abc import Callable
 from pathlib import Path
+
+from workcell.record import Store
 
 REPO = Path(__file__).resolve().parents[2]
 TIMEOUT_S = 30.0
@@ -41,3 +46,65 @@ def finish(process: subprocess.Popen[str], last_seen: int = 0) -> tuple[int, str
     out, err = process.communicate(timeout=TIMEOUT_S)
     counts = [int(line) for line in out.split()]
     return (counts[-1] if counts else last_seen), err
+
+
+def collect(
+    store: Path, *args: str, preexec_fn: Callable[[], None] | None = None
+) -> subprocess.Popen[str]:
+    return subprocess.Popen(
+        [sys.executable, "-m", "workcell", "collect", "--store", str(store), "--json", *args],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+        env={**os.environ, "PYTHONUNBUFFERED": "1"},
+        preexec_fn=preexec_fn,  # noqa: PLW1509 (no threads in the test process)
+    )
+
+
+def committed_frames(store: Path) -> int:
+    """Frames a reader sees right now (what the recorder has committed)."""
+    if not store.exists():
+        return 0
+    try:
+        with Store.open(store, writer=False) as reader:
+            return reader.counts().frames
+    except Exception:  # the recorder may not have created the schema yet
+        return 0
+
+
+def wait_for_recording(store: Path, timeout_s: float = 120.0) -> None:
+    """Until the recorder has committed frames (however loaded the machine is)."""
+    deadline = time.monotonic() + timeout_s
+    while committed_frames(store) == 0:
+        assert time.monotonic() < deadline, f"{store} never received a frame"
+        time.sleep(0.05)
+
+
+def wait_for_trials(store: Path, count: int, timeout_s: float = 120.0) -> None:
+    """Until the recorder has started ``count`` trials."""
+    deadline = time.monotonic() + timeout_s
+    while True:
+        with Store.open(store, writer=False) as reader:
+            if reader.counts().trials >= count:
+                return
+        assert time.monotonic() < deadline, f"{store} never had {count} trials"
+        time.sleep(0.02)
+
+
+def writer_of(pid: int, timeout_s: float = 30.0) -> int:
+    """The pid of the store writer process (``workcell.record.store_worker``) that the
+    process ``pid`` started."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        for entry in Path("/proc").iterdir():
+            if not entry.name.isdigit():
+                continue
+            try:
+                parent = int((entry / "stat").read_text().rsplit(")", 1)[1].split()[1])
+                command = (entry / "cmdline").read_bytes()
+            except (OSError, IndexError, ValueError):
+                continue
+            if parent == pid and b"workcell.record.store_worker" in command:
+                return int(entry.name)
+        time.sleep(0.02)
+    raise AssertionError(f"process {pid} has no store writer process")

@@ -10,8 +10,6 @@ import os
 import random
 import resource
 import signal
-import subprocess
-import sys
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -19,6 +17,13 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from tests.record.processes import (
+    collect,
+    committed_frames,
+    wait_for_recording,
+    wait_for_trials,
+    writer_of,
+)
 from workcell.metrics import FrameArrays, compute_trial_metrics
 from workcell.record import Store
 from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
@@ -28,49 +33,6 @@ from workcell.session.config import SessionConfig
 
 KILLS = 20
 PARALLEL = 4
-
-
-def collect(
-    store: Path, *args: str, preexec_fn: Callable[[], None] | None = None
-) -> subprocess.Popen[str]:
-    return subprocess.Popen(
-        [sys.executable, "-m", "workcell", "collect", "--store", str(store), "--json", *args],
-        stdout=subprocess.PIPE,
-        stderr=subprocess.PIPE,
-        text=True,
-        env={**os.environ, "PYTHONUNBUFFERED": "1"},
-        preexec_fn=preexec_fn,  # noqa: PLW1509 (no threads in the test process)
-    )
-
-
-def committed_frames(store: Path) -> int:
-    """Frames a reader sees right now (what the recorder has committed)."""
-    if not store.exists():
-        return 0
-    try:
-        with Store.open(store, writer=False) as reader:
-            return reader.counts().frames
-    except Exception:  # the recorder may not have created the schema yet
-        return 0
-
-
-def wait_for_recording(store: Path, timeout_s: float = 120.0) -> None:
-    """Until the recorder has committed frames (however loaded the machine is)."""
-    deadline = time.monotonic() + timeout_s
-    while committed_frames(store) == 0:
-        assert time.monotonic() < deadline, f"{store} never received a frame"
-        time.sleep(0.05)
-
-
-def wait_for_trials(store: Path, count: int, timeout_s: float = 120.0) -> None:
-    """Until the recorder has started ``count`` trials."""
-    deadline = time.monotonic() + timeout_s
-    while True:
-        with Store.open(store, writer=False) as reader:
-            if reader.counts().trials >= count:
-                return
-        assert time.monotonic() < deadline, f"{store} never had {count} trials"
-        time.sleep(0.02)
 
 
 def test_sigkill_at_random_moments_loses_nothing_committed(tmp_path: Path) -> None:
@@ -166,21 +128,47 @@ def _limit_file_size(limit: int) -> Callable[[], None]:
     return apply
 
 
-def test_full_disk_stops_recording_with_storage_error(tmp_path: Path) -> None:
+def test_a_file_size_limit_stops_recording_with_storage_error(tmp_path: Path) -> None:
     store = tmp_path / "full.sqlite"
     process = collect(store, "--mode", "collection", preexec_fn=_limit_file_size(3_000_000))
     out, err = process.communicate(timeout=120)
     assert process.returncode == 1
     errors = [line for line in err.splitlines() if line.startswith("workcell: error:")]
     assert len(errors) == 1, err
-    assert "Traceback" not in err
-    with Store.open(store, writer=True) as writer:
-        trials = writer.trials()
-    assert trials[-1].outcome == "interrupted"
-    assert trials[-1].interruption_reason in {"storage_error", "crash_recovered"}
+    assert "file-size limit" in errors[0] and "Traceback" not in err
+    assert verify_store(store) == []  # the session was closed: nothing left to recover
+    with Store.open(store, writer=False) as reader:
+        (session,) = reader.sessions()
+        trials = reader.trials()
+    assert session.status == "interrupted"
+    assert (trials[-1].outcome, trials[-1].interruption_reason) == ("interrupted", "storage_error")
     assert trials[0].outcome == "success"
-    assert [json.loads(line)["outcome"] for line in out.splitlines()][-1] == "interrupted"
+    last = json.loads(out.splitlines()[-1])
+    assert (last["outcome"], last["interruption_reason"]) == ("interrupted", "storage_error")
+
+
+def test_a_killed_store_writer_ends_the_run_as_storage_error(tmp_path: Path) -> None:
+    """The store writer process dies under ``collect``: the run stops at the next
+    hand-over, and the store says what was printed: storage_error, session closed."""
+    store = tmp_path / "writer.sqlite"
+    process = collect(store, "--mode", "collection")
+    wait_for_recording(store)
+    os.kill(writer_of(process.pid), signal.SIGKILL)
+    out, err = process.communicate(timeout=120)
+    assert process.returncode == 1, err
+    (error,) = [line for line in err.splitlines() if line.startswith("workcell: error:")]
+    assert "the store writer process was killed (SIGKILL)" in error
+    assert "Traceback" not in err
+    last = json.loads(out.splitlines()[-1])
+    assert (last["outcome"], last["interruption_reason"]) == ("interrupted", "storage_error")
     assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        (session,) = reader.sessions()
+        trial = reader.trials()[-1]
+        (event,) = [e for e in reader.events(trial.trial_id) if e.kind == "interruption"]
+    assert session.status == "interrupted"  # closed by collect itself, not by recovery
+    assert (trial.outcome, trial.interruption_reason) == ("interrupted", "storage_error")
+    assert event.payload["error"] == error.removeprefix("workcell: error: ")
 
 
 def test_recorded_trial_is_complete_and_consistent(tmp_path: Path) -> None:

@@ -1,8 +1,10 @@
-"""A full disk (here: a file-size limit) stops recording with one clear message, marks the
-trial storage_error and leaves every earlier trial intact."""
+"""A full disk (a real tmpfs that fills up, and a file-size limit) stops recording with one
+clear message, marks the trial storage_error, closes the session and leaves every earlier
+trial intact."""
 
 from __future__ import annotations
 
+import json
 import resource
 import signal
 from pathlib import Path
@@ -10,10 +12,13 @@ from pathlib import Path
 import numpy as np
 
 from tests.record import synthetic
-from tests.record.processes import finish, start_writer
+from tests.record.processes import collect, finish, start_writer
+from tests.record.small_disk import small_disk
 from tests.record.writer_process import EXIT_STORAGE_ERROR
+from workcell.cli.main import main
 from workcell.record import Store
 from workcell.record.export_csv import columns_equal
+from workcell.record.reserve import RESERVE_BYTES, reserve_path
 from workcell.record.verify import verify_store
 
 FILE_SIZE_LIMIT = 1 << 20
@@ -63,3 +68,62 @@ def test_disk_full_gives_storage_error_and_keeps_earlier_trials(tmp_path: Path) 
             for name, values in synthetic.frames(0, COMPLETE_FRAMES, seed=k).items():
                 assert columns_equal(frames[name], np.asarray(values, frames[name].dtype))
     assert verify_store(path) == []
+
+
+MIB = 1 << 20
+
+
+def _errors(err: str) -> list[str]:
+    return [line for line in err.splitlines() if line.startswith("workcell: error: ")]
+
+
+def test_collect_on_a_disk_that_fills_up(tmp_path: Path) -> None:
+    """``workcell collect`` on a 4 MiB tmpfs: the trial that hits the full disk ends
+    interrupted (storage_error), the session is closed, the store verifies, every message
+    names the full disk; a new or reopened store is refused cleanly while the disk is full
+    and opens again once there is room."""
+    with small_disk(tmp_path / "disk", 4 * MIB) as disk:
+        ballast = disk / "ballast"
+        ballast.write_bytes(b"\0" * MIB)  # to free later
+        store = disk / "s.sqlite"
+        out, err = collect(store, "--mode", "collection").communicate(timeout=600)
+        (error,) = _errors(err)
+        assert "Traceback" not in err
+        assert f"the disk holding {disk} is full" in error
+        rows = [json.loads(line) for line in out.splitlines()]
+        assert rows[0]["outcome"] == "success"
+        assert (rows[-1]["outcome"], rows[-1]["interruption_reason"]) == (
+            "interrupted",
+            "storage_error",
+        )
+        assert verify_store(store) == []  # nothing left open: no recovery needed
+        with Store.open(store, writer=False) as reader:
+            (session,) = reader.sessions()
+            trials = reader.trials()
+            events = [e for e in reader.events() if e.kind == "interruption"]
+        assert session.status == "interrupted"
+        assert [(t.outcome, t.interruption_reason) for t in trials] == [
+            (r["outcome"], r["interruption_reason"]) for r in rows
+        ]
+        (event,) = events
+        assert event.payload["error"] == error.removeprefix("workcell: error: ")
+        assert not reserve_path(store).exists()  # its room went into closing the trial
+
+        # the disk is full now: a new store is refused before anything is written
+        process = collect(disk / "new.sqlite", "--trials", "1")
+        _, err = process.communicate(timeout=120)
+        assert process.returncode == 2
+        (error,) = _errors(err)
+        assert "Traceback" not in err and f"the disk holding {disk} is full" in error
+        assert "nothing was recorded" in error
+        assert not (disk / "new.sqlite").exists()
+        # reopening the store is refused the same way, and changes nothing
+        process = collect(store, "--trials", "1")
+        _, err = process.communicate(timeout=120)
+        assert process.returncode == 2 and len(_errors(err)) == 1, err
+        assert "is full" in err and "rollback" not in err and "Traceback" not in err
+        assert verify_store(store) == []
+
+        ballast.unlink()  # room again: the store opens for writing
+        assert main(["verify", "--recover", "--store", str(store)]) == 0
+        assert reserve_path(store).stat().st_size == RESERVE_BYTES

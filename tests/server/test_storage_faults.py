@@ -1,0 +1,92 @@
+"""``workcell serve`` when recording fails under a live operator: the store writer process
+is killed, or the disk fills up. The simulation stops within one hand-over (0.25 s of sim
+time), the clients and the store agree on the reason (storage_error), the store
+verifies, and the server carries on."""
+
+from __future__ import annotations
+
+import asyncio
+import os
+import signal
+import time
+from pathlib import Path
+
+from tests.record.processes import writer_of
+from tests.record.small_disk import small_disk
+from tests.server.harness import FAST_SETTINGS, Client, RunningServer, client, running_server
+from workcell.protocol import messages as m
+from workcell.record import Store
+from workcell.record.verify import verify_store
+
+HAND_OVER_S = 0.25
+"""Sim time between two hand-overs of frames to the store writer."""
+
+
+async def _start(operator: Client) -> None:
+    await operator.hello()
+    await operator.send(m.StartSession(settings=FAST_SETTINGS))
+    await operator.wait_for(lambda x: isinstance(x, m.SessionStarted))
+
+
+def _ended_as_storage_error(server: RunningServer) -> str:
+    """The store says storage_error too; returns the error the trial's event names."""
+    store = server.options.store
+    assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        (session,) = reader.sessions()
+        (trial,) = reader.trials()
+        (event,) = [e for e in reader.events(trial.trial_id) if e.kind == "interruption"]
+    assert session.status == "interrupted"
+    assert (trial.outcome, trial.interruption_reason) == ("interrupted", "storage_error")
+    return str(event.payload["error"])
+
+
+def test_a_killed_writer_stops_the_session_within_one_hand_over(tmp_path: Path) -> None:
+    async def scenario(server: RunningServer) -> tuple[float, float]:
+        async with client(server) as operator:
+            await _start(operator)
+            state = await operator.wait_for(lambda x: isinstance(x, m.State) and x.t_sim > 1.0)
+            os.kill(writer_of(os.getpid()), signal.SIGKILL)
+            killed_at = time.monotonic()
+            first = await operator.wait_for(lambda x: isinstance(x, m.State))
+            assert isinstance(state, m.State) and isinstance(first, m.State)
+            last = first.t_sim
+            while True:
+                message = await operator.next(10.0)
+                if isinstance(message, m.State):
+                    last = message.t_sim
+                if isinstance(message, m.SessionEnded):
+                    assert message.reason == "storage_error"
+                    return last - first.t_sim, time.monotonic() - killed_at
+
+    with running_server(tmp_path) as server:
+        simulated, waited = asyncio.run(scenario(server))
+        # the sim runs in real time: what it simulated after the kill is one hand-over at
+        # most (plus a State period and the scheduling of a loaded machine)
+        assert simulated <= HAND_OVER_S + 0.15, simulated
+        assert waited < 5.0
+        error = _ended_as_storage_error(server)
+        assert "the store writer process was killed (SIGKILL)" in error
+        assert server.get("/api/sessions")[0] == 200  # the server carries on
+
+
+def test_a_full_disk_ends_the_session_as_storage_error(tmp_path: Path) -> None:
+    async def scenario(server: RunningServer) -> m.Error:
+        async with client(server) as operator:
+            await _start(operator)
+            ended = await operator.wait_for(lambda x: isinstance(x, m.SessionEnded), 120.0)
+            assert isinstance(ended, m.SessionEnded) and ended.reason == "storage_error"
+            await operator.send(m.StartSession(settings=FAST_SETTINGS))  # the disk is full
+            refused = await operator.wait_for(lambda x: isinstance(x, m.Error))
+            assert isinstance(refused, m.Error)
+            return refused
+
+    disk = tmp_path / "disk"
+    with small_disk(disk, 1 << 20), running_server(tmp_path, store=disk / "s.sqlite") as server:
+        refused = asyncio.run(scenario(server))
+        assert refused.code == "not_allowed"
+        assert refused.message.startswith("start_session: store ")
+        assert f"the disk holding {disk} is full" in refused.message
+        error = _ended_as_storage_error(server)
+        assert f"the disk holding {disk} is full" in error
+        assert server.get("/api/sessions")[0] == 200
