@@ -4,12 +4,15 @@ trial intact."""
 
 from __future__ import annotations
 
+import contextlib
 import json
 import resource
 import signal
+import sqlite3
 from pathlib import Path
 
 import numpy as np
+import pytest
 
 from tests.record import synthetic
 from tests.record.processes import collect, finish, start_writer
@@ -127,3 +130,23 @@ def test_collect_on_a_disk_that_fills_up(tmp_path: Path) -> None:
         ballast.unlink()  # room again: the store opens for writing
         assert main(["verify", "--recover", "--store", str(store)]) == 0
         assert reserve_path(store).stat().st_size == RESERVE_BYTES
+
+
+@pytest.mark.parametrize("n_frames", [20, 2400])
+def test_closing_a_trial_fits_in_the_headroom_many_times(tmp_path: Path, n_frames: int) -> None:
+    """What closing a trial and its session appends to the log, against the headroom
+    file's size: it must fit several times over (RESERVE_BYTES says eight)."""
+    path = tmp_path / "s.db"
+    with Store.open(path, writer=True) as store:
+        session = store.create_session(synthetic.session_info())
+        trial = store.start_trial(session, synthetic.trial_start())
+        for start in range(0, n_frames, 100):
+            store.add_frames(trial, synthetic.frames(start, min(100, n_frames - start)))
+            store.commit()
+        wal = path.with_name(path.name + "-wal")
+        with contextlib.closing(sqlite3.connect(path)) as other:  # the log starts empty
+            other.execute("PRAGMA wal_checkpoint(TRUNCATE)")
+        assert wal.stat().st_size == 0
+        assert store.try_interrupt_session(session, "storage_error")
+        appended = wal.stat().st_size
+    assert 0 < appended * 4 <= RESERVE_BYTES, appended

@@ -21,9 +21,9 @@ from workcell.record.diagnose import storage_advice
 from workcell.record.errors import StorageError
 
 RESERVE_BYTES = 256 * 1024
-"""Room kept for closing a trial and its session on a full disk: 64 pages of 4 KiB, four
-times what the closing transaction appends to the write-ahead log (measured: 15 pages, see
-tests/record/test_disk_full.py)."""
+"""Room kept for closing a trial and its session on a full disk: eight times what the
+closing transaction appends to the write-ahead log (8 pages, 33 KB, whatever the trial's
+length; tests/record/test_disk_full.py measures it)."""
 
 
 def reserve_path(store: Path) -> Path:
@@ -54,12 +54,27 @@ class Reserve:
         except OSError as error:
             with contextlib.suppress(OSError):
                 self.path.unlink()
-            cause = error.strerror or str(error)
-            raise StorageError(
-                f"store {self.store}: no room for the {self.size // 1024} KiB a writer keeps "
-                f"free to close a trial on a full disk ({cause}) — "
-                f"{storage_advice(self.store, cause)}; nothing was recorded"
-            ) from None
+            raise self._refusal(error) from None
+
+    def _refusal(self, error: OSError) -> StorageError:
+        folder = self.store.parent
+        if error.errno in (errno.ENOSPC, errno.EDQUOT, errno.EFBIG):
+            free = ""
+            with contextlib.suppress(OSError):
+                stat = os.statvfs(folder)
+                free = f" ({stat.f_bavail * stat.f_frsize // 1024} KiB free)"
+            where = f"the disk holding {folder} is full{free}"
+            if error.errno == errno.EFBIG:
+                where = storage_advice(self.store, "file too large")
+            return StorageError(
+                f"store {self.store}: {where}: a writer keeps {self.size // 1024} KiB free "
+                "beside the store to close a trial when the disk fills up — free space, then "
+                "try again; nothing was recorded"
+            )
+        return StorageError(
+            f"store {self.store}: cannot make {self.path} ({error.strerror or error}) — check "
+            f"the permissions of {folder} and its file system; nothing was recorded"
+        )
 
     def release(self) -> bool:
         """Delete the file, giving its room back; whether there was one."""
