@@ -197,14 +197,18 @@ def test_a_dead_writer_process_stops_recording_with_a_storage_error(tmp_path: Pa
 
 
 def wait_until_dead(pid: int, timeout_s: float = 10.0) -> None:
-    """Until ``pid`` has exited (a zombie its parent has not reaped yet, or gone)."""
+    """Until ``pid`` has exited, every thread of it (a zombie its parent has not reaped
+    yet, or gone): only then does ``waitpid`` report it."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
         try:
-            state = Path(f"/proc/{pid}/stat").read_text().rsplit(")", 1)[1].split()[0]
+            states = [
+                (task / "stat").read_text().rsplit(")", 1)[1].split()[0]
+                for task in Path(f"/proc/{pid}/task").iterdir()
+            ]
         except FileNotFoundError:
             return
-        if state in ("Z", "X"):
+        if all(state in ("Z", "X") for state in states) and len(states) <= 1:
             return
         time.sleep(0.005)
     raise AssertionError(f"process {pid} did not die")

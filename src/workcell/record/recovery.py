@@ -24,7 +24,10 @@ from dataclasses import dataclass, field
 
 from workcell.record import lifecycle
 from workcell.record.chain import ChainKey
+from workcell.record.diagnose import storage_advice
+from workcell.record.errors import StorageError
 from workcell.record.ids import new_id
+from workcell.record.reserve import Reserve
 
 CRASH_RECOVERED = "crash_recovered"
 
@@ -118,3 +121,26 @@ def _close_session(
         t_wall=max(now, last_wall if last_wall is not None else -math.inf),
     )
     lifecycle.close_session(conn, session_id, "recovered", last_wall, key)
+
+
+def recover_with_headroom(
+    conn: sqlite3.Connection,
+    reserve: Reserve,
+    *,
+    key: ChainKey | None,
+    known: Mapping[str, KnownEnd],
+) -> tuple[str, ...]:
+    """:func:`recover`; on a full disk, into the room of the headroom file. Raises
+    :class:`StorageError` naming the disk when even that fails."""
+    for attempt in range(2):
+        try:
+            return recover(conn, key, known)
+        except (sqlite3.Error, OSError) as error:
+            if attempt == 0 and reserve.release():
+                continue
+            cause = str(error).strip() or type(error).__name__
+            raise StorageError(
+                f"store {reserve.store}: crash recovery could not write ({cause}) — "
+                f"{storage_advice(reserve.store, cause)}; the store is unchanged"
+            ) from None
+    raise AssertionError("unreachable")

@@ -76,6 +76,14 @@ class Reserve:
             f"the permissions of {folder} and its file system; nothing was recorded"
         )
 
+    def missing_room(self) -> StorageError | None:
+        """:meth:`ensure`, returning its error instead of raising it."""
+        try:
+            self.ensure()
+        except StorageError as error:
+            return error
+        return None
+
     def release(self) -> bool:
         """Delete the file, giving its room back; whether there was one."""
         try:

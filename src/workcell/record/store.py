@@ -28,22 +28,16 @@ import os
 import sqlite3
 import time
 from collections.abc import Mapping, Sequence
-from dataclasses import dataclass, field
 from pathlib import Path
 from types import TracebackType
 
-import numpy as np
-from numpy.typing import NDArray
-
 from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
-from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record import chain, lifecycle, rowio
 from workcell.record.batch import Columnar, RowBatch
 from workcell.record.chain import ChainKey
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
-from workcell.record.diagnose import storage_advice
-from workcell.record.errors import RecordError, StorageError, StoreError
+from workcell.record.errors import RecordError, StoreError
 from workcell.record.failure import close_after_failure
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
 from workcell.record.frame_capture import CapturedFrames, FrameLayout
@@ -51,42 +45,22 @@ from workcell.record.frame_format import FrameFormatter
 from workcell.record.ids import new_id
 from workcell.record.reading import StoreReading
 from workcell.record.records import (
-    FLAG_SEPARATOR,
     SessionInfo,
     StoredMetrics,
     TrialEnd,
     TrialStart,
     to_json,
 )
-from workcell.record.recovery import KnownEnd, recover
+from workcell.record.recovery import KnownEnd, recover_with_headroom
 from workcell.record.reserve import Reserve
-from workcell.record.schema import ANNOTATIONS, FRAMES, SCHEMA_VERSION, SESSIONS, TRIALS
+from workcell.record.running import Running, end_columns, frame_batch
+from workcell.record.schema import ANNOTATIONS, SCHEMA_VERSION, SESSIONS, TRIALS
 from workcell.record.writes import WriteGuard
 
 FrameRows = Sequence[Mapping[str, object]] | Columnar | RowBatch
 """Frames as rows (one mapping per frame), as columns (name → values) or as a batch."""
 
-_FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
 CLOSING_STATUSES = ("completed", "interrupted")
-
-
-@dataclass
-class _Running:
-    """A session or trial this store opened and has not closed (mutable bookkeeping)."""
-
-    session_id: str
-    next_index: int = 0
-    """trials: next frame_index; sessions: next trial_index."""
-    next_seq: int = 0
-    trial_id: str | None = None
-    metric_rows: list[NDArray[np.float64]] = field(default_factory=list)
-    """trials: the metric columns of the frames added, in batches."""
-
-    def metric_matrix(self) -> NDArray[np.float64]:
-        """(next_index, len(REQUIRED_COLUMNS)): the metric columns of the trial's frames."""
-        if not self.metric_rows:
-            return np.zeros((0, len(REQUIRED_COLUMNS)))
-        return np.concatenate(self.metric_rows)[: self.next_index]
 
 
 class Store(StoreReading):
@@ -104,8 +78,8 @@ class Store(StoreReading):
         self._lock = lock
         self._key = key
         self._reserve = Reserve(path)
-        self._sessions: dict[str, _Running] = {}
-        self._trials: dict[str, _Running] = {}
+        self._sessions: dict[str, Running] = {}
+        self._trials: dict[str, Running] = {}
         self._guard = WriteGuard(path, conn, self._resync) if lock is not None else None
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when this writer opened the store."""
@@ -134,7 +108,7 @@ class Store(StoreReading):
             return cls(path, connect(path, writer=False), None)
         lock = WriterLock(path)
         try:
-            no_room = _headroom(path)
+            no_room = Reserve(path).missing_room()
             if no_room is not None and not path.exists():
                 raise no_room  # nothing to recover: refuse before creating anything
             store = cls(path, connect(path, writer=True), lock, key)
@@ -142,28 +116,15 @@ class Store(StoreReading):
             lock.release()
             raise
         try:
-            store.recovered = store._recover(known or {})
+            store.recovered = recover_with_headroom(
+                store._conn, store._reserve, key=key, known=known or {}
+            )
             if no_room is not None or not store._reserve.path.exists():
                 store._reserve.ensure()  # raises: the disk is still full
         except BaseException:
             store.close()
             raise
         return store
-
-    def _recover(self, known: Mapping[str, KnownEnd]) -> tuple[str, ...]:
-        """Crash recovery; on a full disk, into the room of the headroom file."""
-        for attempt in range(2):
-            try:
-                return recover(self._conn, self._key, known)
-            except (sqlite3.Error, OSError) as error:
-                if attempt == 0 and self._reserve.release():
-                    continue
-                cause = str(error).strip() or type(error).__name__
-                raise StorageError(
-                    f"store {self.path}: crash recovery could not write ({cause}) — "
-                    f"{storage_advice(self.path, cause)}; the store is unchanged"
-                ) from None
-        raise AssertionError("unreachable")
 
     @property
     def writer(self) -> bool:
@@ -218,7 +179,7 @@ class Store(StoreReading):
         with self._write() as conn:
             rowio.insert(conn, batch)
             chain.link_start(conn, session_id, batch.checksums()[0], self._key)
-        self._sessions[session_id] = _Running(session_id)
+        self._sessions[session_id] = Running(session_id)
         return session_id
 
     def start_trial(
@@ -248,7 +209,7 @@ class Store(StoreReading):
             rowio.insert(conn, batch)
         session.next_index += 1
         session.trial_id = trial_id
-        self._trials[trial_id] = _Running(session_id)
+        self._trials[trial_id] = Running(session_id)
         return trial_id
 
     def add_event(
@@ -295,22 +256,8 @@ class Store(StoreReading):
         stored as given and reported by ``workcell verify``. Returns the number added.
         """
         trial = self._running_trial(trial_id)
-        fixed = {"session_id": trial.session_id, "trial_id": trial_id}
-        if isinstance(frames, RowBatch):
-            batch = _checked_batch(frames, fixed)
-        elif isinstance(frames, Mapping):
-            batch = RowBatch.from_columns(
-                FRAMES, _numbered_columns(frames, trial.next_index), fixed
-            )
-        else:
-            batch = RowBatch.from_mappings(FRAMES, _numbered_rows(frames, trial.next_index), fixed)
+        batch = frame_batch(frames, trial, trial_id)
         n = len(batch)
-        indices = [row[_FRAME_INDEX] for row in batch.integer]
-        if indices != list(range(trial.next_index, trial.next_index + n)):
-            raise RecordError(
-                f"frames of trial {trial_id} must continue at frame_index {trial.next_index} "
-                f"in steps of 1; got {indices[:3]}{'...' if n > 3 else ''}"
-            )
         if n:
             with self._write(commit=False) as conn:
                 rowio.insert(conn, batch)
@@ -348,24 +295,7 @@ class Store(StoreReading):
             m = StoredMetrics.of(
                 compute_trial_metrics(frames, end.outcome == "success", thresholds)
             )
-        changes = {
-            "outcome": end.outcome,
-            "interruption_reason": end.interruption_reason,
-            "elapsed_s": end.elapsed_s,
-            "completion_time_s": end.completion_time_s,
-            "boxes_delivered": end.boxes_delivered,
-            "score": end.score,
-            "path_length_m": m.path_length_m,
-            "smoothness": m.smoothness,
-            "active_ratio": m.active_ratio,
-            "hz_wall": m.hz_wall,
-            "hz_sim": m.hz_sim,
-            "max_gap_s": m.max_gap_s,
-            "quality_flags": FLAG_SEPARATOR.join(end.quality_flags),
-            "included": int(end.included),
-            "exclusion_reason": end.exclusion_reason,
-            "ended_wall": time.time(),
-        }
+        changes = end_columns(end, m)
         with self._write(durable=True) as conn:
             lifecycle.close_trial(conn, trial_id, changes)
             write_block(conn, trial_id, matrix)
@@ -442,7 +372,7 @@ class Store(StoreReading):
 
     # ------------------------------------------------------------------ internals
 
-    def _running_session(self, session_id: str) -> _Running:
+    def _running_session(self, session_id: str) -> Running:
         self._writable()
         try:
             return self._sessions[session_id]
@@ -451,7 +381,7 @@ class Store(StoreReading):
                 f"session {session_id} is not running in this store: create it first"
             ) from None
 
-    def _running_trial(self, trial_id: str) -> _Running:
+    def _running_trial(self, trial_id: str) -> Running:
         self._writable()
         try:
             return self._trials[trial_id]
@@ -460,7 +390,7 @@ class Store(StoreReading):
                 f"trial {trial_id} is not running in this store: start it first"
             ) from None
 
-    def _forget_trial(self, trial_id: str, trial: _Running) -> None:
+    def _forget_trial(self, trial_id: str, trial: Running) -> None:
         del self._trials[trial_id]
         self._sessions[trial.session_id].trial_id = None
 
@@ -486,40 +416,3 @@ class Store(StoreReading):
             trial.metric_rows = [trial.metric_matrix()]
         for session_id, session in self._sessions.items():
             session.next_seq = lifecycle.next_seq(self._conn, session_id)
-
-
-def _headroom(path: Path) -> StorageError | None:
-    """Make sure the headroom file of the store at ``path`` exists; the error if not."""
-    try:
-        Reserve(path).ensure()
-    except StorageError as error:
-        return error
-    return None
-
-
-def _checked_batch(batch: RowBatch, fixed: Mapping[str, str]) -> RowBatch:
-    """A ready batch of frames, with its ids those of the trial it is added to."""
-    if batch.layout is not FRAMES:
-        raise RecordError(f"a {batch.layout.name} batch cannot be added as frames")
-    ids = (fixed["session_id"], fixed["trial_id"])
-    for i, row in enumerate(batch.text):
-        if row[:2] != ids:
-            raise RecordError(f"frames row {i}: session_id, trial_id {row[:2]} are not {ids}")
-    return batch
-
-
-def _numbered_columns(frames: Columnar, start: int) -> Columnar:
-    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
-    if "frame_index" in frames or not frames:
-        return frames
-    n = len(next(iter(frames.values())))
-    return {**frames, "frame_index": range(start, start + n)}
-
-
-def _numbered_rows(
-    frames: Sequence[Mapping[str, object]], start: int
-) -> Sequence[Mapping[str, object]]:
-    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
-    if not frames or "frame_index" in frames[0]:
-        return frames
-    return [{**row, "frame_index": start + i} for i, row in enumerate(frames)]

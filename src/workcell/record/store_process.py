@@ -34,7 +34,6 @@ import itertools
 import math
 import os
 import queue
-import signal
 import subprocess
 import sys
 import threading
@@ -44,7 +43,6 @@ from pathlib import Path
 from types import TracebackType
 from typing import IO, Any
 
-from workcell.errors import WorkcellError
 from workcell.metrics import MetricThresholds
 from workcell.record.chain import ChainKey
 from workcell.record.errors import RecordError, StorageError, StoreError
@@ -54,7 +52,7 @@ from workcell.record.ids import new_id
 from workcell.record.pipe_messages import receive, send
 from workcell.record.records import SessionInfo, TrialEnd, TrialStart
 from workcell.record.recovery import KnownEnd
-from workcell.record.store import Store
+from workcell.record.writer_death import close_for_dead_writer, death_error
 
 ANSWER_TIMEOUT_S = 60.0
 """How long a call waits for the writer's answer before giving up on the writer."""
@@ -259,16 +257,8 @@ class StoreProcess:
         """The writer is gone (and its lock with it): close the session in this process."""
         self._reap()
         detail = {"error": str(self._failure)} if self._failure is not None else {}
-        try:
-            key = None if self._key_file is None else ChainKey.from_file(self._key_file)
-            known = {session_id: KnownEnd(reason, detail)}
-            with Store.open(self.path, writer=True, key=key, known=known) as store:
-                return any(
-                    s.session_id == session_id and s.status == "interrupted"
-                    for s in store.sessions()
-                )
-        except WorkcellError:
-            return False
+        end = KnownEnd(reason, detail)
+        return close_for_dead_writer(self.path, session_id, end, self._key_file)
 
     def close(self) -> None:
         """Send what is pending, let the writer finish it, close the store and exit."""
@@ -380,7 +370,7 @@ class StoreProcess:
         """Raise the writer's failure, or :class:`StorageError` if it has died (one
         ``waitpid``, no message)."""
         if self._failure is None and self._process.poll() is not None:
-            self._failure = self._died()
+            self._died()
         if self._failure is not None:
             raise self._failure
 
@@ -399,20 +389,14 @@ class StoreProcess:
                 self._replies.put(answer)
 
     def _died(self) -> StorageError:
+        """The writer's death as the failure of this store (kept: later calls raise it)."""
         try:
             code: int | None = self._process.wait(timeout=1.0)
         except subprocess.TimeoutExpired:
             code = None
-        if code is None:
-            how = "is not answering"
-        elif code < 0:
-            how = f"was killed ({signal.Signals(-code).name})"
-        else:
-            how = f"exited (status {code})"
-        return StorageError(
-            f"store {self.path}: the store writer process {how}; recording stopped — "
-            "everything it committed is intact"
-        )
+        if self._failure is None:
+            self._failure = death_error(self.path, code)
+        return self._failure
 
     def _reap(self) -> None:
         with contextlib.suppress(OSError, ValueError):

@@ -1,0 +1,111 @@
+"""What a writing :class:`~workcell.record.store.Store` keeps track of (the sessions and
+trials it opened), and how the rows it is handed are numbered and checked."""
+
+from __future__ import annotations
+
+import time
+from collections.abc import Mapping, Sequence
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.metrics.frames import REQUIRED_COLUMNS
+from workcell.record.batch import Columnar, RowBatch
+from workcell.record.errors import RecordError
+from workcell.record.records import FLAG_SEPARATOR, StoredMetrics, TrialEnd
+from workcell.record.schema import FRAMES
+
+
+@dataclass
+class Running:
+    """A session or trial this store opened and has not closed (mutable bookkeeping)."""
+
+    session_id: str
+    next_index: int = 0
+    """trials: next frame_index; sessions: next trial_index."""
+    next_seq: int = 0
+    trial_id: str | None = None
+    metric_rows: list[NDArray[np.float64]] = field(default_factory=list)
+    """trials: the metric columns of the frames added, in batches."""
+
+    def metric_matrix(self) -> NDArray[np.float64]:
+        """(next_index, len(REQUIRED_COLUMNS)): the metric columns of the trial's frames."""
+        if not self.metric_rows:
+            return np.zeros((0, len(REQUIRED_COLUMNS)))
+        return np.concatenate(self.metric_rows)[: self.next_index]
+
+
+def end_columns(end: TrialEnd, m: StoredMetrics) -> dict[str, object]:
+    """The trial row's columns written when it closes (``m``: its metrics)."""
+    return {
+        "outcome": end.outcome,
+        "interruption_reason": end.interruption_reason,
+        "elapsed_s": end.elapsed_s,
+        "completion_time_s": end.completion_time_s,
+        "boxes_delivered": end.boxes_delivered,
+        "score": end.score,
+        "path_length_m": m.path_length_m,
+        "smoothness": m.smoothness,
+        "active_ratio": m.active_ratio,
+        "hz_wall": m.hz_wall,
+        "hz_sim": m.hz_sim,
+        "max_gap_s": m.max_gap_s,
+        "quality_flags": FLAG_SEPARATOR.join(end.quality_flags),
+        "included": int(end.included),
+        "exclusion_reason": end.exclusion_reason,
+        "ended_wall": time.time(),
+    }
+
+
+def checked_batch(batch: RowBatch, fixed: Mapping[str, str]) -> RowBatch:
+    """A ready batch of frames, with its ids those of the trial it is added to."""
+    if batch.layout is not FRAMES:
+        raise RecordError(f"a {batch.layout.name} batch cannot be added as frames")
+    ids = (fixed["session_id"], fixed["trial_id"])
+    for i, row in enumerate(batch.text):
+        if row[:2] != ids:
+            raise RecordError(f"frames row {i}: session_id, trial_id {row[:2]} are not {ids}")
+    return batch
+
+
+def numbered_columns(frames: Columnar, start: int) -> Columnar:
+    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
+    if "frame_index" in frames or not frames:
+        return frames
+    n = len(next(iter(frames.values())))
+    return {**frames, "frame_index": range(start, start + n)}
+
+
+def numbered_rows(
+    frames: Sequence[Mapping[str, object]], start: int
+) -> Sequence[Mapping[str, object]]:
+    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
+    if not frames or "frame_index" in frames[0]:
+        return frames
+    return [{**row, "frame_index": start + i} for i, row in enumerate(frames)]
+
+
+_FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
+
+
+def frame_batch(
+    frames: Sequence[Mapping[str, object]] | Columnar | RowBatch, trial: Running, trial_id: str
+) -> RowBatch:
+    """Frames handed to :meth:`Store.add_frames <workcell.record.store.Store.add_frames>`
+    as one batch of the trial's next rows, numbered and checked."""
+    fixed = {"session_id": trial.session_id, "trial_id": trial_id}
+    if isinstance(frames, RowBatch):
+        batch = checked_batch(frames, fixed)
+    elif isinstance(frames, Mapping):
+        batch = RowBatch.from_columns(FRAMES, numbered_columns(frames, trial.next_index), fixed)
+    else:
+        batch = RowBatch.from_mappings(FRAMES, numbered_rows(frames, trial.next_index), fixed)
+    n = len(batch)
+    indices = [row[_FRAME_INDEX] for row in batch.integer]
+    if indices != list(range(trial.next_index, trial.next_index + n)):
+        raise RecordError(
+            f"frames of trial {trial_id} must continue at frame_index {trial.next_index} "
+            f"in steps of 1; got {indices[:3]}{'...' if n > 3 else ''}"
+        )
+    return batch
