@@ -388,7 +388,7 @@ class StoreProcess:
             else:
                 self._replies.put(answer)
 
-    def _died(self) -> StorageError:
+    def _died(self) -> Exception:
         """The writer's death as the failure of this store (kept: later calls raise it)."""
         try:
             code: int | None = self._process.wait(timeout=1.0)
