@@ -11,6 +11,8 @@ import signal
 import time
 from pathlib import Path
 
+import pytest
+
 from tests.record.processes import writer_of
 from tests.record.small_disk import small_disk
 from tests.server.harness import FAST_SETTINGS, Client, RunningServer, client, running_server
@@ -70,7 +72,9 @@ def test_a_killed_writer_stops_the_session_within_one_hand_over(tmp_path: Path) 
         assert server.get("/api/sessions")[0] == 200  # the server carries on
 
 
-def test_a_full_disk_ends_the_session_as_storage_error(tmp_path: Path) -> None:
+def test_a_full_disk_ends_the_session_as_storage_error(
+    tmp_path: Path, caplog: pytest.LogCaptureFixture
+) -> None:
     async def scenario(server: RunningServer) -> m.Error:
         async with client(server) as operator:
             await _start(operator)
@@ -90,3 +94,5 @@ def test_a_full_disk_ends_the_session_as_storage_error(tmp_path: Path) -> None:
         error = _ended_as_storage_error(server)
         assert f"the disk holding {disk} is full" in error
         assert server.get("/api/sessions")[0] == 200
+    logged = [r.getMessage() for r in caplog.records if r.name == "workcell.server.live"]
+    assert len(logged) == 1 and error in logged[0]  # the server's log says why, in one line

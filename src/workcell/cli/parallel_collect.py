@@ -65,7 +65,7 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
                 plans, common_arguments(args), on_trial, lambda: shutdown.requested is not None
             )
     for exit_ in exits:
-        if exit_.returncode not in (0, 130):
+        if exit_.returncode not in (0, 130, 143):  # stopped by SIGINT or SIGTERM
             print(
                 f"worker {exit_.worker} died (exit {exit_.returncode}); its shard is recovered "
                 f"like any crashed store. {exit_.stderr_tail}",
@@ -87,5 +87,7 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
         file=out,
     )
     if shutdown.requested is not None:
-        return 130
+        from workcell.cli.collect import exit_status  # noqa: PLC0415
+
+        return exit_status(shutdown.requested)
     return 0 if all(e.returncode == 0 for e in exits) else 1

@@ -170,6 +170,7 @@ class LiveSession:
         next_state = 0.0  # on the sim clock: states at state_hz on average, never faster
         while runner.current is not None:
             if recorder.failure is not None:
+                logger.warning("session %s stopped: %s", recorder.session_id, recorder.failure)
                 runner.interrupt("storage_error")
                 return "storage_error"
             if not pacer.wait(self._stop):
