@@ -10,6 +10,7 @@ from pathlib import Path
 import pytest
 
 from tests.record import synthetic
+from workcell.cli.main import main
 from workcell.record import RecordError, Store, StoreError, rowio
 from workcell.record.columns import FRAME_COLUMNS, TRIAL_COLUMNS
 from workcell.record.schema import APPLICATION_ID, SCHEMA_VERSION, SESSIONS
@@ -141,7 +142,7 @@ def _as_version_1(path: Path) -> None:
 
 
 def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
-    tmp_path: Path,
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     path = tmp_path / "old.db"
     ids = synthetic.fill_store(path)
@@ -153,7 +154,11 @@ def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
     assert f"workcell verify --recover --store {path}" in message
     with pytest.raises(StoreError, match="schema version 1"):
         verify_store(path)
-    with Store.open(path, writer=True) as store:  # migrates, in one transaction
+    assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
+    out = capsys.readouterr().out
+    assert f"migrated: {path} from schema version 1 to 2" in out
+    assert "2 sessions were chained when the store was migrated" in out
+    with Store.open(path, writer=True) as store:
         meta = store.meta()
         sessions = store.sessions()
         links = store.chain()

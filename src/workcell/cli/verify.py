@@ -93,11 +93,29 @@ def _manifest(path: Path) -> dict[str, Any]:
 
 
 def _recover(path: Path, key: Any) -> None:
+    import contextlib  # noqa: PLC0415
+    import sqlite3  # noqa: PLC0415
+    from urllib.parse import quote  # noqa: PLC0415
+
+    from workcell.record.schema import SCHEMA_VERSION  # noqa: PLC0415
     from workcell.record.store import Store  # noqa: PLC0415
 
+    version = SCHEMA_VERSION
+    with (
+        contextlib.suppress(sqlite3.Error),
+        contextlib.closing(
+            sqlite3.connect(f"file:{quote(str(path.resolve()))}?mode=ro", uri=True)
+        ) as conn,
+    ):
+        version = conn.execute("PRAGMA user_version").fetchone()[0]
     with Store.open(path, writer=True, key=key) as store:
         for trial_id in store.recovered:
             print(f"recovered: trial {trial_id} closed as interrupted (crash_recovered)")
+    if 0 < version < SCHEMA_VERSION:
+        print(
+            f"migrated: {path} from schema version {version} to {SCHEMA_VERSION}; the hash "
+            "chains of its sessions were computed from their rows as they are now"
+        )
 
 
 def _store_summary(path: Path, stats: ChainStats, key: Any) -> str:
