@@ -42,8 +42,12 @@ def next_count(process: subprocess.Popen[str]) -> int:
 
 def finish(process: subprocess.Popen[str], last_seen: int = 0) -> tuple[int, str]:
     """Wait for the writer to end; the last count it printed (``last_seen`` if it printed
-    none since) and its stderr."""
-    out, err = process.communicate(timeout=TIMEOUT_S)
+    none since) and its stderr. Reads through the same buffered stream as
+    :func:`next_count` (``communicate`` would skip what that stream had read ahead)."""
+    assert process.stdout is not None and process.stderr is not None
+    out = process.stdout.read()  # to the end: the writer exits after its trial
+    err = process.stderr.read()
+    process.wait(timeout=TIMEOUT_S)
     counts = [int(line) for line in out.split()]
     return (counts[-1] if counts else last_seen), err
 
