@@ -34,6 +34,8 @@ OFFLINE_ENVIRONMENT = {
     "TOKENIZERS_PARALLELISM": "false",
 }
 _LOG_LINE = re.compile(r"step:(?P<step>\S+).*?loss:(?P<loss>[-+0-9.eE]+)")
+_BAR = re.compile(r"\|\s*(?P<step>\d+)/(?P<steps>\d+) \[")
+"""tqdm's progress bar: ``Training:  12%|#  | 1234/10000 [00:10<01:00, 3.1step/s]``."""
 _BIG_NUMBER = {"K": 1e3, "M": 1e6, "B": 1e9, "T": 1e12}
 
 
@@ -43,15 +45,42 @@ class TrainProgress:
     steps: int
     loss: float
     elapsed_s: float
-
-    @property
-    def steps_per_s(self) -> float:
-        return self.step / self.elapsed_s if self.elapsed_s > 0 else 0.0
+    """Seconds since the training started (the process, data and model set-up included)."""
+    steps_per_s: float
+    """Since the first step (set-up excluded); 0 until two steps were reported."""
 
     @property
     def remaining_s(self) -> float | None:
         rate = self.steps_per_s
         return (self.steps - self.step) / rate if rate > 0 else None
+
+
+class ProgressReader:
+    """Turns LeRobot's training log lines into :class:`TrainProgress` reports."""
+
+    def __init__(self, steps: int) -> None:
+        self.steps = steps
+        self._bar_step = 0
+        self._first: tuple[int, float] | None = None
+
+    def read(self, line: str, elapsed_s: float) -> TrainProgress | None:
+        """The report in ``line`` (None for every other line). The step comes from
+        tqdm's bar where it shows (LeRobot's log rounds it: ``1K``), the loss from the log."""
+        bar = _BAR.search(line)
+        if bar is not None:
+            self._bar_step = int(bar["step"])
+        match = _LOG_LINE.search(line)
+        if match is None:
+            return None
+        try:
+            step, loss = max(self._bar_step, _number(match["step"])), float(match["loss"])
+        except ValueError:
+            return None
+        if self._first is None:
+            self._first = (step, elapsed_s)
+        first_step, first_s = self._first
+        rate = (step - first_step) / (elapsed_s - first_s) if elapsed_s > first_s else 0.0
+        return TrainProgress(step, self.steps, loss, elapsed_s, rate)
 
 
 @dataclass(frozen=True)
@@ -104,6 +133,7 @@ def run_training(
     log_path = options.out.parent / f".{options.out.name}.{LOG_FILE}"
     started = time.monotonic()
     last: TrainProgress | None = None
+    reader = ProgressReader(options.steps)
     environment = {**os.environ, **OFFLINE_ENVIRONMENT}
     with log_path.open("w") as log:
         log.write(f"$ {shlex.join(command)}\n")
@@ -119,7 +149,7 @@ def run_training(
         try:
             for line in process.stdout:
                 log.write(line)
-                progress = parse_progress(line, options.steps, time.monotonic() - started)
+                progress = reader.read(line, time.monotonic() - started)
                 if progress is not None:
                     last = progress
                     if on_progress is not None:
@@ -141,17 +171,6 @@ def run_training(
         )
     checkpoint = PolicyCheckpoint.locate(options.out / LAST_CHECKPOINT)
     return TrainResult(checkpoint, time.monotonic() - started, last, command)
-
-
-def parse_progress(line: str, steps: int, elapsed_s: float) -> TrainProgress | None:
-    """A progress report from one of LeRobot's training log lines (None for other lines)."""
-    match = _LOG_LINE.search(line)
-    if match is None:
-        return None
-    try:
-        return TrainProgress(_number(match["step"]), steps, float(match["loss"]), elapsed_s)
-    except ValueError:
-        return None
 
 
 def _number(text: str) -> int:
