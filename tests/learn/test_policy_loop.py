@@ -158,7 +158,7 @@ def test_env_observations_become_the_export_features_through_lerobot(
     episode = provenance["episodes"][0]
     env = BoxTransferEnv(BoxTransferConfig(cameras=CAMERAS, camera_size=SIZE))
     observation, _ = env.reset(seed=episode["trial_seed"])
-    batch: dict[str, Any] = preprocess_observation(observation)  # type: ignore[arg-type]
+    batch: dict[str, Any] = preprocess_observation(observation)
     sample = dataset[0]
     observed = {k for k in sample if k.startswith("observation.")}
     assert set(batch) == observed

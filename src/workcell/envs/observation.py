@@ -19,6 +19,7 @@ rendered as the exports render them (shadows and reflections off).
 from __future__ import annotations
 
 from collections.abc import Sequence
+from typing import Any
 
 import numpy as np
 from numpy.typing import NDArray
@@ -35,7 +36,8 @@ AGENT_POS = "agent_pos"
 ENVIRONMENT_STATE = "environment_state"
 PIXELS = "pixels"
 
-Observation = dict[str, NDArray[np.float32] | dict[str, NDArray[np.uint8]]]
+Observation = dict[str, Any]
+"""``agent_pos`` and ``environment_state`` (float32 arrays), ``pixels`` (a dict of uint8 images)."""
 
 FEATURE_OF_KEY: dict[str, str] = {AGENT_POS: STATE_KEY, ENVIRONMENT_STATE: ENVIRONMENT_KEY}
 """The dataset feature each observation key becomes (cameras: :func:`feature_of_camera`)."""

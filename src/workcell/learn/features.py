@@ -62,9 +62,9 @@ def policy_inputs(checkpoint: PolicyCheckpoint, config: Any, pool_size: int) -> 
             problems.append(f"{key}, which a Workcell session does not provide")
     action = outputs.get(ACTION_KEY)
     if action is None or tuple(int(v) for v in action.shape) != (len(ACTION_NAMES),):
-        shape = None if action is None else tuple(action.shape)
+        written = None if action is None else tuple(action.shape)
         problems.append(
-            f"{ACTION_KEY} of shape {shape}, where Workcell's is ({len(ACTION_NAMES)},)"
+            f"{ACTION_KEY} of shape {written}, where Workcell's is ({len(ACTION_NAMES)},)"
         )
     if len(sizes) > 1:
         problems.append(f"images of several sizes {sorted(sizes)}; one size for every camera")

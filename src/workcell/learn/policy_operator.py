@@ -85,7 +85,7 @@ class PolicyOperator:
         from lerobot.envs.utils import preprocess_observation  # noqa: PLC0415
 
         observation = self._observations.observe(self._command)
-        batch: dict[str, Any] = preprocess_observation(observation)  # type: ignore[arg-type]
+        batch: dict[str, Any] = preprocess_observation(observation)
         batch["task"] = [self._task]
         batch = self._preprocessor(batch)
         with self._torch.inference_mode():
