@@ -51,6 +51,12 @@ def register(subparsers: Subparsers) -> None:
     )
     parser.add_argument("--seed", type=int, default=1000, help="training seed (default: 1000)")
     parser.add_argument(
+        "--threads",
+        type=int,
+        help="torch threads (default: one per core); 1 is fastest on a machine busy with "
+        "other work",
+    )
+    parser.add_argument(
         "--save-every", type=int, metavar="N", help="also keep a checkpoint every N steps"
     )
     parser.add_argument(
@@ -95,6 +101,7 @@ def run(args: argparse.Namespace) -> int:
         episodes=None if args.episodes is None else parse_episodes(args.episodes),
         device=args.device,
         seed=args.seed,
+        threads=args.threads,
         save_every=args.save_every,
         extra=tuple(args.lerobot),
     )

@@ -31,6 +31,12 @@ from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 
 
+INFERENCE_THREADS = 1
+"""Torch threads for inference. A policy decides at most once per frame (20 Hz), so more
+threads buy little, while idle OpenMP threads spin on the core the store's writer process
+uses."""
+
+
 class PolicyOperator:
     """Drives with the policy at ``checkpoint`` (see :meth:`PolicyCheckpoint.locate`)."""
 
@@ -40,8 +46,10 @@ class PolicyOperator:
         config: SessionConfig,
         sim: Simulation,
         device: str | None = None,
+        threads: int = INFERENCE_THREADS,
     ) -> None:
         torch = _import("torch")
+        torch.set_num_threads(threads)
         self.checkpoint = checkpoint
         self.device = device or ("cuda" if torch.cuda.is_available() else "cpu")
         self._torch = torch

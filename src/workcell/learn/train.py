@@ -135,6 +135,8 @@ def run_training(
     last: TrainProgress | None = None
     reader = ProgressReader(options.steps)
     environment = {**os.environ, **OFFLINE_ENVIRONMENT}
+    if options.threads is not None:
+        environment["OMP_NUM_THREADS"] = environment["MKL_NUM_THREADS"] = str(options.threads)
     with log_path.open("w") as log:
         log.write(f"$ {shlex.join(command)}\n")
         log.flush()
@@ -149,6 +151,7 @@ def run_training(
         try:
             for line in process.stdout:
                 log.write(line)
+                log.flush()
                 progress = reader.read(line, time.monotonic() - started)
                 if progress is not None:
                     last = progress

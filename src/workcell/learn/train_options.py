@@ -62,6 +62,10 @@ class TrainOptions:
     seed: int = 1000
     save_every: int | None = None
     """Steps between checkpoints (None: only the last)."""
+    threads: int | None = None
+    """Torch (OpenMP) threads of the training process; None: torch's default, one per core.
+    On a machine busy with other work, 1 is much faster than more (threads that wait for
+    each other on a shared core)."""
     num_workers: int = 0
     """Data-loading processes (0: in the training process, which is fastest for state-only
     datasets on a small machine)."""
@@ -86,6 +90,8 @@ class TrainOptions:
             problems.append(f"--device = {self.device!r}: must be one of {', '.join(DEVICES)}")
         if self.save_every is not None and not 1 <= self.save_every <= self.steps:
             problems.append(f"--save-every = {self.save_every!r}: must be 1 to --steps")
+        if self.threads is not None and not 1 <= self.threads <= 1024:
+            problems.append(f"--threads = {self.threads!r}: must be 1 to 1024")
         if not 0 <= self.num_workers <= 64:
             problems.append(f"--num-workers = {self.num_workers!r}: must be 0 to 64")
         bad = [e for e in self.extra if not (e.startswith("--") and "=" in e)]
