@@ -30,7 +30,6 @@ from workcell.learn.features import PolicyInputs, policy_inputs
 from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 
-
 INFERENCE_THREADS = 1
 """Torch threads for inference. A policy decides at most once per frame (20 Hz), so more
 threads buy little, while idle OpenMP threads spin on the core the store's writer process
