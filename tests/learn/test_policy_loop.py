@@ -184,3 +184,26 @@ def test_a_policy_for_another_world_is_refused(trained: Path, tmp_path: Path) ->
     assert done.returncode == 2
     assert "does not fit this session" in done.stderr
     assert "observation.environment_state of shape" in done.stderr
+
+
+def test_a_diffusion_policy_trains_and_drives(lerobot_dir: Path, tmp_path: Path) -> None:
+    """``--policy diffusion``, with options passed on to LeRobot overriding the defaults."""
+    require_learn_extra()
+    out = tmp_path / "tiny-diffusion"
+    done = _workcell(
+        "train", "--dataset", str(lerobot_dir), "--out", str(out), "--policy", "diffusion",
+        "--steps", "2", "--batch-size", "4", "--lerobot=--policy.down_dims=[16,32]",
+        "--lerobot=--policy.diffusion_step_embed_dim=16",
+    )  # fmt: skip
+    assert done.returncode == 0, done.stderr[-3000:] + done.stdout[-2000:]
+    checkpoint = PolicyCheckpoint.locate(out)
+    config = json.loads((checkpoint.path / "config.json").read_text())
+    assert config["type"] == "diffusion" and config["down_dims"] == [16, 32]
+    assert config["noise_scheduler_type"] == "DDIM"  # the CPU default, kept
+    store = tmp_path / "s.sqlite"
+    drove = _workcell(
+        "collect", "--operator", f"policy:{out}", "--trials", "1", "--mode", "collection",
+        "--set", "task.time_limit_s=0.5", "--store", str(store),
+    )  # fmt: skip
+    assert drove.returncode == 0, drove.stderr[-3000:]
+    assert verify_store(store) == []
