@@ -36,7 +36,7 @@ def register(subparsers: Subparsers) -> None:
             "later with 'workcell verify --csv DIR'). lerobot: a LeRobotDataset v3.0 (meta/, "
             "data/, videos/) with a provenance sidecar meta/workcell_provenance.parquet|json. "
             "hdf5: a robomimic-style workcell.hdf5 with masks for outcome and inclusion. "
-            "rerun: one .rrd recording per trial for the Rerun viewer (rerun-sdk 0.41) and "
+            "rerun: one .rrd recording per trial for the Rerun viewer 0.26 (as LeRobot 0.4) and "
             "workcell_provenance.json. Dataset exports (lerobot, hdf5, rerun) take included "
             "trials only unless --all and refuse a store that fails 'workcell verify'; "
             "lerobot and hdf5 render --cameras from the recorded states."
