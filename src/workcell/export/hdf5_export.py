@@ -10,7 +10,9 @@
         states           (n, nq + nv) restored MuJoCo qpos and qvel (see .restore)
         actions          (n, 23)   rewards (n,)   dones (n,)
         obs/state        (n, 39)   obs/environment_state (n, 8 per box)
-        obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for
+        obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for: the
+                         trial's recorded video decoded, or rendered from its states
+                         (attribute camera_sources says which, and why)
         next_obs/<key>   for every obs/<key>: the observation of the next row
     mask/<filter>        demo names: success, timeout, interrupted, included, excluded
     workcell_provenance  the export-level provenance document (JSON text; a dataset, as
@@ -31,6 +33,7 @@ from __future__ import annotations
 import json
 import os
 import time
+from collections.abc import Mapping
 from typing import Any, TypeVar
 
 import h5py  # type: ignore[import-untyped, unused-ignore]
@@ -39,6 +42,8 @@ from numpy.typing import NDArray
 
 from workcell.envs.registration import ENV_ID
 from workcell.export.boxes import box_feature_names
+from workcell.export.camera_images import CameraPlan, describe, episode_images
+from workcell.export.camera_sources import CameraSource
 from workcell.export.episode_data import CONVENTIONS
 from workcell.export.features import ACTION_NAMES, STATE_NAMES
 from workcell.export.loading import ExportSummary, LoadedEpisode, Progress, load_episodes
@@ -81,25 +86,36 @@ def export_hdf5(
     records: list[Provenance] = []
     frames = 0
     models: dict[str, str] = {}
-    with (
-        WorldPool(options.size) as worlds,
-        Store.open(source.path, writer=False) as store,
-        h5py.File(out / HDF5_NAME, "w") as file,
-    ):
-        data = file.create_group("data")
-        for episode in load_episodes(store, source, worlds, progress):
-            session_id = episode.source.session.session_id
-            if session_id not in models:
-                models[session_id] = world_spec(source.configs[session_id].world).to_xml()
-            _write_demo(data, episode, models[session_id], options)
-            records.append(episode.provenance)
-            frames += episode.arrays.length
-        _write_header(data, source, frames)
-        _write_masks(file, records)
-        document = provenance_document(source, options, records)
-        file.create_dataset(PROVENANCE_NAME, data=json.dumps(document))
+    with Store.open(source.path, writer=False) as store:
+        cameras = CameraPlan(store, source, options, copies_videos=False)
+        options = cameras.options
+        with (
+            WorldPool(options.image_size) as worlds,
+            h5py.File(out / HDF5_NAME, "w") as file,
+        ):
+            data = file.create_group("data")
+            for episode in load_episodes(store, source, worlds, progress):
+                session_id = episode.source.session.session_id
+                if session_id not in models:
+                    models[session_id] = world_spec(source.configs[session_id].world).to_xml()
+                sources = cameras.sources(episode)
+                if sources and progress is not None:
+                    progress(describe(episode, sources, len(source.episodes)))
+                _write_demo(data, episode, models[session_id], options, sources)
+                records.append(episode.provenance)
+                frames += episode.arrays.length
+            _write_header(data, source, frames)
+            _write_masks(file, records)
+            document = provenance_document(source, options, records, cameras.decided)
+            file.create_dataset(PROVENANCE_NAME, data=json.dumps(document))
     return ExportSummary(
-        out, len(records), frames, len(options.cameras), time.perf_counter() - started
+        out,
+        len(records),
+        frames,
+        len(options.cameras),
+        time.perf_counter() - started,
+        recorded_videos=cameras.recorded,
+        rendered_videos=cameras.rendered,
     )
 
 
@@ -107,7 +123,13 @@ def demo_name(index: int) -> str:
     return f"demo_{index}"
 
 
-def _write_demo(data: Any, episode: LoadedEpisode, model_xml: str, options: ExportOptions) -> None:
+def _write_demo(
+    data: Any,
+    episode: LoadedEpisode,
+    model_xml: str,
+    options: ExportOptions,
+    sources: Mapping[str, CameraSource],
+) -> None:
     assert episode.world is not None
     arrays = episode.arrays
     demo = data.create_group(demo_name(episode.index))
@@ -123,8 +145,9 @@ def _write_demo(data: Any, episode: LoadedEpisode, model_xml: str, options: Expo
     for key, values in (("state", arrays.state), ("environment_state", arrays.environment)):
         obs.create_dataset(key, data=values)
         next_obs.create_dataset(key, data=next_rows(values))
-    if options.cameras:
-        n, size = arrays.length, options.size
+    if sources:
+        demo.attrs["camera_sources"] = json.dumps([s.as_dict() for s in sources.values()])
+        n, size = arrays.length, options.image_size
         shape = (n, size.height, size.width, 3)
         chunks = (1, size.height, size.width, 3)
         images = {
@@ -134,7 +157,7 @@ def _write_demo(data: Any, episode: LoadedEpisode, model_xml: str, options: Expo
             )
             for camera in options.cameras
         }
-        for i, frame in enumerate(episode.world.images(episode.states, options.cameras)):
+        for i, frame in enumerate(episode_images(episode, sources)):
             for camera, image in frame.items():
                 current, following = images[camera]
                 current[i] = image
