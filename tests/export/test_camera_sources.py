@@ -14,7 +14,7 @@ import h5py  # type: ignore[import-untyped, unused-ignore]
 import numpy as np
 import pytest
 
-from tests.export.stores import collect
+from tests.export.conftest import RECORDED_CAMERAS, RECORDED_SIZE
 from workcell.cli.main import main
 from workcell.export.camera_sources import RecordedVideo, camera_sources, recorded_videos
 from workcell.export.hdf5_export import HDF5_NAME, export_hdf5
@@ -25,18 +25,8 @@ from workcell.record.store import Store
 from workcell.render.video import VideoWriter, read_frames
 from workcell.render.video_concat import writer_encoding
 
-RECORDED = ("head_cam", "wrist_l_cam")
-RECORDED_SIZE = ImageSize(64, 48)
+RECORDED = RECORDED_CAMERAS
 FPS = 20
-
-
-@pytest.fixture(scope="module")
-def camera_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
-    """Two 1.5 s trials recorded with head_cam and wrist_l_cam at 64x48."""
-    store = tmp_path_factory.mktemp("cameras") / "cams.sqlite"
-    cameras = ["--cameras", ",".join(RECORDED), "--camera-size", str(RECORDED_SIZE)]
-    collect(store, "--trials", "2", "--seed", "6", "--set", "task.time_limit_s=1.5", *cameras)
-    return store
 
 
 def _videos(store: Path) -> list[dict[str, RecordedVideo]]:
