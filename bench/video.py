@@ -20,7 +20,9 @@ Run: ``.venv/bin/python bench/video.py [--samples N] [--seed S]``.
 from __future__ import annotations
 
 import argparse
+import contextlib
 import functools
+import io
 import os
 import statistics
 import sys
@@ -73,7 +75,8 @@ def record_trial(folder: Path, seed: int) -> Path:
     """One expert trial recorded into a new store (no cameras)."""
     store = folder / "trial.sqlite"
     argv = ["collect", "--mode", "collection", "--trials", "1", "--seed", str(seed)]
-    code = workcell([*argv, "--store", str(store), "--json"])
+    with contextlib.redirect_stdout(io.StringIO()):  # one JSON line per trial
+        code = workcell([*argv, "--store", str(store), "--json"])
     if code != 0:
         sys.exit(f"collect failed with exit status {code}")
     return store

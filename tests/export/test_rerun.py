@@ -6,6 +6,8 @@ from __future__ import annotations
 import json
 import os
 import sqlite3
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -144,6 +146,19 @@ def test_one_recording_per_exported_trial(
     document = json.loads((rerun_all_dir / PROVENANCE_NAME).read_text())
     assert [e["trial_id"] for e in document["episodes"]] == [t.trial_id for t in trials]
     assert document["selection"]["include_all"] is True
+
+
+def test_the_rerun_0_26_cli_verifies_every_recording(rerun_all_dir: Path) -> None:
+    """``rerun rrd verify`` (the viewer's own loader, version 0.26 as pinned) reads every
+    file: a component of an archetype it does not know, such as rerun 0.41's
+    TransformAxes3D, fails it with "Unknown archetype"."""
+    assert rr.__version__.startswith("0.26.")
+    cli = Path(sys.executable).with_name("rerun")
+    files = sorted(str(p) for p in rerun_all_dir.glob("*.rrd"))
+    command = [str(cli), "rrd", "verify", *files]
+    result = subprocess.run(command, check=False, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert f"{len(files)} files verified without error" in result.stderr + result.stdout
 
 
 def test_every_frame_and_joint_value_is_the_stored_one(
