@@ -24,8 +24,12 @@ BACKEND = "pyav"
 STATE_SIZE, ACTION_SIZE = 39, 23
 CHUNK = 10
 """Frames of action per sample in the delta_timestamps check."""
-TIMESTAMP_TOLERANCE = 1e-4
-"""LeRobot's own tolerance for timestamps."""
+
+pytestmark = pytest.mark.filterwarnings(
+    # LeRobot's pyav backend reads through torchvision.io.VideoReader, which warns that
+    # torchvision's video decoding is deprecated (LeRobot's concern, not the export's).
+    "ignore:The video decoding and encoding capabilities of torchvision:UserWarning"
+)
 
 
 def _dataset(root: Path, **options: Any) -> Any:

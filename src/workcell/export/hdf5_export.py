@@ -13,7 +13,8 @@
         obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for: the
                          trial's recorded video decoded, or rendered from its states
                          (attribute camera_sources says which, and why)
-        next_obs/<key>   for every obs/<key>: the observation of the next row
+        next_obs/<key>   for every obs/<key>: the observation of the next row (images
+                         too, as robomimic stores them: twice the image data)
     mask/<filter>        demo names: success, timeout, interrupted, included, excluded
     workcell_provenance  the export-level provenance document (JSON text; a dataset, as
                          it outgrows HDF5's 64 KiB attribute limit with many demos)
