@@ -98,8 +98,9 @@ def run(args: argparse.Namespace) -> int:
     videos = ""
     if summary.videos:
         videos = (
-            f", {summary.videos} camera streams ({summary.recorded_videos} episode videos "
-            f"from the recordings, {summary.rendered_videos} rendered)"
+            f", {_count(summary.videos, 'camera stream')} "
+            f"({_count(summary.recorded_videos, 'episode video')} from the recordings, "
+            f"{summary.rendered_videos} rendered)"
         )
     print(
         f"exported {summary.episodes} episodes, {summary.frames} frames{videos} as "
@@ -141,6 +142,11 @@ def _refuse_options_that_do_not_apply(args: argparse.Namespace) -> None:
     ]
     if problems:
         raise ConfigError(problems)
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 camera stream``, ``3 camera streams``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def _listed(names: tuple[str, ...]) -> str:

@@ -1,8 +1,11 @@
 """``export_lerobot``: a store's trials as a LeRobotDataset v3.0 (see :mod:`.lerobot_layout`).
 
-Rows and conventions are those of :mod:`workcell.export.episode_data`; camera streams are
-rendered from the recorded states (after the replay check) when asked for. ``info.json``
-is written last, so an export that failed half-way is not mistaken for a dataset.
+Rows and conventions are those of :mod:`workcell.export.episode_data`. Camera videos, when
+asked for, are each trial's recorded video where it can be used (copied without
+re-encoding), else rendered from the recorded states after the replay check (see
+:mod:`.camera_sources`); every episode's video is appended whole to its camera's file
+(:class:`workcell.render.video_concat.VideoConcatenation`). ``info.json`` is written last,
+so an export that failed half-way is not mistaken for a dataset.
 """
 
 from __future__ import annotations
