@@ -19,7 +19,7 @@ import os
 import pytest
 
 REQUIRED = os.environ.get("WORKCELL_LEARN_TESTS") == "require"
-MODULES = ("lerobot", "torch")
+MODULES = ("lerobot", "torch", "robomimic")
 
 
 def missing_modules() -> list[str]:
