@@ -20,6 +20,8 @@ CAMERA_FORMATS = ("lerobot", "hdf5")
 """Formats that render robot cameras from the recorded states."""
 OPTION_FORMATS: dict[str, tuple[str, ...]] = {
     "--all": DATASET_FORMATS,
+    "--audited": DATASET_FORMATS,
+    "--successes": DATASET_FORMATS,
     "--cameras": CAMERA_FORMATS,
     "--size": CAMERA_FORMATS,
     "--rerender": CAMERA_FORMATS,
@@ -57,6 +59,18 @@ def register(subparsers: Subparsers) -> None:
         action="store_true",
         help="lerobot/hdf5/rerun: every closed trial, not only included ones (interrupted, "
         "excluded); the provenance marks each",
+    )
+    parser.add_argument(
+        "--audited",
+        action="store_true",
+        help="lerobot/hdf5/rerun: the trials the audit keeps (valid, no quality flag; its "
+        "detectors, dispositions and reviewers' decisions) instead of the store's included "
+        "trials",
+    )
+    parser.add_argument(
+        "--successes",
+        action="store_true",
+        help="lerobot/hdf5/rerun: successful trials only (for imitation learning)",
     )
     parser.add_argument(
         "--cameras",
@@ -130,7 +144,14 @@ def dataset_options(args: argparse.Namespace) -> ExportOptions:
         problems.append("--rerender applies to camera images: give --cameras too")
     if problems:
         raise ConfigError(problems)
-    return ExportOptions(include_all=args.all, cameras=cameras, size=size, rerender=args.rerender)
+    return ExportOptions(
+        include_all=args.all,
+        audited=args.audited,
+        successes_only=args.successes,
+        cameras=cameras,
+        size=size,
+        rerender=args.rerender,
+    )
 
 
 def _refuse_options_that_do_not_apply(args: argparse.Namespace) -> None:

@@ -82,7 +82,7 @@ def export_hdf5(
     started = time.perf_counter()
     options = options or ExportOptions()
     out = check_output(out_dir)
-    source = open_source(store_path, options.include_all)
+    source = open_source(store_path, options.trials)
     out.mkdir(parents=True, exist_ok=True)
     records: list[Provenance] = []
     frames = 0

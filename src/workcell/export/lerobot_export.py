@@ -68,7 +68,7 @@ def export_lerobot(
     started = time.perf_counter()
     options = options or ExportOptions()
     out = check_output(out_dir)
-    source = open_source(store_path, options.include_all)
+    source = open_source(store_path, options.trials)
     out.mkdir(parents=True, exist_ok=True)
     with Store.open(source.path, writer=False) as store:
         cameras = CameraPlan(store, source, options, copies_videos=True)

@@ -44,6 +44,9 @@ def provenance_document(
         },
         "selection": {
             "include_all": options.include_all,
+            "audited": options.audited,
+            "successes_only": options.successes_only,
+            "left_out_not_successful": selection.not_successes,
             "closed_trials": selection.closed,
             "exported": len(selection.episodes),
             "left_out_not_included": selection.excluded,

@@ -59,7 +59,7 @@ def export_rerun(
     if options.cameras:
         raise ConfigError(["cameras: the rerun export does not render camera images"])
     out = check_output(out_dir)
-    source = open_source(store_path, options.include_all)
+    source = open_source(store_path, options.trials)
     out.mkdir(parents=True, exist_ok=True)
     records: list[Provenance] = []
     frames = 0
