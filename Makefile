@@ -15,7 +15,7 @@ UVTOOL ?= /tmp/uvtool
 MUJOCO_GL ?= egl
 export MUJOCO_GL
 
-.PHONY: setup run test lock bench
+.PHONY: setup setup-learn run test lock bench
 
 setup: $(STAMP)
 
@@ -32,6 +32,18 @@ $(STAMP): requirements.lock pyproject.toml
 	@$(BIN)/pip install -q --disable-pip-version-check --no-deps --no-build-isolation -e .
 	@touch $(STAMP)
 
+# The learn extra (LeRobot and torch, several GB) for the learning tests and `workcell
+# train`: installed by `make test`, never by `make run`. Same versions as requirements.lock
+# for every package the two share, so it only adds packages to the virtualenv.
+LEARN_STAMP := $(VENV)/.learn-stamp
+
+setup-learn: $(LEARN_STAMP)
+
+$(LEARN_STAMP): $(STAMP) requirements-learn.lock
+	@echo "installing the learn extra (LeRobot, torch) into $(VENV)"
+	@$(BIN)/pip install -q --disable-pip-version-check --require-hashes -r requirements-learn.lock
+	@touch $@
+
 include web/web.mk
 
 # The main job: the web app on http://127.0.0.1:8000 (setup, teleop, sessions, replay),
@@ -40,33 +52,41 @@ run: setup web-setup
 	$(BIN)/workcell serve
 
 # Static checks (Python and strict TypeScript), then the whole test suite including the
-# browser tests in Debian's chromium; stops at the first failing step.
-test: setup web-setup browser-setup
+# browser tests in Debian's chromium and the learning tests (LeRobot); stops at the first
+# failing step.
+test: setup setup-learn web-setup browser-setup
 	$(BIN)/ruff check src tests bench
 	$(BIN)/ruff format --check src tests bench
 	$(BIN)/mypy
 	$(BIN)/python -m workcell.protocol.typescript --check
-	WORKCELL_BROWSER_TESTS=require $(BIN)/pytest -n 2
+	WORKCELL_BROWSER_TESTS=require WORKCELL_LEARN_TESTS=require $(BIN)/pytest -n 2
 
 bench: setup
 	$(BIN)/python bench/sim.py
 	$(BIN)/python bench/record.py
 
-# Regenerates requirements.lock (runtime + dev + build backend, hashed) for
-# CPython 3.11 on linux x86_64. Existing pins are kept unless pyproject.toml
-# forces a change; use `make lock LOCK_ARGS=--upgrade` to move everything.
+# Regenerates both lock files (hashed, for CPython 3.11 on linux x86_64).
+# requirements-learn.lock (runtime + dev + learn extras + build backend) is resolved
+# first, then requirements.lock (runtime + dev + build backend) within its pins, so every
+# package has one version in both and `make test` adds the learn extra to the same
+# virtualenv. Existing pins are kept unless pyproject.toml forces a change; use
+# `make lock LOCK_ARGS=--upgrade` to move everything.
 LOCK_ARGS ?=
-lock:
-	@[ -x $(UVTOOL)/bin/uv ] || { python3 -m venv $(UVTOOL) && $(UVTOOL)/bin/pip install -q uv; }
-	@tmp=$$(mktemp); \
-	{ [ -f requirements.lock ] && cp requirements.lock $$tmp; } || true; \
+define compile_lock
+	tmp=$$(mktemp); \
+	{ [ -f $(1) ] && cp $(1) $$tmp; } || { [ -f requirements.lock ] && cp requirements.lock $$tmp; } || true; \
 	printf "hatchling\neditables\n" | $(UVTOOL)/bin/uv pip compile pyproject.toml - \
-	  --extra dev --generate-hashes --python-version 3.11 \
+	  $(2) --generate-hashes --python-version 3.11 \
 	  --python-platform x86_64-unknown-linux-gnu \
 	  --custom-compile-command "make lock" -q $(LOCK_ARGS) -o $$tmp; \
-	{ echo "# Pinned, hashed dependencies of Workcell (runtime + dev extra + hatchling build"; \
-	  echo "# backend) for CPython 3.11 on linux x86_64. Do not edit by hand: change"; \
-	  echo "# pyproject.toml, then regenerate with \`make lock\`."; \
-	  grep -v -e '^# Pinned, hashed' -e '^# backend) for' -e '^# pyproject.toml, then' $$tmp; } > requirements.lock; \
+	{ echo "# Pinned, hashed dependencies of Workcell ($(3)) for CPython 3.11 on"; \
+	  echo "# linux x86_64. Do not edit by hand: change pyproject.toml, then regenerate"; \
+	  echo "# with \`make lock\`."; \
+	  grep -v -e '^# Pinned, hashed' -e '^# linux x86_64. Do not' -e '^# with `make lock`' $$tmp; } > $(1); \
 	rm -f $$tmp
-	@echo "requirements.lock updated"
+endef
+lock:
+	@[ -x $(UVTOOL)/bin/uv ] || { python3 -m venv $(UVTOOL) && $(UVTOOL)/bin/pip install -q uv; }
+	@$(call compile_lock,requirements-learn.lock,--extra dev --extra learn,runtime + dev + learn extras + hatchling build backend)
+	@$(call compile_lock,requirements.lock,--extra dev -c requirements-learn.lock,runtime + dev extra + hatchling build backend)
+	@echo "requirements.lock and requirements-learn.lock updated"

@@ -32,6 +32,24 @@ def test_an_injected_one_second_gap_is_found(expert_stores: ExpertStores) -> Non
     assert "limit 0.250 s = 5 periods" in flag.detail
 
 
+def test_a_stalled_machine_is_no_gap_in_a_headless_run(expert_stores: ExpertStores) -> None:
+    """At full speed the sim clock runs ahead of the wall clock; a pause of the machine
+    (a wall-clock gap) is no pause in the demonstration. Real time, the same pause is."""
+    columns = _expert(expert_stores)
+    headless = dict(columns)
+    headless["t_wall"] = columns["t_wall"][0] + columns["t_sim"] / 30  # 30x real time
+    headless["t_wall"][150:] += 0.6  # the machine paused for 0.6 s
+    assert detect_sampling(b.frame_arrays(headless), 20.0, SamplingParams()) == []
+    paced = dict(columns)
+    paced["t_wall"] = columns["t_wall"].copy()
+    paced["t_wall"][150:] += 0.6
+    (flag,) = detect_sampling(b.frame_arrays(paced), 20.0, SamplingParams())
+    assert flag.detail.startswith("t_wall: 1 gap(s), largest 0.650 s before frame 150")
+    dropped = b.frame_arrays(b.with_gap(headless, 200, 1.0))  # frames lost on the sim clock
+    (flag,) = detect_sampling(dropped, 20.0, SamplingParams())
+    assert flag.detail.startswith("t_sim: 1 gap(s)")
+
+
 def test_gaps_just_under_the_limit_are_not_flagged(expert_stores: ExpertStores) -> None:
     frames = b.frame_arrays(b.with_gap(_expert(expert_stores), 150, 0.19))
     assert detect_sampling(frames, 20.0, SamplingParams()) == []  # 0.24 s on the sim clock

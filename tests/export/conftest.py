@@ -13,6 +13,8 @@ from workcell.export.options import ExportOptions, ImageSize
 
 CAMERAS = ("head_cam", "wrist_l_cam")
 SIZE = ImageSize(64, 48)
+RECORDED_CAMERAS = ("head_cam", "wrist_l_cam")
+RECORDED_SIZE = ImageSize(64, 48)
 
 
 @pytest.fixture(scope="session")
@@ -49,3 +51,24 @@ def hdf5_path(recorded: stores.Stores, tmp_path_factory: pytest.TempPathFactory)
     """The mixed store exported to HDF5 with --all."""
     out = tmp_path_factory.mktemp("hdf5") / "dataset"
     return export_hdf5(recorded.mixed, out, ExportOptions(include_all=True)).out / "workcell.hdf5"
+
+
+@pytest.fixture(scope="session")
+def camera_store(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Two 1.5 s trials recorded with head_cam and wrist_l_cam at 64x48 (their videos in
+    ``cams.sqlite.media/``)."""
+    store = tmp_path_factory.mktemp("cameras") / "cams.sqlite"
+    cameras = ["--cameras", ",".join(RECORDED_CAMERAS), "--camera-size", str(RECORDED_SIZE)]
+    stores.collect(
+        store, "--trials", "2", "--seed", "6", "--set", "task.time_limit_s=1.5", *cameras
+    )
+    return store
+
+
+@pytest.fixture(scope="session")
+def lerobot_mixed_video_dir(camera_store: Path, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The camera store exported with head_cam (its recorded videos, copied) and wrist_r_cam
+    (not recorded: rendered), at the recorded 64x48."""
+    out = tmp_path_factory.mktemp("lerobot_mixed") / "dataset"
+    export_lerobot(camera_store, out, ExportOptions(cameras=("head_cam", "wrist_r_cam")))
+    return out

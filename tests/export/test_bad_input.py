@@ -99,7 +99,7 @@ def test_options_that_do_not_apply(
     line = _fails(["--format", "csv", "--cameras", "head_cam", *base], capsys)
     assert line.endswith("--cameras: applies to the lerobot and hdf5 formats")
     line = _fails(["--format", "lerobot", "--size", "64x48", *base], capsys)
-    assert line.endswith("--size applies to rendered cameras: give --cameras too")
+    assert line.endswith("--size applies to camera images: give --cameras too")
     line = _fails(["--format", "lerobot", "--cameras", "tail_cam", *base], capsys)
     assert "name one or more of head_cam, wrist_l_cam, wrist_r_cam" in line
     line = _fails(["--format", "rerun", "--cameras", "head_cam", *base], capsys)

@@ -1,10 +1,13 @@
-"""The Rerun export: one ``.rrd`` per trial, read back with the rerun SDK's chunk reader."""
+"""The Rerun export: one ``.rrd`` per trial, read back with rerun 0.26's own reader
+(``rerun.dataframe``), the version LeRobot 0.4 pins."""
 
 from __future__ import annotations
 
 import json
 import os
 import sqlite3
+import subprocess
+import sys
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -12,22 +15,27 @@ from typing import Any
 import numpy as np
 import pyarrow as pa  # type: ignore[import-untyped, unused-ignore]
 import pytest
+import rerun as rr
 from numpy.typing import NDArray
-from rerun.chunk import RrdReader
 
 from tests.export.stores import Stores
 from workcell.cli.main import EXIT_USAGE, main
 from workcell.export.options import ExportOptions
+from workcell.export.provenance import PROVENANCE_FIELDS
 from workcell.export.rerun_export import PROVENANCE_NAME, export_rerun, recording_name
 from workcell.export.rerun_layout import (
     APPLICATION_ID,
     BASE_ENTITY,
     BOXES_ENTITY,
+    EVENT_TIMELINE,
     EVENTS_ENTITY,
+    FRAME_TIMELINE,
     HAND_COLUMNS,
     PROVENANCE_ENTITY,
+    TCP_COLORS,
     hand_entity,
     joint_entity,
+    packed_rgba,
     tcp_entity,
     trajectory_entity,
 )
@@ -38,58 +46,69 @@ from workcell.sim.joints import JOINT_ORDER
 
 @dataclass(frozen=True)
 class Recording:
-    """One ``.rrd`` file: its recording id and every entity's rows (temporal rows sorted
-    by frame; static rows apart)."""
+    """One ``.rrd`` file as rerun's dataframe API reads it.
 
-    application_id: str
-    recording_id: str
-    temporal: dict[str, Any]
-    static: dict[str, Any]
+    A dataframe view has one row per value of its index timeline (rows sharing a value
+    are merged), so per-frame entities are read on ``frame`` and the events on ``event``.
+    """
 
-    def table(self, entity: str, *, static: bool = False) -> Any:
-        """An entity's rows (``entity`` with or without the leading '/')."""
-        return (self.static if static else self.temporal)["/" + entity.lstrip("/")]
+    recording: Any
+    """A ``rerun.dataframe.Recording``."""
+
+    @property
+    def application_id(self) -> str:
+        return str(self.recording.application_id())
+
+    @property
+    def recording_id(self) -> str:
+        return str(self.recording.recording_id())
+
+    def table(self, entity: str, *, index: str = FRAME_TIMELINE) -> Any:
+        """An entity's rows in index order (``entity`` with or without the leading '/')."""
+        view = self.recording.view(index=index, contents=_path(entity))
+        return view.select().read_all()
+
+    def static(self, entity: str) -> Any:
+        """An entity's static row."""
+        view = self.recording.view(index=FRAME_TIMELINE, contents=_path(entity))
+        return view.select_static().read_all()
 
     def values(self, entity: str, component: str) -> NDArray[Any]:
         """A per-frame component, one value (or vector) per row."""
-        column = self.table(entity).column(component).combine_chunks()
+        column = self.table(entity).column(f"{_path(entity)}:{component}").combine_chunks()
         values = column.flatten()
         if pa.types.is_fixed_size_list(values.type):
             return np.asarray(values.flatten().to_numpy()).reshape(len(column), -1)
         return np.asarray(values.to_numpy(zero_copy_only=False))
 
     def index(self, entity: str, timeline: str) -> NDArray[np.int64]:
-        return np.asarray(
-            self.table(entity).column(timeline).combine_chunks().cast(pa.int64()).to_numpy()
-        )
+        column = self.table(entity).column(timeline).combine_chunks()
+        return np.asarray(column.cast(pa.int64()).to_numpy())
+
+    def static_fields(self, entity: str) -> dict[str, list[Any]]:
+        """Every static component of ``entity`` in the file's schema, by component name,
+        with its values (the reader returns no row for an empty list: [] then)."""
+        path = _path(entity)
+        row = self.static(entity).to_pydict()
+        return {
+            column.component: list(row.get(column.name, [[]])[0])
+            for column in self.recording.schema().component_columns()
+            if column.entity_path == path and column.is_static
+        }
 
     def static_value(self, entity: str, component: str) -> list[Any]:
-        values: list[Any] = self.table(entity, static=True).column(component).to_pylist()[0]
-        return values
+        """A static component's values, as a list (``component`` as logged: for the root's
+        AnyValues the field name, else ``Archetype:field``)."""
+        column = self.static(entity).column(f"{_path(entity)}:{component}")
+        return list(column.to_pylist()[0])
+
+
+def _path(entity: str) -> str:
+    return "/" + entity.strip("/")
 
 
 def read_recording(path: Path) -> Recording:
-    reader = RrdReader(path)
-    (entry,) = reader.recordings()
-    batches: dict[tuple[str, bool], list[Any]] = {}
-    for chunk in reader.store().stream():
-        batch = chunk.to_record_batch()
-        batch = batch.drop_columns([n for n in batch.schema.names if n.startswith("rerun.")])
-        batches.setdefault((chunk.entity_path, chunk.is_static), []).append(batch)
-    temporal, static = {}, {}
-    for (entity, is_static), parts in batches.items():
-        table = (
-            pa.Table.from_batches(parts)
-            if len(parts) == 1
-            else pa.concat_tables(
-                [pa.Table.from_batches([p]) for p in parts], promote_options="default"
-            )
-        )
-        if is_static:
-            static[entity] = table
-        else:
-            temporal[entity] = table.sort_by("frame")
-    return Recording(entry.application_id, entry.recording_id, temporal, static)
+    return Recording(rr.dataframe.load_recording(str(path)))
 
 
 @pytest.fixture(scope="module")
@@ -129,6 +148,19 @@ def test_one_recording_per_exported_trial(
     assert document["selection"]["include_all"] is True
 
 
+def test_the_rerun_0_26_cli_verifies_every_recording(rerun_all_dir: Path) -> None:
+    """``rerun rrd verify`` (the viewer's own loader, version 0.26 as pinned) reads every
+    file: a component of an archetype it does not know, such as rerun 0.41's
+    TransformAxes3D, fails it with "Unknown archetype"."""
+    assert rr.__version__.startswith("0.26.")
+    cli = Path(sys.executable).with_name("rerun")
+    files = sorted(str(p) for p in rerun_all_dir.glob("*.rrd"))
+    command = [str(cli), "rrd", "verify", *files]
+    result = subprocess.run(command, check=False, capture_output=True, text=True, timeout=120)
+    assert result.returncode == 0, result.stderr
+    assert f"{len(files)} files verified without error" in result.stderr + result.stdout
+
+
 def test_every_frame_and_joint_value_is_the_stored_one(
     recorded: Stores, trials: list[TrialRecord], recordings: dict[str, Recording]
 ) -> None:
@@ -159,6 +191,27 @@ def test_every_frame_and_joint_value_is_the_stored_one(
         np.testing.assert_allclose(np.array(strip)[:, 0], frames["tcp_r_x"], atol=1e-5)
 
 
+def test_colours_are_one_per_point_and_box(
+    trials: list[TrialRecord], recordings: dict[str, Recording]
+) -> None:
+    for trial in trials:
+        recording = recordings[trial.trial_id]
+        for tcp in ("tcp_l", "tcp_r"):
+            colors = recording.values(tcp_entity(tcp), "Points3D:colors")
+            assert colors.tolist() == [int(packed_rgba(TCP_COLORS[tcp]))] * (trial.n_frames or 0)
+        boxes = recording.table(BOXES_ENTITY)
+        centers = boxes.column("/world/boxes:Boxes3D:centers").to_pylist()
+        colors = boxes.column("/world/boxes:Boxes3D:colors").to_pylist()
+        assert [len(row) for row in colors] == [len(row) for row in centers]
+        axis = recording.static_value(BASE_ENTITY, "Transform3D:axis_length")
+        assert axis == [pytest.approx(0.4)]
+
+
+def test_packed_rgba_is_rerun_s_colour() -> None:
+    rgba = (66, 135, 245, 255)
+    assert int(packed_rgba(rgba)) == rr.components.ColorBatch([rgba]).as_arrow_array()[0].as_py()
+
+
 def test_boxes_have_the_trials_size(
     recorded: Stores, trials: list[TrialRecord], recordings: dict[str, Recording]
 ) -> None:
@@ -168,7 +221,8 @@ def test_boxes_have_the_trials_size(
         recording = recordings[trial.trial_id]
         (started,) = [e for e in events[trial.trial_id] if e.kind == "trial_started"]
         size = np.array(started.payload["conditions"]["box_size"])
-        centers = recording.table(BOXES_ENTITY).column("Boxes3D:centers").to_pylist()
+        centers = recording.table(BOXES_ENTITY).column("/world/boxes:Boxes3D:centers")
+        centers = centers.to_pylist()
         half_sizes = np.array(recording.static_value(BOXES_ENTITY, "Boxes3D:half_sizes"))
         assert {len(row) for row in centers} == {len(half_sizes)}  # the pool at every frame
         np.testing.assert_allclose(half_sizes, np.tile(size / 2, (len(half_sizes), 1)), atol=1e-6)
@@ -180,10 +234,8 @@ def test_provenance_at_the_root(
     outcomes = set()
     for trial in trials:
         recording = recordings[trial.trial_id]
-        fields = {
-            name: recording.static_value("/", name)
-            for name in recording.table("/", static=True).schema.names
-        }
+        fields = recording.static_fields("/")
+        assert set(fields) == set(PROVENANCE_FIELDS)
         assert fields["trial_id"] == [trial.trial_id]
         assert fields["session_id"] == [trial.session_id]
         assert fields["outcome"] == [trial.outcome]
@@ -210,15 +262,15 @@ def test_events_are_text_logs_at_their_sim_time(
         for trial in trials:
             events = store.events(trial.trial_id)
             recording = recordings[trial.trial_id]
-            logged = recording.table(EVENTS_ENTITY).sort_by("t_sim")
+            logged = recording.table(EVENTS_ENTITY, index=EVENT_TIMELINE)
+            assert logged.column(EVENT_TIMELINE).to_pylist() == list(range(len(events)))
             times = logged.column("t_sim").cast(pa.int64()).to_pylist()
-            expected = sorted(round((e.t_sim or 0.0) * 1e9) for e in events)
-            assert times == expected
-            texts = [row[0] for row in logged.column("TextLog:text").to_pylist()]
-            assert sorted(t.split(":")[0] for t in texts) == sorted(e.kind for e in events)
+            assert times == [round((e.t_sim or 0.0) * 1e9) for e in events]
+            texts = [row[0] for row in logged.column("/events:TextLog:text").to_pylist()]
+            assert [t.split(":")[0] for t in texts] == [e.kind for e in events]
             frames = logged.column("frame").to_numpy()
             assert frames.min() >= 0 and frames.max() < (trial.n_frames or 0)
-            levels = {row[0] for row in logged.column("TextLog:level").to_pylist()}
+            levels = {row[0] for row in logged.column("/events:TextLog:level").to_pylist()}
             assert ("WARN" in levels) == (trial.outcome != "success")
 
 

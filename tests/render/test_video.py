@@ -32,7 +32,7 @@ def _read(path: Path) -> tuple[list[NDArray[np.uint8]], av.VideoStream]:
             np.asarray(f.to_ndarray(format="rgb24"), dtype=np.uint8)
             for f in container.decode(stream)
         ]
-        return frames, stream
+    return frames, stream
 
 
 def test_writes_an_mp4_with_every_frame(tmp_path: Path) -> None:

@@ -92,16 +92,20 @@ def percent_interval(rate: float, low: float, high: float) -> str:
 
 def groups_section(groups: dict[str, list[GroupStats]]) -> str:
     if not groups:
-        return "<p>All valid trials share one session, mode, level and operator.</p>"
+        return "<p>All trials share one session, mode, level and operator.</p>"
     parts = []
     for key, stats in groups.items():
         rows = []
         for g in stats:
             r = g.rate
             metric = dict(zip((m[0] for m in TABLE_I), _metric_rows(g.metrics), strict=True))
+            c = g.counts
             rows.append(
                 (
                     g.value,
+                    c.raw,
+                    c.incomplete,
+                    c.excluded_low_quality + c.excluded_by_reviewer,
                     r.n,
                     f"{r.successes}/{r.n}",
                     percent_interval(r.rate, r.low, r.high),
@@ -111,6 +115,9 @@ def groups_section(groups: dict[str, list[GroupStats]]) -> str:
             )
         header = (
             key,
+            "trials",
+            "incomplete",
+            "excluded",
             "valid",
             "successes",
             "success rate [Wilson 95 %]",

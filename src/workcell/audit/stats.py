@@ -3,8 +3,9 @@ descriptive statistics (mean +- sample SD, median [IQR]) of each metric (paper Â
 
 Outcome statistics count the valid trials (successes + timeouts); the Table I metrics
 describe the valid successful trials; sampling figures describe all valid trials.
-Groups (session, mode, level, operator) are reported where the valid trials hold more
-than one value of that key.
+Groups (session, mode, level, operator) are reported where the trials hold more than one
+value of that key: each group's dispositions count all its trials, its statistics its
+valid ones.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import math
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
+from workcell.audit.counts import DispositionCounts
 from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import Descriptive, describe, wilson_interval
 
@@ -66,9 +68,11 @@ def sampling_metrics(trials: Sequence[TrialAudit]) -> dict[str, Descriptive]:
 
 @dataclass(frozen=True)
 class GroupStats:
-    """The statistics of the valid trials sharing one value of a grouping key."""
+    """The trials sharing one value of a grouping key: their dispositions, and the
+    statistics of the valid ones."""
 
     value: str
+    counts: DispositionCounts
     rate: SuccessRate
     metrics: dict[str, Descriptive]
 
@@ -82,17 +86,21 @@ GROUP_KEYS: dict[str, Callable[[TrialAudit], str]] = {
 
 
 def grouped(trials: Sequence[TrialAudit]) -> dict[str, list[GroupStats]]:
-    """Per grouping key with more than one value among valid trials: one entry per value,
+    """Per grouping key with more than one value among the trials: one entry per value,
     in order of first appearance (session order)."""
-    valid = [t for t in trials if t.disposition.included]
     out: dict[str, list[GroupStats]] = {}
     for key, of in GROUP_KEYS.items():
-        values = list(dict.fromkeys(of(t) for t in valid))
+        values = list(dict.fromkeys(of(t) for t in trials))
         if len(values) < 2:
             continue
         out[key] = [
-            GroupStats(value, SuccessRate.of(members), success_metrics(members))
+            GroupStats(
+                value,
+                DispositionCounts.of(members),
+                SuccessRate.of(members),
+                success_metrics(members),
+            )
             for value in values
-            for members in [[t for t in valid if of(t) == value]]
+            for members in [[t for t in trials if of(t) == value]]
         ]
     return out

@@ -107,6 +107,7 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
             key: [
                 {
                     "value": g.value,
+                    "counts": asdict(g.counts),
                     "success_rate": _rate(g.rate),
                     **_described(g.metrics, SUCCESS_METRICS),
                 }

@@ -11,7 +11,8 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from workcell.errors import ConfigError
+from workcell.cli.collect_operator import make_operator, policy_checkpoint, with_operator_id
+from workcell.errors import ConfigError, WorkcellError
 
 if TYPE_CHECKING:
     from workcell.cli.main import Subparsers
@@ -35,16 +36,21 @@ def exit_status(signal_name: str) -> int:
 def register(subparsers: Subparsers) -> None:
     parser = subparsers.add_parser(
         "collect",
-        help="run a session headless with the autonomous expert",
+        help="run a session headless with the autonomous expert or a learned policy",
         description=(
             "Run practice, collection or challenge trials headless at full speed with the "
-            "scripted expert, and print one row per trial as it ends. Settings come from the "
+            "scripted expert or a learned policy (policy:PATH, a LeRobot checkpoint; needs "
+            "the learn extra), and print one row per trial as it ends. Settings come from the "
             "defaults, then --config FILE, then --set KEY=VALUE, then the flags below; "
             "'workcell config --defaults' lists every setting."
         ),
     )
     parser.add_argument(
-        "--operator", choices=("expert",), default="expert", help="who drives (default: expert)"
+        "--operator",
+        default="expert",
+        metavar="expert|policy:PATH",
+        help="who drives: the scripted expert (default), or the LeRobot policy at PATH "
+        "(a pretrained_model directory, or a 'workcell train' output)",
     )
     parser.add_argument("--mode", choices=("practice", "collection", "challenge"))
     parser.add_argument(
@@ -55,7 +61,11 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--config", type=Path, metavar="FILE", help="session settings (TOML)")
     parser.add_argument("--seed", type=int, help="session seed (default: 0)")
     parser.add_argument("--skill", type=float, default=1.0, help="expert skill in [0, 1]")
-    parser.add_argument("--operator-id", help="operator id stored with the session")
+    parser.add_argument(
+        "--operator-id",
+        help="operator id stored with the session (default: expert, expert-skill<X>, or the "
+        "policy's type, run and weights hash)",
+    )
     parser.add_argument(
         "--set",
         action="append",
@@ -113,6 +123,12 @@ def register(subparsers: Subparsers) -> None:
 
 def _check(args: argparse.Namespace) -> list[str]:
     problems = []
+    if args.operator != "expert" and not (
+        args.operator.startswith("policy:") and len(args.operator) > len("policy:")
+    ):
+        problems.append(f"--operator = {args.operator!r}: must be expert or policy:PATH")
+    if args.operator.startswith("policy:") and (args.workers > 1 or args.ray):
+        problems.append("--operator policy:PATH: runs in this process; drop --workers/--ray")
     if args.trials is not None and not 1 <= args.trials <= 100_000:
         problems.append(f"--trials = {args.trials}: must be 1 to 100000")
     if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):
@@ -148,8 +164,14 @@ def run(args: argparse.Namespace) -> int:
             problems += error.problems
         if args.no_store:
             problems.append("--cameras: videos are recorded beside the store; drop --no-store")
+    checkpoint = None
+    try:
+        checkpoint = policy_checkpoint(args)
+    except WorkcellError as error:
+        problems.append(str(error))
     if problems:
         raise ConfigError(problems)
+    config = with_operator_id(config, args, checkpoint)
     if args.workers > 1 or args.ray:
         from workcell.cli.parallel_collect import run_parallel  # noqa: PLC0415
 
@@ -157,16 +179,12 @@ def run(args: argparse.Namespace) -> int:
 
     from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
     from workcell.control.simulation import Simulation  # noqa: PLC0415
-    from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
     from workcell.record.shutdown import ShutdownSignals  # noqa: PLC0415
     from workcell.task.runner import SessionRunner  # noqa: PLC0415
 
-    runner = SessionRunner(
-        config,
-        Simulation(config.world),
-        ExpertOperator(ExpertConfig(skill=args.skill)),
-        max_trials=args.trials,
-    )
+    sim = Simulation(config.world)
+    operator = make_operator(args, config, sim, checkpoint)
+    runner = SessionRunner(config, sim, operator, max_trials=args.trials)
     with _open_store(None if args.no_store else args.store, args.writer, args.key) as store:
         recorder = _recorder(store, args.store, runner, cameras)
         printer = TrialPrinter(args.json)

@@ -20,8 +20,11 @@ CAMERA_FORMATS = ("lerobot", "hdf5")
 """Formats that render robot cameras from the recorded states."""
 OPTION_FORMATS: dict[str, tuple[str, ...]] = {
     "--all": DATASET_FORMATS,
+    "--audited": DATASET_FORMATS,
+    "--successes": DATASET_FORMATS,
     "--cameras": CAMERA_FORMATS,
     "--size": CAMERA_FORMATS,
+    "--rerender": CAMERA_FORMATS,
 }
 PROGRESS_STEPS = 10
 
@@ -36,10 +39,12 @@ def register(subparsers: Subparsers) -> None:
             "later with 'workcell verify --csv DIR'). lerobot: a LeRobotDataset v3.0 (meta/, "
             "data/, videos/) with a provenance sidecar meta/workcell_provenance.parquet|json. "
             "hdf5: a robomimic-style workcell.hdf5 with masks for outcome and inclusion. "
-            "rerun: one .rrd recording per trial for the Rerun viewer (rerun-sdk 0.41) and "
+            "rerun: one .rrd recording per trial for the Rerun viewer 0.26 (as LeRobot 0.4) and "
             "workcell_provenance.json. Dataset exports (lerobot, hdf5, rerun) take included "
-            "trials only unless --all and refuse a store that fails 'workcell verify'; "
-            "lerobot and hdf5 render --cameras from the recorded states."
+            "trials only unless --all and refuse a store that fails 'workcell verify'. "
+            "lerobot and hdf5 take --cameras from the trials' recorded camera videos "
+            "('workcell collect --cameras') where they match, else render them from the "
+            "recorded states; the progress lines and the provenance say which."
         ),
     )
     parser.add_argument(
@@ -56,15 +61,36 @@ def register(subparsers: Subparsers) -> None:
         "excluded); the provenance marks each",
     )
     parser.add_argument(
+        "--audited",
+        action="store_true",
+        help="lerobot/hdf5/rerun: the trials the audit keeps (valid, no quality flag; its "
+        "detectors, dispositions and reviewers' decisions) instead of the store's included "
+        "trials",
+    )
+    parser.add_argument(
+        "--successes",
+        action="store_true",
+        help="lerobot/hdf5/rerun: successful trials only (for imitation learning)",
+    )
+    parser.add_argument(
         "--cameras",
         metavar="NAMES",
-        help="lerobot/hdf5: render these robot cameras from the recorded states, "
-        "comma-separated (head_cam, wrist_l_cam, wrist_r_cam)",
+        help="lerobot/hdf5: images of these robot cameras, comma-separated (head_cam, "
+        "wrist_l_cam, wrist_r_cam): a trial's recorded video of the camera when it has the "
+        "size asked for (copied, after checking its sha256 and frame count), else rendered "
+        "from the recorded states",
     )
     parser.add_argument(
         "--size",
         metavar="WxH",
-        help="lerobot/hdf5: camera image size (default 320x240; even numbers)",
+        help="lerobot/hdf5: camera image size (even numbers; default: the size the trials' "
+        "camera videos were recorded at, else 320x240)",
+    )
+    parser.add_argument(
+        "--rerender",
+        action="store_true",
+        help="lerobot/hdf5: render every camera image from the recorded states, even where "
+        "the trial's camera videos were recorded",
     )
     parser.set_defaults(func=run)
 
@@ -83,7 +109,13 @@ def run(args: argparse.Namespace) -> int:
     export = {"lerobot": export_lerobot, "hdf5": export_hdf5, "rerun": export_rerun}[args.format]
     summary = export(args.store, args.out, options, _print_progress)
     rate = summary.frames / summary.seconds if summary.seconds > 0 else float("inf")
-    videos = f", {summary.videos} camera streams" if summary.videos else ""
+    videos = ""
+    if summary.videos:
+        videos = (
+            f", {_count(summary.videos, 'camera stream')} "
+            f"({_count(summary.recorded_videos, 'episode video')} from the recordings, "
+            f"{summary.rendered_videos} rendered)"
+        )
     print(
         f"exported {summary.episodes} episodes, {summary.frames} frames{videos} as "
         f"{args.format} to {args.out} ({summary.seconds:.1f} s, {rate:.0f} frames/s)"
@@ -97,20 +129,29 @@ def dataset_options(args: argparse.Namespace) -> ExportOptions:
 
     problems: list[str] = []
     cameras: tuple[str, ...] = ()
-    size = ImageSize()
+    size = None
     try:
         cameras = parse_cameras(args.cameras) if args.cameras is not None else ()
     except ConfigError as error:
         problems += error.problems
     try:
-        size = ImageSize.parse(args.size) if args.size is not None else size
+        size = ImageSize.parse(args.size) if args.size is not None else None
     except ConfigError as error:
         problems += error.problems
     if args.size is not None and not cameras:
-        problems.append("--size applies to rendered cameras: give --cameras too")
+        problems.append("--size applies to camera images: give --cameras too")
+    if args.rerender and not cameras:
+        problems.append("--rerender applies to camera images: give --cameras too")
     if problems:
         raise ConfigError(problems)
-    return ExportOptions(include_all=args.all, cameras=cameras, size=size)
+    return ExportOptions(
+        include_all=args.all,
+        audited=args.audited,
+        successes_only=args.successes,
+        cameras=cameras,
+        size=size,
+        rerender=args.rerender,
+    )
 
 
 def _refuse_options_that_do_not_apply(args: argparse.Namespace) -> None:
@@ -122,6 +163,11 @@ def _refuse_options_that_do_not_apply(args: argparse.Namespace) -> None:
     ]
     if problems:
         raise ConfigError(problems)
+
+
+def _count(n: int, noun: str) -> str:
+    """``1 camera stream``, ``3 camera streams``."""
+    return f"{n} {noun}{'' if n == 1 else 's'}"
 
 
 def _listed(names: tuple[str, ...]) -> str:

@@ -2,15 +2,14 @@
 
 A command module exposes ``register(subparsers)``, which adds its parser and sets
 ``func=run`` on it, and ``run(args) -> int``. Command modules import MuJoCo and other heavy
-dependencies inside ``run`` only: MuJoCo chooses its OpenGL backend from ``MUJOCO_GL`` on
-first import, which :func:`main` sets (to ``egl`` unless already set) before dispatching,
-and ``--help`` stays fast.
+dependencies inside ``run`` only, so that ``--help`` stays fast. (MuJoCo chooses its OpenGL
+backend from ``MUJOCO_GL`` on first import; importing :mod:`workcell` sets it to ``egl``
+unless already set.)
 """
 
 from __future__ import annotations
 
 import argparse
-import os
 import sys
 from collections.abc import Callable, Sequence
 from typing import NoReturn, Protocol, TypeAlias, cast
@@ -27,6 +26,7 @@ from workcell.cli import (
     render,
     serve,
     snapshot,
+    train,
     verify,
 )
 from workcell.errors import ConfigError, WorkcellError
@@ -59,6 +59,7 @@ COMMANDS: tuple[CommandModule, ...] = (
     render,
     serve,
     snapshot,
+    train,
     verify,
 )
 """Every command of the command line, in help order."""
@@ -92,7 +93,6 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: Sequence[str] | None = None) -> int:
     """Run the command line with ``argv`` (default ``sys.argv[1:]``); returns the exit status."""
-    os.environ.setdefault("MUJOCO_GL", "egl")
     parser = build_parser()
     try:
         args = parser.parse_args(argv)

@@ -1,20 +1,20 @@
 """Gymnasium environment of the workcell: ``workcell/BoxTransfer-v0``.
 
-Its observation and action spaces are the exported dataset features (see
-:mod:`workcell.export.features`), so a policy trained on exported demonstrations runs in
-the same world, and a recorded trial's actions can be replayed in it. Importing this
-package registers nothing; call :func:`register` first::
+As with other Gymnasium environment packages (gym-aloha, gym-pusht), importing this
+package registers the environment::
 
     import gymnasium
     import workcell.envs
 
-    workcell.envs.register()
-    env = gymnasium.make(workcell.envs.ENV_ID)
+    env = gymnasium.make("workcell/BoxTransfer-v0")
 
-or let Gymnasium import the registering module:
-``gymnasium.make("workcell.envs.registered:workcell/BoxTransfer-v0")``.
+``gymnasium.make("workcell.envs:workcell/BoxTransfer-v0")`` imports it on its own.
+Observations follow LeRobot's gym convention (``agent_pos``, ``environment_state``,
+``pixels``): see :mod:`workcell.envs.observation`.
 """
 
-from workcell.envs.registration import ENTRY_POINT, ENV_ID, register
+from workcell.envs.registration import ENTRY_POINT, ENV_ID, MAX_EPISODE_STEPS, register
 
-__all__ = ["ENTRY_POINT", "ENV_ID", "register"]
+register()
+
+__all__ = ["ENTRY_POINT", "ENV_ID", "MAX_EPISODE_STEPS", "register"]

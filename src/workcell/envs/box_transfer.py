@@ -4,9 +4,11 @@ One step is one recorded frame period (1/20 s of sim time by default: several co
 steps), driven by the :class:`Command` the action vector stands for, the only way to move
 the robot. ``reset(seed=s)`` is the deterministic world reset of a recorded trial whose
 ``trial_seed`` is ``s`` (followed by the same idle countdown), so replaying that trial's
-exported actions from ``reset(seed=trial_seed)`` retraces it. Rewards and ends follow the
+exported actions from ``reset(seed=trial_seed)`` retraces it. Observations are those of
+:mod:`workcell.envs.observation` (LeRobot's gym convention). Rewards and ends follow the
 export (:mod:`workcell.export.episode_data`): 1.0 per box delivered in the step;
-terminated once ``required_boxes`` are delivered, truncated at the time limit.
+terminated once ``required_boxes`` are delivered (``info["is_success"]``), truncated at
+the time limit.
 """
 
 from __future__ import annotations
@@ -23,15 +25,12 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.envs.actions import command_from_action
 from workcell.envs.config import BoxTransferConfig
+from workcell.envs.observation import Observation, ObservationBuilder
 from workcell.envs.spaces import action_space, observation_space
 from workcell.errors import ConfigError
-from workcell.export.boxes import parse_boxes
-from workcell.export.features import STATE_NAMES
-from workcell.record.frame_format import FrameReader
 from workcell.render.renderer import OffscreenRenderer
 from workcell.sim.events import BoxDelivered
 
-Observation = dict[str, NDArray[np.float32]]
 MAX_SEED = 2**63 - 1
 
 
@@ -60,9 +59,8 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": config.fps}
         self.sim = Simulation(config.session.world)
-        self._reader = FrameReader(self.sim.world, self.sim.controller)
-        self.pool_size = config.session.world.feeder.pool_size
-        self.observation_space = observation_space(self.pool_size)
+        self._observations = ObservationBuilder(self.sim, config.cameras, config.camera_size)
+        self.observation_space = observation_space(config)
         self.action_space = action_space(config, self.sim.world)
         self._renderer: OffscreenRenderer | None = None
         self._command = Command()
@@ -84,7 +82,8 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
             self.sim.step(self._command)
         self._frames = 0
         self._delivered = 0
-        return self._observe(), self._info()
+        self._observations.restart()
+        return self._observations.observe(self._command), self._info()
 
     def step(self, action: NDArray[Any]) -> tuple[Observation, float, bool, bool, dict[str, Any]]:
         space = self.action_space
@@ -96,9 +95,10 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
             reward += sum(1.0 for event in events if isinstance(event, BoxDelivered))
         self._frames += 1
         self._delivered += int(reward)
-        terminated = self._delivered >= self.config.required_boxes
-        truncated = not terminated and self.t_sim >= self.config.limit_s - 1e-9
-        return self._observe(), reward, terminated, truncated, self._info()
+        terminated = self.is_success
+        truncated = not terminated and self._frames >= self.config.max_episode_steps
+        observation = self._observations.observe(self._command)
+        return observation, reward, terminated, truncated, self._info()
 
     def render(self) -> NDArray[np.uint8] | None:
         if self.render_mode != "rgb_array":
@@ -109,6 +109,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         return self._renderer.render(self.sim.world.data, self.config.render_camera)
 
     def close(self) -> None:
+        self._observations.close()
         if self._renderer is not None:
             self._renderer.close()
             self._renderer = None
@@ -120,23 +121,20 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         """Seconds since the episode started (the trial clock)."""
         return self._frames / self.config.fps
 
-    def _observe(self) -> Observation:
-        """The dataset features of the current state, through the recorder's own frame
-        builder, so that they mean exactly what the exported columns mean."""
-        row = self._reader.read(
-            self._command,
-            None,  # a command-only operator: grip and trigger read from the command
-            t_sim=self.t_sim,
-            t_wall=0.0,
-            step_wall_ms=0.0,
-        )
-        state = np.array([row[name] for name in STATE_NAMES], dtype=np.float32)
-        boxes = parse_boxes([row["boxes"]], self.pool_size).features()[0]
-        return {"state": state, "environment_state": boxes.astype(np.float32)}
+    @property
+    def is_success(self) -> bool:
+        """The episode's boxes are delivered."""
+        return self._delivered >= self.config.required_boxes
+
+    @property
+    def _max_episode_steps(self) -> int:
+        """The episode's step limit, where LeRobot's rollout looks for it."""
+        return self.config.max_episode_steps
 
     def _info(self) -> dict[str, Any]:
         return {
             "t_sim": self.t_sim,
             "boxes_delivered": self._delivered,
+            "is_success": self.is_success,
             "world_seed": self._world_seed,
         }

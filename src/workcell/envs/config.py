@@ -16,12 +16,16 @@ from workcell.session.toml_io import from_mapping
 @dataclass(frozen=True)
 class BoxTransferConfig:
     """The world, frame rate and countdown come from ``session``; an episode ends when
-    ``required_boxes`` are delivered (terminated) or at the time limit (truncated)."""
+    ``required_boxes`` are delivered (terminated) or at the time limit (truncated).
+    ``cameras`` adds their images to every observation (``pixels``) at ``camera_size``;
+    ``render_camera`` and ``render_size`` are what :meth:`render` shows."""
 
     session: SessionConfig = field(default_factory=SessionConfig)
     required_boxes: int = 1
     time_limit_s: float | None = None
     """Seconds of sim time per episode; None: the session's ``task.time_limit_s``."""
+    cameras: tuple[str, ...] = ()
+    camera_size: ImageSize = field(default_factory=lambda: ImageSize(128, 128))
     render_camera: str = "head_cam"
     render_size: ImageSize = field(default_factory=ImageSize)
 
@@ -35,6 +39,12 @@ class BoxTransferConfig:
         limit = self.time_limit_s
         if limit is not None and not (math.isfinite(limit) and limit > 0):
             problems.append(f"time_limit_s = {limit!r}: must be > 0 seconds (or None)")
+        unknown = [c for c in self.cameras if c not in ROBOT_CAMERAS]
+        if unknown or len(set(self.cameras)) != len(self.cameras):
+            problems.append(
+                f"cameras = {self.cameras!r}: must be distinct names among "
+                f"{', '.join(ROBOT_CAMERAS)}"
+            )
         if self.render_camera not in ROBOT_CAMERAS:
             problems.append(
                 f"render_camera = {self.render_camera!r}: must be one of {', '.join(ROBOT_CAMERAS)}"
@@ -66,6 +76,11 @@ class BoxTransferConfig:
     @property
     def limit_s(self) -> float:
         return self.session.task.time_limit_s if self.time_limit_s is None else self.time_limit_s
+
+    @property
+    def max_episode_steps(self) -> int:
+        """Steps (frames) in an episode that reaches the time limit."""
+        return math.ceil(self.limit_s * self.fps - 1e-9)
 
     @property
     def countdown_steps(self) -> int:

@@ -1,10 +1,11 @@
 """Observation and action spaces: the dataset features, with the controller's limits.
 
-Observations are ``{"state": observation.state, "environment_state":
-observation.environment_state}`` (float32, unbounded). Actions are the ``action`` feature
-(float32); its bounds are what the controller would apply anyway (base speed and turn
-rate, gripper 0..1, head joint ranges) or generous reach limits for the TCP targets, so
-clipping an action to the space does not change what the robot does with it.
+Observations follow LeRobot's gym convention (:mod:`workcell.envs.observation`):
+``agent_pos`` and ``environment_state`` (float32, unbounded) and, with cameras,
+``pixels`` (uint8 images). Actions are the ``action`` feature (float32); its bounds are
+what the controller would apply anyway (base speed and turn rate, gripper 0..1, head joint
+ranges) or generous reach limits for the TCP targets, so clipping an action to the space
+does not change what the robot does with it.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import numpy as np
 from gymnasium import spaces
 
 from workcell.envs.config import BoxTransferConfig
+from workcell.envs.observation import AGENT_POS, ENVIRONMENT_STATE, PIXELS
 from workcell.export.boxes import box_feature_names
 from workcell.export.features import ACTION_NAMES, STATE_NAMES
 from workcell.sim.world import World
@@ -22,16 +24,20 @@ TARGET_REACH_M = 2.0
 TARGET_HEIGHT_M = (0.0, 2.5)
 
 
-def observation_space(pool_size: int) -> spaces.Dict:
+def observation_space(config: BoxTransferConfig) -> spaces.Dict:
     def unbounded(size: int) -> spaces.Box:
         return spaces.Box(-np.inf, np.inf, shape=(size,), dtype=np.float32)
 
-    return spaces.Dict(
-        {
-            "state": unbounded(len(STATE_NAMES)),
-            "environment_state": unbounded(len(box_feature_names(pool_size))),
-        }
-    )
+    pool_size = config.session.world.feeder.pool_size
+    observation: dict[str, spaces.Space[object]] = {
+        AGENT_POS: unbounded(len(STATE_NAMES)),
+        ENVIRONMENT_STATE: unbounded(len(box_feature_names(pool_size))),
+    }
+    if config.cameras:
+        size = config.camera_size
+        image = spaces.Box(0, 255, shape=(size.height, size.width, 3), dtype=np.uint8)
+        observation[PIXELS] = spaces.Dict({camera: image for camera in config.cameras})
+    return spaces.Dict(observation)
 
 
 def action_bounds(config: BoxTransferConfig, world: World) -> dict[str, tuple[float, float]]:

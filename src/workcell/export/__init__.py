@@ -6,6 +6,8 @@
 - :func:`workcell.export.replay.replay_check`: restored states reproduce recorded poses.
 
 Features and their conventions are defined once, in :mod:`.features` and
-:mod:`.episode_data`; every episode keeps its provenance (:mod:`.provenance`). Nothing is
+:mod:`.episode_data`; every episode keeps its provenance (:mod:`.provenance`). Camera
+images come from the trials' recorded videos where they can be used, else from rendering
+(:mod:`.camera_sources`, :mod:`.camera_images`). Nothing is
 imported here, so ``import workcell.export`` stays cheap (no MuJoCo, pyarrow or h5py).
 """

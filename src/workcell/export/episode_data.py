@@ -24,7 +24,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.export.boxes import BoxTrack, parse_boxes
-from workcell.export.features import ACTION_NAMES, STATE_NAMES, column_matrix
+from workcell.export.features import (
+    ACTION_NAMES,
+    STATE_NAMES,
+    column_matrix,
+    continuous_state,
+)
 
 CONVENTIONS: dict[str, str] = {
     "action": "row t holds the command given after observing frame t (recorded with frame "
@@ -33,6 +38,8 @@ CONVENTIONS: dict[str, str] = {
     "next.done": "true on the last row of every episode (success, timeout or interruption)",
     "next.success": "true on the last row of a successful trial",
     "timestamp": "frame_index / fps, seconds from the trial start (t_sim)",
+    "observation.state": "TCP quaternions (w, x, y, z) continuous: each frame's sign agrees "
+    "with the frame before (non-negative dot product); the first frame's has w >= 0",
 }
 """The conventions above, as written into every export's metadata."""
 
@@ -76,7 +83,7 @@ def episode_arrays(
     done[-1:] = True
     success = done & (outcome == "success")
     return EpisodeArrays(
-        state=column_matrix(frames, STATE_NAMES),
+        state=continuous_state(column_matrix(frames, STATE_NAMES)),
         action=next_commands(column_matrix(frames, ACTION_NAMES)),
         environment=boxes.features(),
         reward=boxes.deliveries(),

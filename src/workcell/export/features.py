@@ -22,6 +22,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.record.columns import COMMAND_COLUMNS, pose_columns
+from workcell.record.quaternion_sign import continuous
 from workcell.sim.joints import JOINT_ORDER
 
 STATE_KEY = "observation.state"
@@ -43,11 +44,26 @@ STATE_NAMES: tuple[str, ...] = (
     "gripper_r",
 )
 ACTION_NAMES: tuple[str, ...] = COMMAND_COLUMNS
+STATE_QUATERNIONS: tuple[tuple[int, int, int, int], ...] = tuple(
+    tuple(STATE_NAMES.index(f"{tcp}_{part}") for part in ("qw", "qx", "qy", "qz"))  # type: ignore[misc]
+    for tcp in ("tcp_l", "tcp_r")
+)
+"""Where the left and right TCP quaternions (w, x, y, z) sit in ``observation.state``."""
 
 
 def image_key(camera: str) -> str:
     """``observation.images.<camera>``."""
     return IMAGE_PREFIX + camera
+
+
+def continuous_state(state: NDArray[np.float64]) -> NDArray[np.float64]:
+    """``observation.state`` rows of one episode with continuous TCP quaternions
+    (:mod:`workcell.record.quaternion_sign`): what every recorded frame holds since the
+    record keeps them so, and what older records are made to hold on export."""
+    result = state.copy()
+    columns = np.array(STATE_QUATERNIONS)
+    result[:, columns] = continuous(state[:, columns])
+    return result
 
 
 def column_matrix(

@@ -1,14 +1,18 @@
 """``export_lerobot``: a store's trials as a LeRobotDataset v3.0 (see :mod:`.lerobot_layout`).
 
-Rows and conventions are those of :mod:`workcell.export.episode_data`; camera streams are
-rendered from the recorded states (after the replay check) when asked for. ``info.json``
-is written last, so an export that failed half-way is not mistaken for a dataset.
+Rows and conventions are those of :mod:`workcell.export.episode_data`. Camera videos, when
+asked for, are each trial's recorded video where it can be used (copied without
+re-encoding), else rendered from the recorded states after the replay check (see
+:mod:`.camera_sources`); every episode's video is appended whole to its camera's file
+(:class:`workcell.render.video_concat.VideoConcatenation`). ``info.json`` is written last,
+so an export that failed half-way is not mistaken for a dataset.
 """
 
 from __future__ import annotations
 
 import json
 import os
+import tempfile
 import time
 from pathlib import Path
 from typing import Any
@@ -18,6 +22,7 @@ import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
 from numpy.typing import NDArray
 
 from workcell.export import stats as statistics
+from workcell.export.camera_images import CameraPlan, describe, episode_images
 from workcell.export.features import ACTION_KEY, ENVIRONMENT_KEY, STATE_KEY, image_key
 from workcell.export.lerobot_files import DataFiles, VideoFiles
 from workcell.export.lerobot_layout import (
@@ -47,6 +52,7 @@ from workcell.export.provenance import Provenance
 from workcell.export.replay_world import WorldPool
 from workcell.export.source import ExportSource, check_output, open_source
 from workcell.record.store import Store
+from workcell.render.video import VideoWriter
 
 IMAGE_STATS_FRAMES = 100
 """Image statistics sample at most this many frames of each episode."""
@@ -62,41 +68,47 @@ def export_lerobot(
     started = time.perf_counter()
     options = options or ExportOptions()
     out = check_output(out_dir)
-    source = open_source(store_path, options.include_all)
+    source = open_source(store_path, options.trials)
     out.mkdir(parents=True, exist_ok=True)
-    writer = _LeRobotWriter(out, source, options)
-    worlds = WorldPool(options.size) if options.cameras else None
-    try:
-        with Store.open(source.path, writer=False) as store:
+    with Store.open(source.path, writer=False) as store:
+        cameras = CameraPlan(store, source, options, copies_videos=True)
+        writer = _LeRobotWriter(out, source, cameras, progress)
+        worlds = WorldPool(cameras.options.image_size) if options.cameras else None
+        try:
             for episode in load_episodes(store, source, worlds, progress):
                 writer.add(episode)
-        writer.finish()
-    finally:
-        writer.close()
-        if worlds is not None:
-            worlds.close()
+            writer.finish()
+        finally:
+            writer.close()
+            if worlds is not None:
+                worlds.close()
     return ExportSummary(
         out,
         len(source.episodes),
         writer.frames,
         len(options.cameras),
         time.perf_counter() - started,
+        recorded_videos=cameras.recorded,
+        rendered_videos=cameras.rendered,
     )
 
 
 class _LeRobotWriter:
-    def __init__(self, out: Path, source: ExportSource, options: ExportOptions) -> None:
+    def __init__(
+        self, out: Path, source: ExportSource, cameras: CameraPlan, progress: Progress | None
+    ) -> None:
         self.out = out
         self.source = source
-        self.options = options
+        self.cameras = cameras
+        self.options = options = cameras.options
+        self.progress = progress
         self.fps = source.fps
         self.features = dataset_features(
-            source.pool_size, options.cameras, options.size, source.fps
+            source.pool_size, options.cameras, options.image_size, source.fps
         )
         self.data = DataFiles(out)
         self.videos = {
-            camera: VideoFiles(out, image_key(camera), options.size, source.fps)
-            for camera in options.cameras
+            camera: VideoFiles(out, image_key(camera), source.fps) for camera in options.cameras
         }
         self.tasks: dict[str, int] = {}
         self.rows: list[dict[str, Any]] = []
@@ -155,8 +167,10 @@ class _LeRobotWriter:
     def _write_videos(
         self, episode: LoadedEpisode, episode_stats: dict[str, statistics.Stats]
     ) -> dict[str, Any]:
-        assert episode.world is not None
         n = episode.arrays.length
+        sources = self.cameras.sources(episode)
+        if self.progress is not None:
+            self.progress(describe(episode, sources, len(self.source.episodes)))
         columns: dict[str, Any] = {}
         for files in self.videos.values():
             chunk, file, start = files.begin_episode()
@@ -167,12 +181,31 @@ class _LeRobotWriter:
             columns[f"videos/{key}/to_timestamp"] = start + n / self.fps
         every = max(1, -(-n // IMAGE_STATS_FRAMES))
         samples: dict[str, list[NDArray[np.uint8]]] = {camera: [] for camera in self.videos}
-        images = episode.world.images(episode.states, list(self.videos))
-        for i, frame in enumerate(images):
-            for camera, image in frame.items():
-                self.videos[camera].write(image)
-                if i % every == 0:
-                    samples[camera].append(image)
+        with tempfile.TemporaryDirectory(prefix="workcell-export-") as folder:
+            size = self.options.image_size
+            segments = {
+                camera: Path(folder) / f"{camera}.mp4"
+                if source.video is None
+                else source.video.path
+                for camera, source in sources.items()
+            }
+            writers = {
+                camera: VideoWriter(segments[camera], size.width, size.height, self.fps)
+                for camera, source in sources.items()
+                if source.video is None
+            }
+            try:
+                for i, frame in enumerate(episode_images(episode, sources)):
+                    for camera, image in frame.items():
+                        if camera in writers:
+                            writers[camera].write(image)
+                        if i % every == 0:
+                            samples[camera].append(image)
+            finally:
+                for writer in writers.values():
+                    writer.close()
+            for camera, files in self.videos.items():
+                files.append(segments[camera], n)
         for camera, sampled in samples.items():
             episode_stats[image_key(camera)] = statistics.image_stats(sampled)
         return columns
@@ -185,7 +218,9 @@ class _LeRobotWriter:
         pq.write_table(episodes_table(self.rows), episodes_path)
         pq.write_table(tasks_table(list(self.tasks)), self.out / TASKS_PATH)
         pq.write_table(provenance_table(self.records), self.out / PROVENANCE_TABLE_PATH)
-        document = provenance_document(self.source, self.options, self.records)
+        document = provenance_document(
+            self.source, self.options, self.records, self.cameras.decided
+        )
         _write_json(self.out / PROVENANCE_JSON_PATH, document)
         features = list(self.stats[0])
         dataset_stats = {

@@ -5,9 +5,7 @@ from __future__ import annotations
 from pathlib import Path
 from typing import Any
 
-import numpy as np
 import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
-from numpy.typing import NDArray
 
 from workcell.export.lerobot_layout import (
     DATA_FILES_SIZE_IN_MB,
@@ -16,8 +14,7 @@ from workcell.export.lerobot_layout import (
     VIDEO_PATH,
     FileCursor,
 )
-from workcell.export.options import ImageSize
-from workcell.render.video import VideoWriter
+from workcell.render.video_concat import VideoConcatenation
 
 MB = 1024 * 1024
 
@@ -56,47 +53,48 @@ class DataFiles:
 
 
 class VideoFiles:
-    """``videos/<key>/chunk-*/file-*.mp4`` of one camera: episodes appended back to back."""
+    """``videos/<key>/chunk-*/file-*.mp4`` of one camera: each episode's video appended
+    whole, without re-encoding (see :class:`VideoConcatenation`), a new file past the
+    limit."""
 
     def __init__(
         self,
         root: Path,
         key: str,
-        size: ImageSize,
         fps: int,
         limit_mb: float = VIDEO_FILES_SIZE_IN_MB,
     ) -> None:
         self.root = root
         self.key = key
-        self.size = size
         self.fps = fps
         self.limit = limit_mb * MB
         self.cursor = FileCursor()
-        self._writer: VideoWriter | None = None
+        self._file: VideoConcatenation | None = None
 
     def begin_episode(self) -> tuple[int, int, float]:
         """Where the next episode starts: (chunk, file, from_timestamp in that file)."""
-        if self._writer is not None and _size(self._writer.path) >= self.limit:
-            self._writer.close()
-            self._writer = None
+        if self._file is not None and _size(self._file.path) >= self.limit:
+            self._file.close()
+            self._file = None
             self.cursor.advance()
-        if self._writer is None:
+        if self._file is None:
             path = self.root / self.cursor.format(VIDEO_PATH, video_key=self.key)
-            self._writer = VideoWriter(path, self.size.width, self.size.height, self.fps)
+            self._file = VideoConcatenation(path, self.fps)
         return (
             self.cursor.chunk_index,
             self.cursor.file_index,
-            self._writer.frame_count / self.fps,
+            self._file.frame_count / self.fps,
         )
 
-    def write(self, image: NDArray[np.uint8]) -> None:
-        assert self._writer is not None, "begin_episode() first"
-        self._writer.write(image)
+    def append(self, video: Path, frames: int) -> None:
+        """Append the episode's video file (``frames`` frames, the encoding of the rest)."""
+        assert self._file is not None, "begin_episode() first"
+        self._file.append(video, frames)
 
     def close(self) -> None:
-        if self._writer is not None:
-            self._writer.close()
-            self._writer = None
+        if self._file is not None:
+            self._file.close()
+            self._file = None
 
 
 def _size(path: Path) -> int:

@@ -28,6 +28,10 @@ class ExportSummary:
     videos: int
     """Camera streams per episode."""
     seconds: float
+    recorded_videos: int = 0
+    """Camera streams (of all episodes) taken from the trials' recorded videos."""
+    rendered_videos: int = 0
+    """Camera streams (of all episodes) rendered from the recorded states."""
 
 
 @dataclass(frozen=True)

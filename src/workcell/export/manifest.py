@@ -7,7 +7,7 @@ conventions of the dataset fields and each episode's :class:`Provenance`.
 from __future__ import annotations
 
 import time
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 from workcell import __version__
@@ -23,8 +23,13 @@ FORMAT_VERSION = 1
 
 
 def provenance_document(
-    source: ExportSource, options: ExportOptions, records: Sequence[Provenance]
+    source: ExportSource,
+    options: ExportOptions,
+    records: Sequence[Provenance],
+    camera_sources: Sequence[Mapping[str, Any]] = (),
 ) -> dict[str, Any]:
+    """The document; ``camera_sources``: where each episode's camera images came from
+    (see :class:`workcell.export.camera_images.CameraPlan`)."""
     selection = source.selection
     return {
         "format": FORMAT,
@@ -39,13 +44,19 @@ def provenance_document(
         },
         "selection": {
             "include_all": options.include_all,
+            "audited": options.audited,
+            "successes_only": options.successes_only,
+            "left_out_not_successful": selection.not_successes,
             "closed_trials": selection.closed,
             "exported": len(selection.episodes),
             "left_out_not_included": selection.excluded,
             "left_out_without_frames": selection.without_frames,
         },
         "cameras": list(options.cameras),
-        "image_size": [options.size.width, options.size.height] if options.cameras else None,
+        "image_size": [options.image_size.width, options.image_size.height]
+        if options.cameras
+        else None,
+        "camera_sources": [dict(entry) for entry in camera_sources],
         "conventions": CONVENTIONS,
         "names": {
             "state": list(STATE_NAMES),

@@ -60,17 +60,61 @@ def parse_cameras(text: str, option: str = "--cameras") -> tuple[str, ...]:
     return tuple(dict.fromkeys(names))
 
 
+DEFAULT_SIZE = ImageSize()
+"""The image size of an export whose trials hold no recorded video of the cameras asked for
+(or videos of several sizes)."""
+
+
+@dataclass(frozen=True)
+class TrialFilter:
+    """Which closed trials with frames become episodes."""
+
+    include_all: bool = False
+    """Every closed trial (interrupted and excluded ones too), not only included ones."""
+    audited: bool = False
+    """Inclusion as the audit decides it: valid and without a quality flag."""
+    successes_only: bool = False
+    """Only successful trials (a dataset for imitation)."""
+
+    def __post_init__(self) -> None:
+        if self.include_all and self.audited:
+            raise ConfigError(
+                ["--all and --audited: --all takes every trial, --audited what the audit keeps"]
+            )
+
+
 @dataclass(frozen=True)
 class ExportOptions:
     """Which trials and which camera streams go into a dataset."""
 
     include_all: bool = False
     """False: included trials only (never interrupted ones); True: every closed trial."""
+    audited: bool = False
+    """Inclusion as the audit decides it (valid, no quality flag) instead of the store's."""
+    successes_only: bool = False
+    """Only successful trials."""
     cameras: tuple[str, ...] = ()
-    """Robot cameras to render from the recorded states (none: no images)."""
-    size: ImageSize = ImageSize()
+    """Robot cameras whose images go into the dataset (none: no images): from the trials'
+    recorded videos where they can be used, else rendered from the recorded states (see
+    :mod:`workcell.export.camera_sources`)."""
+    size: ImageSize | None = None
+    """None: the size of the selected trials' recorded videos of these cameras, when there
+    are some and they share one size, else :data:`DEFAULT_SIZE`."""
+    rerender: bool = False
+    """Render every camera image from the recorded states, even where videos were recorded."""
+
+    @property
+    def trials(self) -> TrialFilter:
+        """Which trials become episodes."""
+        return TrialFilter(self.include_all, self.audited, self.successes_only)
+
+    @property
+    def image_size(self) -> ImageSize:
+        """The size asked for (:data:`DEFAULT_SIZE` when none is given)."""
+        return self.size or DEFAULT_SIZE
 
     def __post_init__(self) -> None:
+        TrialFilter(self.include_all, self.audited, self.successes_only)  # checks them
         unknown = [c for c in self.cameras if c not in ROBOT_CAMERAS]
         if unknown or len(set(self.cameras)) != len(self.cameras):
             raise ConfigError(

@@ -11,7 +11,8 @@ Rerun viewer (``rerun DIR/*.rrd``).
 
 Selection, the bad-input checks and the provenance are those of every dataset export
 (:mod:`.source`, :mod:`.selection`, :mod:`.provenance`, :mod:`.manifest`). Files are
-written with rerun-sdk 0.41 (pinned): a ``.rrd`` opens in that viewer version and the next.
+written with rerun-sdk 0.26 (pinned, as LeRobot 0.4 pins it): open them with the Rerun
+viewer 0.26 (``rerun`` of ``pip install rerun-sdk==0.26.2``, or of LeRobot's install).
 """
 
 from __future__ import annotations
@@ -58,7 +59,7 @@ def export_rerun(
     if options.cameras:
         raise ConfigError(["cameras: the rerun export does not render camera images"])
     out = check_output(out_dir)
-    source = open_source(store_path, options.include_all)
+    source = open_source(store_path, options.trials)
     out.mkdir(parents=True, exist_ok=True)
     records: list[Provenance] = []
     frames = 0

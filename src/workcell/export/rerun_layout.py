@@ -8,7 +8,7 @@
                                the export, narrowed to this episode and its session (JSON)
     /world                     static ViewCoordinates: right-handed, z up (metres)
     /world/base                Transform3D: base_x, base_y, 0 and base_yaw about z
-                               (+ static TransformAxes3D)
+                               (+ static axis length: the base's axes are drawn)
     /world/tcp_l, tcp_r        Points3D: the TCP world positions (tcp_*_x, _y, _z)
     /world/trajectories/base   static LineStrips3D: the base's path on the floor (z = 0)
     /world/trajectories/tcp_l  static LineStrips3D: the TCP paths, likewise tcp_r
@@ -23,8 +23,13 @@
 
 Timelines: ``frame`` (sequence, the store's ``frame_index``) and ``t_sim`` (duration,
 seconds from the trial start). Events sit on ``t_sim`` at their own time (the countdown's
-are negative) and on ``frame`` at the last frame recorded at or before it (frame 0 before
-the first). Every per-frame entity has exactly one row per recorded frame.
+are negative), on ``frame`` at the last frame recorded at or before it (frame 0 before
+the first) and on ``event`` (sequence: 0, 1, ... in the trial's event order; several
+events can share a frame or a time, never an ``event`` value). Every per-frame entity has
+exactly one row per recorded frame.
+
+Written with rerun-sdk 0.26 (pinned; the version LeRobot 0.4 pins): open the files with the
+Rerun viewer 0.26.
 """
 
 from __future__ import annotations
@@ -49,6 +54,7 @@ from workcell.sim.joints import JOINT_ORDER
 APPLICATION_ID = "workcell"
 FRAME_TIMELINE = "frame"
 TIME_TIMELINE = "t_sim"
+EVENT_TIMELINE = "event"
 
 PROVENANCE_ENTITY = "provenance"
 WORLD = "world"
@@ -210,7 +216,11 @@ def _log_static(stream: rr.RecordingStream, trial: TrialRecording) -> None:
         strict=True,
     )
     stream.log(WORLD, rr.ViewCoordinates.RIGHT_HAND_Z_UP, static=True, strict=True)
-    stream.log(BASE_ENTITY, rr.TransformAxes3D(axis_length=AXIS_LENGTH), static=True, strict=True)
+    # Only the axis length is static: a static translation or rotation would hide the
+    # per-frame ones.
+    stream.log(
+        BASE_ENTITY, rr.Transform3D.from_fields(axis_length=AXIS_LENGTH), static=True, strict=True
+    )
 
 
 def _send(
@@ -259,8 +269,20 @@ def _points(positions: NDArray[np.float64], color: tuple[int, ...]) -> rr.Compon
     return rr.Points3D.columns(
         positions=positions,
         radii=np.full(n, TCP_RADIUS, dtype=np.float32),
-        colors=np.tile(np.array(color, dtype=np.uint8), (n, 1)),
+        colors=np.full(n, packed_rgba(color), dtype=np.uint32),
     )
+
+
+def packed_rgba(colors: Sequence[int] | NDArray[Any]) -> NDArray[np.uint32]:
+    """RGBA colours (0-255, last axis of 4) as rerun's packed 0xRRGGBBAA integers.
+
+    Columns of colours must be packed: given an (n, 4) uint8 array, rerun-sdk 0.26's
+    ``send_columns`` counts 4n colours and fails.
+    """
+    rgba = np.asarray(colors, dtype=np.uint32)
+    shifted = rgba << np.array([24, 16, 8, 0], dtype=np.uint32)
+    packed: NDArray[np.uint32] = np.bitwise_or.reduce(shifted, axis=-1).astype(np.uint32)
+    return packed
 
 
 def _base_transforms(frames: Mapping[str, NDArray[Any]]) -> rr.ComponentColumnList:
@@ -297,7 +319,7 @@ def _boxes(trial: TrialRecording) -> rr.ComponentColumnList:
     return rr.Boxes3D.columns(
         centers=poses[:, :3],
         quaternions=poses[:, [4, 5, 6, 3]],  # recorded w, x, y, z → rerun's x, y, z, w
-        colors=palette[boxes.states.reshape(-1)],
+        colors=packed_rgba(palette)[boxes.states.reshape(-1)],
     ).partition(np.full(n, pool))
 
 
@@ -312,6 +334,7 @@ def _log_events(stream: rr.RecordingStream, trial: TrialRecording) -> None:
     indexes = [
         rr.TimeColumn(FRAME_TIMELINE, sequence=frames),
         rr.TimeColumn(TIME_TIMELINE, duration=_nanoseconds(times)),
+        rr.TimeColumn(EVENT_TIMELINE, sequence=np.arange(len(trial.events), dtype=np.int64)),
     ]
     columns = rr.TextLog.columns(
         text=[event_text(e) for e in trial.events],

@@ -2,15 +2,17 @@
 
 A trial's inclusion is the store's ``included`` column unless a reviewer decided
 otherwise: the latest ``include``/``exclude`` annotation wins (annotations never rewrite
-the trial row). An interrupted trial is never included. Running trials (no outcome yet)
-and trials without frames are never exported.
+the trial row). An interrupted trial is never included. With :attr:`TrialFilter.audited`
+the audit decides instead (:mod:`workcell.export.audited`). Running trials (no outcome
+yet) and trials without frames are never exported.
 """
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
+from workcell.export.options import TrialFilter
 from workcell.record.records import AnnotationRecord, SessionRecord, TrialRecord
 from workcell.record.store import Store
 
@@ -61,11 +63,17 @@ class Selection:
     excluded: int
     """Closed trials with frames left out because they are not included."""
     without_frames: int
+    not_successes: int = 0
+    """Included trials left out because they did not succeed (``successes_only``)."""
 
 
-def select(store: Store, include_all: bool) -> Selection:
-    """Closed trials with frames, in recording order; only included ones unless
-    ``include_all``."""
+def select(
+    store: Store,
+    rule: TrialFilter,
+    audited: Mapping[str, Inclusion] | None = None,
+) -> Selection:
+    """Closed trials with frames, in recording order, chosen by ``rule``; ``audited``
+    holds the audit's decisions when ``rule.audited``."""
     sessions = {s.session_id: s for s in store.sessions()}
     order = {session_id: i for i, session_id in enumerate(sessions)}
     trials = sorted(
@@ -76,14 +84,20 @@ def select(store: Store, include_all: bool) -> Selection:
     for annotation in store.annotations():
         annotations.setdefault(annotation.trial_id, []).append(annotation)
     chosen: list[EpisodeSource] = []
-    excluded = without_frames = 0
+    excluded = without_frames = not_successes = 0
     for trial in trials:
         if not trial.n_frames:
             without_frames += 1
             continue
-        inclusion = decide(trial, annotations.get(trial.trial_id, []))
-        if not (inclusion.included or include_all):
+        if rule.audited and audited is not None:
+            inclusion = audited[trial.trial_id]
+        else:
+            inclusion = decide(trial, annotations.get(trial.trial_id, []))
+        if not (inclusion.included or rule.include_all):
             excluded += 1
             continue
+        if rule.successes_only and trial.outcome != "success":
+            not_successes += 1
+            continue
         chosen.append(EpisodeSource(sessions[trial.session_id], trial, inclusion))
-    return Selection(tuple(chosen), len(trials), excluded, without_frames)
+    return Selection(tuple(chosen), len(trials), excluded, without_frames, not_successes)

@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import TypeVar
 
 from workcell.errors import ConfigError
+from workcell.export.audited import audited_inclusions
 from workcell.export.errors import (
     EmptyStoreError,
     IncompatibleSessionsError,
@@ -21,6 +22,7 @@ from workcell.export.errors import (
     OutputNotEmptyError,
     StoreNotVerifiedError,
 )
+from workcell.export.options import TrialFilter
 from workcell.export.selection import EpisodeSource, Selection, select
 from workcell.record.records import SessionRecord
 from workcell.record.store import Store
@@ -75,8 +77,9 @@ def session_config(session: SessionRecord) -> SessionConfig:
         ) from None
 
 
-def open_source(path: str | os.PathLike[str], include_all: bool) -> ExportSource:
-    """Verify the store at ``path`` and select its episodes (raises on bad input)."""
+def open_source(path: str | os.PathLike[str], rule: TrialFilter) -> ExportSource:
+    """Verify the store at ``path`` and select its episodes by ``rule`` (raises on bad
+    input)."""
     path = Path(path)
     findings = verify_store(path)
     if findings:
@@ -91,13 +94,19 @@ def open_source(path: str | os.PathLike[str], include_all: bool) -> ExportSource
                 f"store {path} holds no trials; record some first "
                 f"('workcell collect --store {path}')"
             )
-        selection = select(store, include_all)
+        audited = audited_inclusions(path) if rule.audited else None
+        selection = select(store, rule, audited)
         meta = store.meta()
     if not selection.episodes:
         raise NothingSelectedError(
             f"store {path}: none of its {selection.closed} closed trials can be exported "
-            f"({selection.excluded} not included, {selection.without_frames} without frames)"
-            + ("; pass --all to export trials that are not included" if selection.excluded else "")
+            f"({selection.excluded} not included, {selection.without_frames} without frames, "
+            f"{selection.not_successes} not successful)"
+            + (
+                "; pass --all to export trials that are not included"
+                if selection.excluded and not rule.audited
+                else ""
+            )
         )
     configs = {s.session_id: session_config(s) for s in _sessions(selection)}
     return ExportSource(

@@ -28,6 +28,7 @@ from workcell.record.frame_capture import (
     FrameLayout,
     OperatorInput,
 )
+from workcell.record.quaternion_sign import continuous
 from workcell.record.schema import FRAMES
 
 if TYPE_CHECKING:
@@ -40,12 +41,18 @@ REAL_COLUMNS: tuple[str, ...] = FRAMES.of_kind("real")
 INTEGER_COLUMNS: tuple[str, ...] = FRAMES.of_kind("integer")
 """The frame's integer columns (``frame_index`` first), in the order of a formatted row."""
 
+_QUATERNION_COLUMNS = np.r_[11:15, 18:22]
+"""Where the left and right TCP quaternions sit in a real matrix."""
 _STATE_WIDTH = 54
 """base pose (3), base velocity (3), both TCP poses (14), q (17), dq (17)."""
 
 
-def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
-    """(n, len(REAL_COLUMNS)): every real column of the frames."""
+def real_matrix(
+    frames: CapturedFrames, previous_quaternions: NDArray[np.float64] | None = None
+) -> NDArray[np.float64]:
+    """(n, len(REAL_COLUMNS)): every real column of the frames. The TCP quaternions are
+    made continuous (:mod:`workcell.record.quaternion_sign`), the first frame's against
+    ``previous_quaternions`` (2, 4): the left and right TCP of the frame before, if any."""
     layout, rows = frames.layout, frames.rows
     n = len(frames)
     nq, nv = layout.nq, layout.nv
@@ -55,6 +62,7 @@ def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
     for i in range(n):
         mujoco.mju_mat2Quat(quats[i, 0], rows[i, at + 6 : at + 15])
         mujoco.mju_mat2Quat(quats[i, 1], rows[i, at + 15 : at + 24])
+    quats = continuous(quats, previous_quaternions)
     command = rows[:n, layout.command_at : layout.command_at + COMMAND_REALS]
     device = rows[:n, layout.device_at : layout.device_at + DEVICE_VALUES]
     real = np.empty((n, len(REAL_COLUMNS)))
@@ -89,9 +97,12 @@ def real_matrix(frames: CapturedFrames) -> NDArray[np.float64]:
 class FrameFormatter:
     """Formats captured frames into store rows. Keeps each box's text while its state and
     rounded pose stay the same (parked boxes, boxes at rest): formatting floats is most of
-    the cost of the ``boxes`` column."""
+    the cost of the ``boxes`` column. Keeps the last TCP quaternions of the trial it
+    formats, so that a trial's quaternions stay continuous across batches (a trial's
+    frames arrive in order; frame 0 starts afresh)."""
 
     def __init__(self) -> None:
+        self._quaternion_tail: tuple[str, NDArray[np.float64]] | None = None
         self._layout: FrameLayout | None = None
         self._box_columns: NDArray[np.intp] = np.zeros(0, dtype=np.intp)
         self._box_text: list[tuple[tuple[str, list[float]], str] | None] = []
@@ -100,7 +111,11 @@ class FrameFormatter:
         self, frames: CapturedFrames, session_id: str, trial_id: str, first_index: int
     ) -> RowBatch:
         """The frames as rows of the frames table, numbered from ``first_index``."""
-        real = real_matrix(frames)
+        tail = self._quaternion_tail
+        previous = tail[1] if tail is not None and first_index > 0 and tail[0] == trial_id else None
+        real = real_matrix(frames, previous)
+        if len(frames):
+            self._quaternion_tail = (trial_id, real[-1, _QUATERNION_COLUMNS].reshape(2, 4))
         layout = frames.layout
         at, device_at = layout.integers_at, layout.device_at
         buttons = device_at + DEVICE_VALUES - 2
@@ -156,11 +171,17 @@ class FrameFormatter:
 
 class FrameReader:
     """Frames of one world by column name, one at a time (for an environment's
-    observation): capture and formatting set up once."""
+    observation): capture and formatting set up once. Successive reads are successive
+    frames of one trial (quaternions continuous) until :meth:`restart`."""
 
     def __init__(self, world: World, controller: RobotController) -> None:
         self._capture = FrameCapture(world, controller, capacity=1)
         self._formatter = FrameFormatter()
+        self._index = 0
+
+    def restart(self) -> None:
+        """The next read is the first frame of a new trial."""
+        self._index = 0
 
     def read(
         self,
@@ -175,7 +196,9 @@ class FrameReader:
         self._capture.capture(
             command, operator_input, t_sim=t_sim, step_wall_ms=step_wall_ms, t_wall=t_wall
         )
-        return _as_dict(self._formatter.batch(self._capture.take(), "", "", 0))
+        batch = self._formatter.batch(self._capture.take(), "", "", self._index)
+        self._index += 1
+        return _as_dict(batch)
 
 
 def build_frame(

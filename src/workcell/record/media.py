@@ -3,7 +3,9 @@
 The robot's cameras (``head_cam``, ``wrist_l_cam``, ``wrist_r_cam``) are rendered offscreen
 (shadows off) at every recorded frame, so video frame i is frame i of the trial. Files live
 in a media folder beside the store (``<store>.media/<trial_id>/<camera>.mp4``); the trial's
-``media`` event names each file with its frame count and sha256.
+``media`` event names each file with its frame count and sha256. They are encoded as the
+exports encode their videos (:class:`workcell.render.VideoWriter`'s defaults: a keyframe
+every 2 frames), so an export copies them as they are (:mod:`workcell.export.camera_sources`).
 """
 
 from __future__ import annotations

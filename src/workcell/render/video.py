@@ -1,7 +1,15 @@
-"""MP4 video output: H.264 (libx264, yuv420p) through PyAV, playable in browsers."""
+"""MP4 video output: H.264 (libx264, yuv420p) through PyAV, playable in browsers.
+
+A keyframe every :data:`KEYFRAME_INTERVAL` frames: a reader that seeks to a random frame
+(LeRobot's data loader does, once per sample) decodes from the keyframe at or before it,
+so the interval bounds the frames decoded per access. libx264's own default (250 frames,
+plus scene cuts) made a random frame cost several times more to decode; LeRobot encodes
+with a keyframe every 2 frames for the same reason. ``bench/video.py`` measures the choice.
+"""
 
 from __future__ import annotations
 
+from collections.abc import Generator
 from fractions import Fraction
 from pathlib import Path
 from types import TracebackType
@@ -13,14 +21,27 @@ from numpy.typing import NDArray
 from workcell.errors import RenderError
 
 MAX_FPS = 240
+KEYFRAME_INTERVAL = 2
+"""Frames from one keyframe to the next (the GOP size); see the module's docstring."""
+
+
+def read_frames(path: str | Path) -> Generator[NDArray[np.uint8], None, None]:
+    """Every frame of the video file at ``path``, in order, as (height, width, 3) uint8 RGB."""
+    try:
+        with av.open(str(path)) as container:
+            for frame in container.decode(container.streams.video[0]):
+                yield np.asarray(frame.to_ndarray(format="rgb24"), dtype=np.uint8)
+    except (OSError, av.FFmpegError) as error:
+        raise RenderError(f"cannot read video {path}: {error}") from error
 
 
 class VideoWriter:
     """Writes uint8 RGB frames of one fixed size to an MP4 file at a constant rate.
 
     H.264 in yuv420p halves the chroma resolution, so width and height must be even.
-    Frame ``i`` is shown at ``i / fps`` seconds. Use as a context manager, or call
-    :meth:`close` to finalise the file; parent folders are created.
+    Frame ``i`` is shown at ``i / fps`` seconds. ``keyframe_interval``: frames from one
+    keyframe to the next (None: libx264's default of 250). Use as a context manager, or
+    call :meth:`close` to finalise the file; parent folders are created.
     """
 
     def __init__(
@@ -31,6 +52,7 @@ class VideoWriter:
         fps: int | Fraction = 20,
         *,
         crf: int = 23,
+        keyframe_interval: int | None = KEYFRAME_INTERVAL,
     ) -> None:
         problems = []
         for name, value in (("width", width), ("height", height)):
@@ -45,6 +67,13 @@ class VideoWriter:
             problems.append(f"video fps = {fps!r}: must be an int or Fraction in (0, {MAX_FPS}]")
         if not (isinstance(crf, int) and 0 <= crf <= 51):
             problems.append(f"video crf = {crf!r}: must be an integer from 0 (lossless) to 51")
+        if keyframe_interval is not None and not (
+            type(keyframe_interval) is int and keyframe_interval >= 1
+        ):
+            problems.append(
+                f"video keyframe_interval = {keyframe_interval!r}: must be a whole number of "
+                "frames, at least 1 (or None for the encoder's default)"
+            )
         if problems:
             raise RenderError("; ".join(problems))
         self.path = Path(path)
@@ -64,7 +93,11 @@ class VideoWriter:
         self._stream.height = height
         self._stream.pix_fmt = "yuv420p"
         self._stream.time_base = 1 / self.fps
-        self._stream.codec_context.options = {"crf": str(crf)}
+        options = {"crf": str(crf)}
+        if keyframe_interval is not None:
+            options["g"] = str(keyframe_interval)
+        self._stream.codec_context.options = options
+        self.keyframe_interval = keyframe_interval
 
     @property
     def frame_count(self) -> int:

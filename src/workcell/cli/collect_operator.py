@@ -1,0 +1,61 @@
+"""Who drives a ``workcell collect`` session: the scripted expert or a learned policy.
+
+A session records its operator's id. Unless one is given (``--operator-id`` or the
+configuration), it is ``expert`` (``expert-skill<X>`` below full skill) or the policy's
+:attr:`~workcell.learn.checkpoint.PolicyCheckpoint.operator_id`: its type, training run
+and weights hash, so the audit groups sessions by who drove them.
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+from typing import TYPE_CHECKING
+
+from workcell.session.config import SessionConfig
+
+if TYPE_CHECKING:
+    from workcell.control.simulation import Simulation
+    from workcell.learn.checkpoint import PolicyCheckpoint
+    from workcell.task.operator import Operator
+
+POLICY_PREFIX = "policy:"
+DEFAULT_OPERATOR_ID = SessionConfig().operator_id
+
+
+def policy_checkpoint(args: argparse.Namespace) -> PolicyCheckpoint | None:
+    """The checkpoint ``--operator policy:PATH`` names (raises a LearnError when there is
+    none), or None for the expert."""
+    if not args.operator.startswith(POLICY_PREFIX):
+        return None
+    from workcell.learn.checkpoint import PolicyCheckpoint  # noqa: PLC0415
+
+    return PolicyCheckpoint.locate(args.operator[len(POLICY_PREFIX) :])
+
+
+def with_operator_id(
+    config: SessionConfig, args: argparse.Namespace, checkpoint: PolicyCheckpoint | None
+) -> SessionConfig:
+    """``config`` with the operator's own id, unless the user chose one."""
+    if args.operator_id is not None or config.operator_id != DEFAULT_OPERATOR_ID:
+        return config
+    if checkpoint is not None:
+        name = checkpoint.operator_id
+    else:
+        name = "expert" if args.skill >= 1.0 else f"expert-skill{args.skill:g}"
+    return dataclasses.replace(config, operator_id=name)
+
+
+def make_operator(
+    args: argparse.Namespace,
+    config: SessionConfig,
+    sim: Simulation,
+    checkpoint: PolicyCheckpoint | None,
+) -> Operator:
+    if checkpoint is None:
+        from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
+
+        return ExpertOperator(ExpertConfig(skill=args.skill))
+    from workcell.learn.policy_operator import PolicyOperator  # noqa: PLC0415
+
+    return PolicyOperator(checkpoint, config, sim)

@@ -1,0 +1,80 @@
+"""What a policy reads and writes, checked against what a Workcell session provides.
+
+A policy trained on a Workcell export reads some of ``observation.state``,
+``observation.environment_state`` and ``observation.images.<camera>`` and writes
+``action``, with the shapes the export gave them. A policy whose features do not fit the
+session it is asked to drive (another robot's dataset, a world with more boxes) is refused
+before the session starts, with what it expects and what the session has.
+"""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import Any
+
+from workcell.export.boxes import box_feature_names
+from workcell.export.features import (
+    ACTION_KEY,
+    ACTION_NAMES,
+    ENVIRONMENT_KEY,
+    IMAGE_PREFIX,
+    STATE_KEY,
+    STATE_NAMES,
+)
+from workcell.export.options import ROBOT_CAMERAS, ImageSize
+from workcell.learn.checkpoint import PolicyCheckpoint
+from workcell.learn.errors import LearnError
+
+
+@dataclass(frozen=True)
+class PolicyInputs:
+    """The cameras a policy looks through (and their image size), besides the vectors."""
+
+    cameras: tuple[str, ...]
+    image_size: ImageSize | None
+
+
+def policy_inputs(checkpoint: PolicyCheckpoint, config: Any, pool_size: int) -> PolicyInputs:
+    """Check the policy ``config`` (a LeRobot ``PreTrainedConfig``) against a session whose
+    feeder pool holds ``pool_size`` boxes; its cameras and image size."""
+    inputs: Mapping[str, Any] = config.input_features or {}
+    outputs: Mapping[str, Any] = config.output_features or {}
+    vectors = {
+        STATE_KEY: (len(STATE_NAMES),),
+        ENVIRONMENT_KEY: (len(box_feature_names(pool_size)),),
+    }
+    problems = []
+    cameras: list[str] = []
+    sizes: set[tuple[int, int]] = set()
+    for key, feature in inputs.items():
+        shape = tuple(int(v) for v in feature.shape)
+        if key in vectors:
+            if shape != vectors[key]:
+                problems.append(f"{key} of shape {shape}, where this session has {vectors[key]}")
+        elif key.startswith(IMAGE_PREFIX) and key[len(IMAGE_PREFIX) :] in ROBOT_CAMERAS:
+            if len(shape) != 3 or shape[0] != 3:
+                problems.append(f"{key} of shape {shape}: images are (3, height, width)")
+                continue
+            cameras.append(key[len(IMAGE_PREFIX) :])
+            sizes.add((shape[2], shape[1]))
+        else:
+            problems.append(f"{key}, which a Workcell session does not provide")
+    action = outputs.get(ACTION_KEY)
+    if action is None or tuple(int(v) for v in action.shape) != (len(ACTION_NAMES),):
+        written = None if action is None else tuple(action.shape)
+        problems.append(
+            f"{ACTION_KEY} of shape {written}, where Workcell's is ({len(ACTION_NAMES)},)"
+        )
+    if len(sizes) > 1:
+        problems.append(f"images of several sizes {sorted(sizes)}; one size for every camera")
+    if problems:
+        raise LearnError(
+            f"policy {checkpoint.operator_id} ({checkpoint.path}) does not fit this session: "
+            f"it uses {'; '.join(problems)}"
+        )
+    size = None
+    if sizes:
+        width, height = sizes.pop()
+        size = ImageSize(width, height)
+    return PolicyInputs(tuple(cameras), size)

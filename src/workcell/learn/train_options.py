@@ -1,0 +1,141 @@
+"""What ``workcell train`` asks of LeRobot, with defaults that work offline on a CPU.
+
+The defaults train a state-only policy (``observation.state`` and
+``observation.environment_state``; no images, so no backbone weights to download) small
+enough to learn the box transfer in well under an hour on a 2-core machine without a GPU.
+Each is a LeRobot option; :func:`lerobot_arguments` spells them as ``lerobot-train``'s
+command line, so a run can be repeated with LeRobot alone.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+from typing import Literal
+
+from workcell.errors import ConfigError
+
+PolicyType = Literal["act", "diffusion"]
+POLICY_TYPES: tuple[PolicyType, ...] = ("act", "diffusion")
+Device = Literal["auto", "cpu", "cuda"]
+DEVICES: tuple[Device, ...] = ("auto", "cpu", "cuda")
+
+POLICY_DEFAULTS: dict[PolicyType, dict[str, str]] = {
+    "act": {
+        # a small transformer: ~3 steps/s with batch 32 on 2 CPU cores
+        "dim_model": "256",
+        "dim_feedforward": "1024",
+        "n_encoder_layers": "2",
+        "n_decoder_layers": "1",
+        "n_vae_encoder_layers": "2",
+        "chunk_size": "20",
+        "n_action_steps": "20",
+        "optimizer_lr": "1e-4",
+        "pretrained_backbone_weights": "null",
+    },
+    "diffusion": {
+        "down_dims": "[128,256,512]",
+        "horizon": "16",
+        "n_action_steps": "8",
+        "n_obs_steps": "2",
+        "noise_scheduler_type": "DDIM",
+        "num_inference_steps": "10",
+        "pretrained_backbone_weights": "null",
+    },
+}
+"""LeRobot policy options that differ from LeRobot's own defaults, per policy type."""
+
+
+@dataclass(frozen=True)
+class TrainOptions:
+    dataset: Path
+    """A LeRobotDataset v3.0 directory (``workcell export --format lerobot``)."""
+    out: Path
+    """Where LeRobot writes its checkpoints (must not exist, or be empty)."""
+    policy: PolicyType = "act"
+    steps: int = 10_000
+    batch_size: int = 32
+    episodes: tuple[int, ...] | None = None
+    """Train on these episode indices only (None: every episode)."""
+    device: Device = "auto"
+    seed: int = 1000
+    save_every: int | None = None
+    """Steps between checkpoints (None: only the last)."""
+    threads: int | None = None
+    """Torch (OpenMP) threads of the training process; None: torch's default, one per core.
+    On a machine busy with other work, 1 is much faster than more (threads that wait for
+    each other on a shared core)."""
+    num_workers: int = 0
+    """Data-loading processes (0: in the training process, which is fastest for state-only
+    datasets on a small machine)."""
+    extra: tuple[str, ...] = field(default_factory=tuple)
+    """Further ``--key=value`` options for ``lerobot-train``, after the defaults."""
+
+    def __post_init__(self) -> None:
+        problems = []
+        if self.policy not in POLICY_TYPES:
+            problems.append(f"--policy = {self.policy!r}: must be one of {', '.join(POLICY_TYPES)}")
+        if type(self.steps) is not int or not 1 <= self.steps <= 10_000_000:
+            problems.append(f"--steps = {self.steps!r}: must be 1 to 10000000")
+        if type(self.batch_size) is not int or not 1 <= self.batch_size <= 65_536:
+            problems.append(f"--batch-size = {self.batch_size!r}: must be 1 to 65536")
+        if self.episodes is not None and (
+            not self.episodes or any(type(e) is not int or e < 0 for e in self.episodes)
+        ):
+            problems.append(
+                f"--episodes = {self.episodes!r}: must be episode indices (0, 1, ...), at least one"
+            )
+        if self.device not in DEVICES:
+            problems.append(f"--device = {self.device!r}: must be one of {', '.join(DEVICES)}")
+        if self.save_every is not None and not 1 <= self.save_every <= self.steps:
+            problems.append(f"--save-every = {self.save_every!r}: must be 1 to --steps")
+        if self.threads is not None and not 1 <= self.threads <= 1024:
+            problems.append(f"--threads = {self.threads!r}: must be 1 to 1024")
+        if not 0 <= self.num_workers <= 64:
+            problems.append(f"--num-workers = {self.num_workers!r}: must be 0 to 64")
+        bad = [e for e in self.extra if not (e.startswith("--") and "=" in e)]
+        if bad:
+            problems.append(
+                f"--lerobot {bad[0]!r}: must be --key=value, e.g. --policy.dim_model=512"
+            )
+        if problems:
+            raise ConfigError(problems)
+
+    @property
+    def job_name(self) -> str:
+        return self.out.name or "workcell"
+
+    @property
+    def log_every(self) -> int:
+        """Steps between LeRobot's log lines: about 100 lines a run, at least every step."""
+        return max(1, min(200, math.ceil(self.steps / 100)))
+
+
+def lerobot_arguments(options: TrainOptions, device: str, has_videos: bool) -> list[str]:
+    """``lerobot-train``'s arguments for ``options`` on ``device``."""
+    policy = options.policy
+    arguments = [
+        f"--dataset.repo_id=local/{options.dataset.name or 'dataset'}",
+        f"--dataset.root={options.dataset}",
+        f"--policy.type={policy}",
+        f"--policy.device={device}",
+        "--policy.push_to_hub=false",
+        *(f"--policy.{key}={value}" for key, value in POLICY_DEFAULTS[policy].items()),
+        f"--output_dir={options.out}",
+        f"--job_name={options.job_name}",
+        f"--steps={options.steps}",
+        f"--batch_size={options.batch_size}",
+        f"--save_freq={options.save_every or options.steps}",
+        f"--log_freq={options.log_every}",
+        f"--num_workers={options.num_workers}",
+        f"--seed={options.seed}",
+        "--eval_freq=0",
+        "--wandb.enable=false",
+    ]
+    if options.episodes is not None:
+        arguments.append(f"--dataset.episodes=[{','.join(map(str, options.episodes))}]")
+    if has_videos:
+        # torchcodec needs the system's FFmpeg libraries; PyAV brings its own
+        arguments.append("--dataset.video_backend=pyav")
+    return [*arguments, *options.extra]
