@@ -3,6 +3,7 @@ incompatible ones. Real processes, real SQLite."""
 
 from __future__ import annotations
 
+import hashlib
 import json
 import os
 import shutil
@@ -16,6 +17,9 @@ from pathlib import Path
 import pytest
 
 from workcell.cli.main import main
+from workcell.export.camera_sources import recorded_videos
+from workcell.export.lerobot_export import export_lerobot
+from workcell.export.options import ExportOptions
 from workcell.record import Store, StoreError
 from workcell.record.merge import MergeError, merge_stores
 from workcell.record.schema import SCHEMA_VERSION
@@ -61,6 +65,34 @@ def test_two_workers_merge_into_a_store_that_verifies(
     assert len({s.seed for s in sessions}) == 2
     assert audit(store, tmp_path / "audit")["raw"] == 4
     assert not (tmp_path / "merged.sqlite.shards").exists()  # shards removed once merged
+
+
+def test_camera_videos_of_workers_travel_with_the_merge(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    store = tmp_path / "merged.sqlite"
+    collect(store, "--trials", "2", "--workers", "2", "--mode", "practice",
+            "--cameras", "head_cam", "--camera-size", "32x24")  # fmt: skip
+    capsys.readouterr()
+    assert not (tmp_path / "merged.sqlite.shards").exists()
+    with Store.open(store, writer=False) as reader:
+        trials = reader.trials()
+        videos = [recorded_videos(store, reader.events(t.trial_id))["head_cam"] for t in trials]
+    assert len(videos) == 2
+    for video, trial in zip(videos, trials, strict=True):
+        assert video.path == tmp_path / "merged.sqlite.media" / trial.trial_id / "head_cam.mp4"
+        assert hashlib.sha256(video.path.read_bytes()).hexdigest() == video.sha256
+    out = tmp_path / "dataset"
+    summary = export_lerobot(store, out, ExportOptions(cameras=("head_cam",)))
+    assert (summary.recorded_videos, summary.rendered_videos) == (2, 0)
+    # `workcell merge` of shards elsewhere copies them too, and leaves the shards' own
+    moved = tmp_path / "elsewhere" / "again.sqlite"
+    moved.parent.mkdir()
+    report = merge_stores([store], moved)
+    assert report.media_files == 2 and videos[0].path.is_file()
+    with Store.open(moved, writer=False) as reader:
+        again = recorded_videos(moved, reader.events(trials[0].trial_id))["head_cam"]
+    assert again.path.parent.parent == moved.parent / "again.sqlite.media"
 
 
 def test_a_crashed_shard_is_recovered_in_the_merge(tmp_path: Path) -> None:

@@ -22,6 +22,7 @@ from typing import Any
 
 from workcell.errors import ConfigError, RenderError
 from workcell.export.options import ExportOptions, ImageSize
+from workcell.record.media_paths import recorded_file_path
 from workcell.record.records import EventRecord
 from workcell.render.video import KEYFRAME_INTERVAL
 from workcell.render.video_concat import VideoEncoding, probe
@@ -87,7 +88,7 @@ def recorded_videos(store_path: Path, events: Sequence[EventRecord]) -> dict[str
                 videos[camera] = RecordedVideo(
                     camera=camera,
                     file=file,
-                    path=store_path.parent / file,
+                    path=recorded_file_path(store_path, file),
                     frames=int(entry["frames"]),
                     sha256=str(entry["sha256"]),
                     size=size,

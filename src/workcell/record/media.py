@@ -19,7 +19,10 @@ from typing import Any
 import mujoco
 
 from workcell.errors import ConfigError
+from workcell.record.media_paths import media_dir_for
 from workcell.render import OffscreenRenderer, VideoWriter
+
+__all__ = ["CAMERAS", "CameraOptions", "MediaRecorder", "media_dir_for"]
 
 CAMERAS: tuple[str, ...] = ("head_cam", "wrist_l_cam", "wrist_r_cam")
 
@@ -52,10 +55,6 @@ class CameraOptions:
             raise ConfigError([f"--camera-size = {size!r}: must be WIDTHxHEIGHT"]) from None
         names = tuple(c.strip() for c in cameras.split(",") if c.strip())
         return CameraOptions(names, width, height)
-
-
-def media_dir_for(store_path: Path) -> Path:
-    return store_path.with_name(f"{store_path.name}.media")
 
 
 class MediaRecorder:

@@ -1,7 +1,8 @@
 """Combine store shards (one per worker) into one store, and verify the result.
 
 Ids are unique across stores, so rows are copied as they are, hash-chain links included
-(their heads and signatures stay valid). Shards a dead worker left
+(their heads and signatures stay valid); each shard's camera videos join the output's media
+folder (:mod:`workcell.record.media_paths`). Shards a dead worker left
 open are recovered first, like any crashed store. Shards whose sessions disagree on what a
 frame means (joint order, metrics version) or whose schema differs are refused.
 """
@@ -15,6 +16,7 @@ from pathlib import Path
 
 from workcell.record.errors import StoreError
 from workcell.record.frame_blocks import has_blocks
+from workcell.record.media_paths import copy_media, media_dir_for
 from workcell.record.schema import SCHEMA_VERSION
 from workcell.record.store import Store
 from workcell.record.verify import verify_store
@@ -34,6 +36,8 @@ class MergeReport:
     trials: int
     frames: int
     recovered_trials: int
+    media_files: int = 0
+    """Camera videos copied (or linked) into the output's media folder."""
 
 
 def _compatibility(path: Path) -> tuple[int, set[tuple[str, str]], int]:
@@ -89,12 +93,15 @@ def merge_stores(
                 say(f"merged {shard}")
         finally:
             conn.close()
+    media = sum(copy_media(Path(shard), Path(out)) for shard in shards)
+    if media:
+        say(f"copied {media} camera videos into {media_dir_for(Path(out))}")
     findings = verify_store(out)
     if findings:
         raise MergeError(f"merged store {out} does not verify: {findings[0]}")
     with Store.open(out, writer=False) as merged:
         counts = merged.counts()
-    return MergeReport(len(shards), counts.sessions, counts.trials, counts.frames, recovered)
+    return MergeReport(len(shards), counts.sessions, counts.trials, counts.frames, recovered, media)
 
 
 def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
