@@ -121,6 +121,9 @@ def test_a_policy_drives_recorded_sessions_audited_beside_the_expert(
     assert groups[checkpoint.operator_id]["success_rate"]["n"] == 2
     assert groups["expert"]["counts"]["raw"] == 3  # the mixed store's collect sessions
     assert checkpoint.operator_id in (report / "report.html").read_text()
+    shown = audited.stdout.splitlines()
+    assert f"  operator {checkpoint.operator_id}: 2 trials" in "\n".join(shown)
+    assert any(line.startswith("  operator expert: 3 trials") for line in shown)
 
 
 def test_the_policy_observes_what_the_env_and_the_export_hold(

@@ -104,6 +104,8 @@ def run(args: argparse.Namespace) -> int:
         source.close()
     paths = write_outputs(result, args.out)
     print(_summary_line(result))
+    for line in _operator_lines(result):
+        print(line)
     print(f"wrote {', '.join(str(p) for p in paths.values())}")
     return 0
 
@@ -125,3 +127,23 @@ def _summary_line(result: AuditResult) -> str:
         f"{c.incomplete} incomplete, {c.excluded_low_quality} low quality, "
         f"{c.excluded_by_reviewer} excluded by reviewer; {len(result.findings)} findings"
     )
+
+
+def _operator_lines(result: AuditResult) -> list[str]:
+    """One line per operator when the store holds more than one (an evaluated policy beside
+    the demonstrations it learned from)."""
+    from workcell.audit.stats import grouped  # noqa: PLC0415
+
+    lines = []
+    for group in grouped(result.trials).get("operator", []):
+        c, r = group.counts, group.rate
+        rate = (
+            f"success rate {100 * r.rate:.2f} % [{100 * r.low:.2f}, {100 * r.high:.2f}]"
+            if r.n
+            else "no valid trial"
+        )
+        lines.append(
+            f"  operator {group.value}: {c.raw} trials, {c.valid} valid "
+            f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}"
+        )
+    return lines
