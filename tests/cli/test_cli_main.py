@@ -61,13 +61,27 @@ def test_bad_arguments_are_one_error_line(
     assert "--help" in lines[0]
 
 
-def test_main_chooses_egl_unless_told_otherwise(monkeypatch: pytest.MonkeyPatch) -> None:
-    monkeypatch.delenv("MUJOCO_GL")
-    assert main(["--version"]) == 0
-    assert os.environ["MUJOCO_GL"] == "egl"
-    monkeypatch.setenv("MUJOCO_GL", "osmesa")
-    assert main(["--version"]) == 0
-    assert os.environ["MUJOCO_GL"] == "osmesa"
+@pytest.mark.parametrize(("given", "chosen"), [(None, "egl"), ("osmesa", "osmesa")])
+def test_importing_workcell_chooses_egl_unless_told_otherwise(
+    given: str | None, chosen: str
+) -> None:
+    """In a fresh process (MuJoCo reads MUJOCO_GL once, when it is first imported)."""
+    environment = {k: v for k, v in os.environ.items() if k != "MUJOCO_GL"}
+    if given is not None:
+        environment["MUJOCO_GL"] = given
+    code = (
+        "import os, workcell.cli.main, sys; print(os.environ['MUJOCO_GL'], 'mujoco' in sys.modules)"
+    )
+    done = subprocess.run(
+        [sys.executable, "-c", code],
+        capture_output=True,
+        text=True,
+        env=environment,
+        check=False,
+        timeout=60,
+    )
+    assert done.returncode == 0, done.stderr
+    assert done.stdout.split() == [chosen, "False"]
 
 
 def test_python_dash_m_workcell() -> None:

@@ -287,7 +287,7 @@ def test_cli_exports_included_trials(
 
 @pytest.fixture
 def _keep_mujoco_gl(monkeypatch: pytest.MonkeyPatch) -> None:
-    """main() sets MUJOCO_GL; keep that from leaking into other tests."""
+    """Keep MUJOCO_GL as the other tests expect it, whatever this test does to it."""
     monkeypatch.setenv("MUJOCO_GL", os.environ.get("MUJOCO_GL", "egl"))
 
 
