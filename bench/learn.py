@@ -30,9 +30,12 @@ import argparse
 import csv
 import json
 import os
+import sqlite3
+import statistics
 import subprocess
 import sys
 import time
+from collections import Counter
 from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
@@ -211,6 +214,8 @@ def filtering(settings: Settings) -> None:
     print(f"\nb. filtering (a mixed dataset: {half} trials at skill 1, {half} at skill "
           f"{settings.low_skill:g})")  # fmt: skip
     print("   audit:", describe_audit(summary, work / "mixed-audit" / "trials.csv"))
+    for line in describe_operators(work / "mixed-audit" / "trials.csv", store):
+        print("  ", line)
     results = {}
     for name, dataset in (("all", everything), ("kept", kept)):
         out = work / f"{settings.policy}-mixed-{name}"
@@ -233,6 +238,35 @@ def describe_audit(summary: dict[str, object], trials_csv: Path) -> str:
         f"{counts['valid_timeouts']} valid timeouts, {counts['excluded_low_quality']} "
         f"excluded as low quality, {flagged} with a quality flag"
     )
+
+
+def describe_operators(trials_csv: Path, store: Path) -> list[str]:
+    """Per operator of the mixed store: how many trials the audit keeps for imitation, and
+    how those differ (completion time, share of frames with motion), which is what a
+    quality filter could still act on."""
+    with sqlite3.connect(store) as db:
+        operator_of = dict(db.execute("SELECT session_id, operator_id FROM sessions"))
+    with trials_csv.open() as file:
+        rows = list(csv.DictReader(file))
+    lines = []
+    for operator in dict.fromkeys(operator_of[r["session_id"]] for r in rows):
+        mine = [r for r in rows if operator_of[r["session_id"]] == operator]
+        kept = [r for r in mine if r["disposition"] == "valid_success" and not r["quality_flags"]]
+        times = [float(r["completion_time_s"]) for r in kept]
+        active = [float(r["active_ratio"]) for r in kept]
+        outcomes = ", ".join(f"{n} {o}" for o, n in Counter(r["outcome"] for r in mine).items())
+        lines.append(
+            f"{operator}: {len(mine)} trials ({outcomes}),"
+            f" {len(kept)} kept; kept trials: completion time median "
+            f"{_median(times):.1f} s (max {max(times, default=float('nan')):.1f}), share of "
+            f"frames with motion median {_median(active):.2f} (min "
+            f"{min(active, default=float('nan')):.2f})"
+        )
+    return lines
+
+
+def _median(values: list[float]) -> float:
+    return statistics.median(values) if values else float("nan")
 
 
 def parse(argv: Sequence[str] | None = None) -> tuple[Settings, str]:
