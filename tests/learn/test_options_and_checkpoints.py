@@ -11,7 +11,7 @@ import pytest
 
 from workcell.cli.collect_operator import with_operator_id
 from workcell.cli.main import main
-from workcell.cli.train import parse_episodes
+from workcell.cli.train import evaluation_seed, parse_episodes
 from workcell.errors import ConfigError
 from workcell.learn.checkpoint import LAST_CHECKPOINT, PolicyCheckpoint
 from workcell.learn.errors import LearnError
@@ -132,3 +132,14 @@ def test_collect_refuses_a_policy_that_is_not_there(
     assert main(["collect", "--operator", "human", "--store", str(store)]) == 2
     assert "must be expert or policy:PATH" in capsys.readouterr().err
     assert not store.exists()
+
+
+def test_the_suggested_evaluation_seed_is_one_no_session_of_the_dataset_used(
+    tmp_path: Path,
+) -> None:
+    meta = tmp_path / "meta"
+    meta.mkdir()
+    assert evaluation_seed(tmp_path) == 1000  # no provenance: the default
+    sessions = {f"s{seed}": {"seed": seed} for seed in (0, 1000, 1001, 7)}
+    (meta / "workcell_provenance.json").write_text(json.dumps({"sessions": sessions}))
+    assert evaluation_seed(tmp_path) == 1002

@@ -18,6 +18,7 @@ import pytest
 from tests.export.conftest import CAMERAS, SIZE
 from tests.export.stores import Stores
 from tests.learn_extra import require_learn_extra
+from workcell.cli.train import evaluation_seed
 from workcell.envs.box_transfer import BoxTransferEnv
 from workcell.envs.config import BoxTransferConfig
 from workcell.export.features import STATE_NAMES
@@ -54,6 +55,7 @@ def trained(lerobot_dir: Path, tmp_path_factory: pytest.TempPathFactory) -> Path
     assert done.returncode == 0, done.stderr[-3000:] + done.stdout[-2000:]
     assert "lerobot-train --dataset.repo_id=local/dataset" in done.stdout
     assert "step 3/3" in done.stderr
+    assert f"--seed {evaluation_seed(lerobot_dir)} --store eval.sqlite" in done.stdout
     assert (out / "train.log").is_file()
     return out
 

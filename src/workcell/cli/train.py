@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import json
 import shlex
 import sys
 from pathlib import Path
@@ -112,15 +113,30 @@ def run(args: argparse.Namespace) -> int:
     result = run_training(options, bar.show)
     bar.finish()
     loss = f", final loss {result.last.loss:.4g}" if result.last is not None else ""
+    seed = evaluation_seed(args.dataset)
     print(
         f"trained in {result.seconds / 60:.1f} min{loss}\n"
         f"checkpoint: {result.checkpoint.path}\n"
         f"operator id: {result.checkpoint.operator_id}\n"
-        f"evaluate it: workcell collect --operator policy:{options.out} --mode collection "
-        "--trials 200 --seed 1 --store eval.sqlite, then workcell audit --store eval.sqlite "
-        "--out report"
+        f"evaluate it on worlds none of its demonstrations saw: workcell collect --operator "
+        f"policy:{options.out} --mode collection --trials 200 --seed {seed}"
+        " --store eval.sqlite, then workcell audit --store eval.sqlite --out report"
     )
     return 0
+
+
+def evaluation_seed(dataset: Path) -> int:
+    """The first seed from 1000 on that none of the dataset's sessions used (the export's
+    provenance names them), so that an evaluation meets new worlds."""
+    try:
+        provenance = json.loads((dataset / "meta" / "workcell_provenance.json").read_text())
+        used = {int(session["seed"]) for session in provenance["sessions"].values()}
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        used = set()
+    seed = 1000
+    while seed in used:
+        seed += 1
+    return seed
 
 
 class _ProgressBar:
