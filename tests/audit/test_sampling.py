@@ -50,6 +50,26 @@ def test_a_stalled_machine_is_no_gap_in_a_headless_run(expert_stores: ExpertStor
     assert flag.detail.startswith("t_sim: 1 gap(s)")
 
 
+def test_a_headless_run_slowed_to_real_time_by_a_busy_machine_stays_headless(
+    expert_stores: ExpertStores,
+) -> None:
+    """Fast at first, then as slow as real time with a 2 s pause of the machine: overall
+    as slow as a paced session (sampling definition 2 flagged the pause), but its sim
+    clock ran ahead of the wall clock, which a paced session never does."""
+    columns = _expert(expert_stores)
+    since = columns["t_sim"] - columns["t_sim"][0]
+    busy_from = since[100]
+    wall = np.where(since <= busy_from, since / 10, busy_from / 10 + (since - busy_from) / 0.9)
+    wall[300:] += 2.0
+    loaded = dict(columns)
+    loaded["t_wall"] = columns["t_wall"][0] + wall
+    assert wall[-1] / since[-1] > 0.9  # overall: slower than real time
+    assert detect_sampling(b.frame_arrays(loaded), 20.0, SamplingParams()) == []
+    strict = SamplingParams(ahead_tolerance_s=busy_from)  # would not tell it from pacing
+    (flag,) = detect_sampling(b.frame_arrays(loaded), 20.0, strict)
+    assert flag.detail.startswith("t_wall: 1 gap(s), largest 2.05")
+
+
 def test_gaps_just_under_the_limit_are_not_flagged(expert_stores: ExpertStores) -> None:
     frames = b.frame_arrays(b.with_gap(_expert(expert_stores), 150, 0.19))
     assert detect_sampling(frames, 20.0, SamplingParams()) == []  # 0.24 s on the sim clock

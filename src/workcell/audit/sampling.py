@@ -4,11 +4,14 @@ Definition (version :data:`SAMPLING_VERSION`): with the session's frame rate R (
 is an interval between consecutive frames longer than ``gap_periods / R`` seconds on the
 sim clock (``t_sim``, dropped frames) or, in a trial recorded in real time, on the wall
 clock (``t_wall``, a stall the operator lived through); any gap raises ``sampling_gap``. A
-trial is recorded in real time when its wall clock advanced at least
-``real_time_share`` as fast as its sim clock over the trial (a paced session, as ``workcell
-serve`` runs); a headless run at full speed (``workcell collect``: the sim runs ahead of the
-wall clock) has no wall-clock gaps, since a pause of the machine there is no pause in the
-demonstration. ``non_monotonic`` is raised when ``t_sim`` or ``t_wall``
+trial is recorded in real time when its sim clock never ran ahead of its wall clock, both
+counted from the trial's first frame, by more than ``ahead_tolerance_s``: a paced session
+(``workcell serve``) steps the simulation only once the wall clock has reached it, so it
+never gets ahead, while a headless run (``workcell collect``, the env) runs ahead whenever
+the machine lets it. A wall-clock gap in a headless run is a pause of the machine, not of
+the demonstration, and is not counted. (Version 2 compared the trial's overall wall and
+sim spans; a headless run on a busy machine can be as slow as real time overall, and its
+machine's pauses were flagged.) ``non_monotonic`` is raised when ``t_sim`` or ``t_wall``
 does not strictly increase from some frame to the next (DESIGN's ``monotonic`` metric).
 """
 
@@ -23,7 +26,7 @@ from workcell.checks import positive
 from workcell.errors import ConfigError
 from workcell.metrics import FrameArrays
 
-SAMPLING_VERSION = "2"
+SAMPLING_VERSION = "3"
 """Bumped whenever the definition above changes meaning."""
 
 
@@ -35,12 +38,13 @@ class SamplingParams:
     gap_periods: float = 5.0
     gap_disqualifying: bool = False
     non_monotonic_disqualifying: bool = True
-    real_time_share: float = 0.5
-    """A trial is recorded in real time when wall time / sim time >= this over the trial."""
+    ahead_tolerance_s: float = 1.0
+    """A trial whose sim clock got further ahead of its wall clock than this (s) was not
+    recorded in real time."""
 
     def __post_init__(self) -> None:
         problems = positive("sampling.gap_periods", self.gap_periods, "frame periods")
-        problems += positive("sampling.real_time_share", self.real_time_share, "")
+        problems += positive("sampling.ahead_tolerance_s", self.ahead_tolerance_s, "s")
         if problems:
             raise ConfigError(problems)
 
@@ -63,16 +67,17 @@ def _first_not_increasing(t: np.ndarray) -> int:
     return int(bad[0]) + 1 if len(bad) else -1
 
 
-def recorded_in_real_time(frames: FrameArrays, share: float) -> bool:
-    """Whether the wall clock advanced at least ``share`` as fast as the sim clock over
-    the trial (True when either span is unknown or zero: nothing says otherwise)."""
+def recorded_in_real_time(frames: FrameArrays, ahead_tolerance_s: float) -> bool:
+    """Whether the sim clock stayed within ``ahead_tolerance_s`` of the wall clock (never
+    further ahead), both counted from the trial's first frame with both clocks finite
+    (True when that cannot be told: nothing says otherwise)."""
     t_sim, t_wall = frames.t_sim, frames.t_wall
-    finite_sim, finite_wall = t_sim[np.isfinite(t_sim)], t_wall[np.isfinite(t_wall)]
-    if len(finite_sim) < 2 or len(finite_wall) < 2:
+    both = np.isfinite(t_sim) & np.isfinite(t_wall)
+    if np.count_nonzero(both) < 2:
         return True
-    sim = float(finite_sim[-1] - finite_sim[0])
-    wall = float(finite_wall[-1] - finite_wall[0])
-    return sim <= 0 or wall >= share * sim
+    sim, wall = t_sim[both], t_wall[both]
+    ahead = (sim - sim[0]) - (wall - wall[0])
+    return float(np.max(ahead)) <= ahead_tolerance_s
 
 
 def detect_sampling(frames: FrameArrays, rate_hz: float, params: SamplingParams) -> list[Flag]:
@@ -81,7 +86,7 @@ def detect_sampling(frames: FrameArrays, rate_hz: float, params: SamplingParams)
     limit = params.gap_periods / rate_hz
     found = []
     clocks = [("t_sim", frames.t_sim)]
-    if recorded_in_real_time(frames, params.real_time_share):
+    if recorded_in_real_time(frames, params.ahead_tolerance_s):
         clocks.insert(0, ("t_wall", frames.t_wall))
     for clock, t in clocks:
         count, at, length = _gaps(t, limit)
