@@ -108,7 +108,7 @@ def test_a_crashed_shard_is_recovered_in_the_merge(tmp_path: Path) -> None:
     )
     assert process.stdout is not None
     json.loads(process.stdout.readline())  # one trial done, the next is running
-    time.sleep(0.5)
+    _wait_for_an_open_trial(shard)
     process.send_signal(signal.SIGKILL)
     process.wait(timeout=30)
     healthy = tmp_path / "healthy.sqlite"
@@ -120,6 +120,25 @@ def test_a_crashed_shard_is_recovered_in_the_merge(tmp_path: Path) -> None:
     with Store.open(out, writer=False) as reader:
         reasons = [t.interruption_reason for t in reader.trials()]
     assert reasons.count("crash_recovered") == 1
+
+
+def _wait_for_an_open_trial(store: Path, timeout_s: float = 120.0) -> None:
+    """Until the store holds the second trial, started and without an outcome (the writer
+    process commits what the simulation published a little later: the first trial's end
+    too, which the printed line announced before it was written)."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            with sqlite3.connect(f"file:{store}?mode=ro", uri=True) as db:
+                open_trials = db.execute(
+                    "SELECT count(*) FROM trials WHERE outcome IS NULL AND trial_index >= 1"
+                ).fetchone()[0]
+        except sqlite3.Error:
+            open_trials = 0
+        if open_trials:
+            return
+        time.sleep(0.05)
+    raise AssertionError(f"no trial of {store} was left open within {timeout_s} s")
 
 
 def test_merge_refuses_what_cannot_be_combined(tmp_path: Path) -> None:
