@@ -43,6 +43,7 @@ from workcell.metrics import (
     compute_trial_metrics,
 )
 from workcell.record import SessionInfo, Store, StoredMetrics, TrialEnd, TrialStart
+from workcell.record.batch import frames_from_columns
 from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
 from workcell.record.connection import connect
 from workcell.record.schema import column_list
@@ -123,7 +124,7 @@ def generate(path: Path, trials: int, mean_frames: int) -> int:
                 trial_id = store.start_trial(
                     session_id, TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0)
                 )
-                store.add_frames(trial_id, frames)
+                store.add_frames(trial_id, frames_from_columns(frames, session_id, trial_id))
                 metrics = compute_trial_metrics(
                     FrameArrays.from_columns(frames), outcome == "success", THRESHOLDS
                 )

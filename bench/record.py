@@ -6,7 +6,7 @@ every session simulates exactly the same trajectory):
 - the overhead of recording: wall time of the session until its record is durable
   (``runner.run()`` then the session's end, which waits for every frame to be committed),
   recording through the store writer process (what ``workcell collect`` and ``workcell
-  serve`` do) and recording in-process (a :class:`Store` in the simulation's thread),
+  serve`` do) and recording in-process (an :class:`InProcessStore` in the simulation's thread),
   against the same session without recording.
 
   The machine's speed drifts by several percent from second to second (other virtual
@@ -45,11 +45,11 @@ import numpy as np
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
-from workcell.record.frame_capture import FrameCapture
-from workcell.record.recorder import Recorder, session_info
 from workcell.record.records import TrialEnd, TrialStart
-from workcell.record.store import Store
-from workcell.record.store_process import StoreProcess
+from workcell.recording.frame_capture import FrameCapture
+from workcell.recording.in_process import InProcessStore
+from workcell.recording.recorder import Recorder, session_info
+from workcell.recording.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
 
@@ -77,7 +77,7 @@ def cpu_seconds(pid: int) -> float:
 
 
 def session(
-    config: SessionConfig, sim: Simulation, store: Store | StoreProcess | None
+    config: SessionConfig, sim: Simulation, store: InProcessStore | StoreProcess | None
 ) -> tuple[float, int]:
     """One session on ``sim``, recorded into ``store`` if given: (wall seconds until the
     record is durable, frames recorded)."""
@@ -101,7 +101,7 @@ def block(config: SessionConfig, repeats: int, first: int, folder: str) -> Block
     results: Block = {v: [] for v in (*VARIANTS, "writer cpu", "frames")}
     with (
         StoreProcess.open(Path(folder) / f"process-{first}.sqlite") as process,
-        Store.open(Path(folder) / f"inline-{first}.sqlite", writer=True) as inline,
+        InProcessStore.open(Path(folder) / f"inline-{first}.sqlite", writer=True) as inline,
     ):
         stores = {"none": None, "none again": None, "process": process, "inline": inline}
         session(config, sim, process)  # warm up: first-time costs of every path
@@ -152,7 +152,9 @@ def durable_rate(folder: Path, config: SessionConfig, variant: str, batches: int
         capture.capture(command, None, t_sim=k / 20, step_wall_ms=1.0)
     frames = capture.take()
     path = folder / f"durable-{variant}.sqlite"
-    store = StoreProcess.open(path) if variant == "process" else Store.open(path, writer=True)
+    store = (
+        StoreProcess.open(path) if variant == "process" else InProcessStore.open(path, writer=True)
+    )
     with store:
         session_id = store.create_session(session_info(config))
         store.prepare_frames(frames.layout)

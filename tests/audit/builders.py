@@ -16,6 +16,7 @@ from numpy.typing import NDArray
 
 from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
 from workcell.record import SessionInfo, SessionRecord, Store, StoredMetrics, TrialEnd, TrialStart
+from workcell.record.batch import frames_from_columns
 
 Columns = dict[str, NDArray[Any]]
 IDS = ("session_id", "trial_id", "frame_index")
@@ -96,7 +97,7 @@ def write_trial(
     trial_id = store.start_trial(
         session_id, TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0)
     )
-    store.add_frames(trial_id, dict(frames))
+    store.add_frames(trial_id, frames_from_columns(frames, session_id, trial_id))
     t_end = float(frames["t_sim"][-1])
     success = outcome == "success"
     metrics = compute_trial_metrics(

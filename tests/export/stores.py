@@ -15,8 +15,8 @@ from pathlib import Path
 from workcell.cli.main import main
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertConfig, ExpertOperator
-from workcell.record.recorder import Recorder
-from workcell.record.store import Store
+from workcell.recording.in_process import InProcessStore
+from workcell.recording.recorder import Recorder
 from workcell.session.load import resolve_session_config
 from workcell.task.runner import SessionRunner
 
@@ -40,7 +40,7 @@ def record_interrupted(store: Path, seed: int) -> None:
     runner = SessionRunner(
         config, Simulation(config.world), ExpertOperator(ExpertConfig()), max_trials=1
     )
-    with Store.open(store, writer=True) as writer:
+    with InProcessStore.open(store, writer=True) as writer:
         recorder = Recorder(writer, runner)
         runner.start()
         while runner.current is not None and runner.trial_time < INTERRUPT_AFTER_S:
@@ -51,7 +51,7 @@ def record_interrupted(store: Path, seed: int) -> None:
 
 def exclude_trial(store: Path, index: int, reason: str) -> str:
     """A reviewer's ``exclude`` annotation on the store's ``index``-th trial; its id."""
-    with Store.open(store, writer=True) as writer:
+    with InProcessStore.open(store, writer=True) as writer:
         trial_id = writer.trials()[index].trial_id
         writer.annotate(trial_id, "exclude", reason, REVIEWER)
     return trial_id

@@ -96,7 +96,7 @@ def wait_for_trials(store: Path, count: int, timeout_s: float = 120.0) -> None:
 
 
 def writer_of(pid: int, timeout_s: float = 30.0) -> int:
-    """The pid of the store writer process (``workcell.record.store_worker``) that the
+    """The pid of the store writer process (``workcell.recording.store_worker``) that the
     process ``pid`` started."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
@@ -108,7 +108,7 @@ def writer_of(pid: int, timeout_s: float = 30.0) -> int:
                 command = (entry / "cmdline").read_bytes()
             except (OSError, IndexError, ValueError):
                 continue
-            if parent == pid and b"workcell.record.store_worker" in command:
+            if parent == pid and b"workcell.recording.store_worker" in command:
                 return int(entry.name)
         time.sleep(0.02)
     raise AssertionError(f"process {pid} has no store writer process")

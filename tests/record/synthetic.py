@@ -7,6 +7,7 @@ wrote and compare it with what the store holds.
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from pathlib import Path
 from typing import Any
 
@@ -14,8 +15,9 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.record import SessionInfo, Store, StoredMetrics, TrialEnd, TrialStart
+from workcell.record.batch import RowBatch, frames_from_columns
 from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
-from workcell.record.schema import FRAME_INTEGER_COLUMNS
+from workcell.record.schema import FRAME_INTEGER_COLUMNS, FRAMES
 
 RATE_HZ = 20.0
 T_WALL_0 = 1_750_000_000.0
@@ -98,6 +100,18 @@ def frame_rows(start: int, n: int, seed: int = 0) -> list[dict[str, object]]:
     return rows
 
 
+def batch(
+    store: Store, trial_id: str, frames: Mapping[str, NDArray[Any]] | list[dict[str, object]]
+) -> RowBatch:
+    """Frames (as :func:`frames` or :func:`frame_rows` make them) as the batch
+    :meth:`Store.add_frames` takes for the running trial ``trial_id``."""
+    session_id, next_index = store.next_frame(trial_id)
+    if isinstance(frames, list):
+        fixed = {"session_id": session_id, "trial_id": trial_id}
+        return RowBatch.from_mappings(FRAMES, frames, fixed)
+    return frames_from_columns(frames, session_id, trial_id, next_index)
+
+
 def fill_store(path: Path) -> dict[str, list[str]]:
     """A closed store: two sessions, trials of every kind of end, events, an annotation.
 
@@ -114,8 +128,8 @@ def fill_store(path: Path) -> dict[str, list[str]]:
                 ids["trials"].append(trial_id)
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
                 seed = 10 * s + k
-                store.add_frames(trial_id, frames(0, 5, seed))
-                store.add_frames(trial_id, frame_rows(5, n - 5, seed))
+                store.add_frames(trial_id, batch(store, trial_id, frames(0, 5, seed)))
+                store.add_frames(trial_id, batch(store, trial_id, frame_rows(5, n - 5, seed)))
                 store.commit()
                 store.add_event(
                     session_id, "delivery", {"box": 0}, trial_id=trial_id, t_sim=n / RATE_HZ

@@ -32,7 +32,10 @@ def signed_store(path: Path, key: ChainKey | None = KEY) -> dict[str, list[str]]
                 trial_id = store.start_trial(session_id, synthetic.trial_start(seed=k))
                 ids["trials"].append(trial_id)
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
-                store.add_frames(trial_id, synthetic.frames(0, n, seed=10 * s + k))
+                store.add_frames(
+                    trial_id,
+                    synthetic.batch(store, trial_id, synthetic.frames(0, n, seed=10 * s + k)),
+                )
                 store.commit()
                 store.add_event(session_id, "level_changed", {"level": k + 1})
                 store.end_trial(trial_id, synthetic.trial_end(n))

@@ -27,8 +27,8 @@ from tests.record.processes import (
 from workcell.metrics import FrameArrays, compute_trial_metrics
 from workcell.record import Store
 from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
-from workcell.record.recorder import metric_thresholds
 from workcell.record.verify import verify_store
+from workcell.recording.recorder import metric_thresholds
 from workcell.session.config import SessionConfig
 
 KILLS = 20

@@ -141,7 +141,10 @@ def test_closing_a_trial_fits_in_the_headroom_many_times(tmp_path: Path, n_frame
         session = store.create_session(synthetic.session_info())
         trial = store.start_trial(session, synthetic.trial_start())
         for start in range(0, n_frames, 100):
-            store.add_frames(trial, synthetic.frames(start, min(100, n_frames - start)))
+            store.add_frames(
+                trial,
+                synthetic.batch(store, trial, synthetic.frames(start, min(100, n_frames - start))),
+            )
             store.commit()
         wal = path.with_name(path.name + "-wal")
         with contextlib.closing(sqlite3.connect(path)) as other:  # the log starts empty

@@ -30,7 +30,7 @@ SCRIPT = textwrap.dedent(
         trial = store.start_trial(session, synthetic.trial_start())
         mark("frames")
         for start in range(0, 20, 5):
-            store.add_frames(trial, synthetic.frames(start, 5))
+            store.add_frames(trial, synthetic.batch(store, trial, synthetic.frames(start, 5)))
             store.commit()
         mark("end_trial")
         store.end_trial(trial, synthetic.trial_end(20))

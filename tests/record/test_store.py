@@ -13,10 +13,12 @@ import pytest
 
 from tests.record import synthetic
 from workcell.record import RecordError, Store, TrialEnd
+from workcell.record.batch import RowBatch, frames_from_columns
 from workcell.record.columns import FRAME_COLUMNS
 from workcell.record.export_csv import columns_equal, export_csv
-from workcell.record.shutdown import ShutdownSignals
+from workcell.record.schema import SESSIONS
 from workcell.record.verify import verify_store
+from workcell.recording.shutdown import ShutdownSignals
 
 
 def _assert_frames_equal(stored: dict[str, np.ndarray], expected: dict[str, np.ndarray]) -> None:
@@ -63,26 +65,43 @@ def test_rows_and_columns_store_the_same_frames(tmp_path: Path) -> None:
         for as_rows in (False, True):
             trial_id = store.start_trial(session_id, synthetic.trial_start())
             data = synthetic.frame_rows(0, 9) if as_rows else synthetic.frames(0, 9)
-            assert store.add_frames(trial_id, data) == 9
+            assert store.add_frames(trial_id, synthetic.batch(store, trial_id, data)) == 9
             store.end_trial(trial_id, synthetic.trial_end(9))
             stored.append(store.frames(trial_id))
         for name in FRAME_COLUMNS[2:]:
             assert columns_equal(stored[0][name], stored[1][name]), name
 
 
-def test_the_store_numbers_frames_left_unnumbered(tmp_path: Path) -> None:
+def test_frames_left_unnumbered_are_numbered_on_from_the_trials_next_frame(
+    tmp_path: Path,
+) -> None:
     with Store.open(tmp_path / "s.db", writer=True) as store:
         session_id = store.create_session(synthetic.session_info())
         trial_id = store.start_trial(session_id, synthetic.trial_start())
         for start in (0, 5):
-            batch = synthetic.frames(start, 5)
-            del batch["frame_index"]
-            store.add_frames(trial_id, batch)
-        rows = synthetic.frame_rows(10, 2)
-        for row in rows:
-            del row["frame_index"]
-        store.add_frames(trial_id, rows)
-        assert list(store.frames(trial_id)["frame_index"]) == list(range(12))
+            columns = synthetic.frames(start, 5)
+            del columns["frame_index"]
+            assert store.next_frame(trial_id) == (session_id, start)
+            store.add_frames(trial_id, frames_from_columns(columns, session_id, trial_id, start))
+        assert list(store.frames(trial_id)["frame_index"]) == list(range(10))
+
+
+def test_the_store_takes_only_a_frames_batch_of_the_running_trial(tmp_path: Path) -> None:
+    with Store.open(tmp_path / "s.db", writer=True) as store:
+        session_id = store.create_session(synthetic.session_info())
+        first = store.start_trial(session_id, synthetic.trial_start())
+        with pytest.raises(RecordError, match="expected a RowBatch of the frames layout, got dict"):
+            store.add_frames(first, synthetic.frames(0, 5))  # type: ignore[arg-type]
+        store.end_trial(first, synthetic.trial_end(0))
+        second = store.start_trial(session_id, synthetic.trial_start())
+        other = frames_from_columns(synthetic.frames(0, 5), session_id, first)
+        with pytest.raises(RecordError, match=r"frames row 0: session_id, trial_id .* are not"):
+            store.add_frames(second, other)
+        session = RowBatch(SESSIONS, [], np.zeros((0, len(SESSIONS.of_kind("real")))), [])
+        with pytest.raises(RecordError, match="a sessions batch cannot be added as frames"):
+            store.add_frames(second, session)
+        store.commit()
+        assert store.next_frame(second) == (session_id, 0)
 
 
 def test_malformed_frames_are_refused_and_nothing_is_lost(tmp_path: Path) -> None:
@@ -90,21 +109,24 @@ def test_malformed_frames_are_refused_and_nothing_is_lost(tmp_path: Path) -> Non
     with Store.open(path, writer=True) as store:
         session_id = store.create_session(synthetic.session_info())
         trial_id = store.start_trial(session_id, synthetic.trial_start())
-        store.add_frames(trial_id, synthetic.frames(0, 5))  # pending, not committed
+        store.add_frames(trial_id, synthetic.batch(store, trial_id, synthetic.frames(0, 5)))
         with pytest.raises(RecordError, match="continue at frame_index 5"):
-            store.add_frames(trial_id, synthetic.frames(6, 5))
+            store.add_frames(trial_id, synthetic.batch(store, trial_id, synthetic.frames(6, 5)))
         missing = synthetic.frames(5, 5)
         del missing["base_x"]
         with pytest.raises(RecordError, match="missing base_x"):
-            store.add_frames(trial_id, missing)
+            store.add_frames(trial_id, synthetic.batch(store, trial_id, missing))
         with pytest.raises(RecordError, match="unknown speed"):
-            store.add_frames(trial_id, {**synthetic.frames(5, 5), "speed": np.zeros(5)})
+            store.add_frames(
+                trial_id,
+                synthetic.batch(store, trial_id, {**synthetic.frames(5, 5), "speed": np.zeros(5)}),
+            )
         bad = synthetic.frame_rows(5, 1)
         bad[0]["contact_l"] = 0.5
         with pytest.raises(RecordError, match=r"frames\.contact_l: expected an integer"):
-            store.add_frames(trial_id, bad)
+            store.add_frames(trial_id, synthetic.batch(store, trial_id, bad))
         with pytest.raises(RecordError, match="not running"):
-            store.add_frames("f" * 32, synthetic.frames(0, 5))
+            store.add_frames("f" * 32, synthetic.batch(store, "f" * 32, synthetic.frames(0, 5)))
         store.commit()
         assert len(store.frames(trial_id)["frame_index"]) == 5
 
@@ -138,7 +160,7 @@ def test_non_finite_measurements_are_kept_and_reported(tmp_path: Path) -> None:
         frames = synthetic.frames(0, 5)
         frames["q_spine"][2] = np.nan
         frames["tcp_l_x"][4] = np.inf
-        store.add_frames(trial_id, frames)
+        store.add_frames(trial_id, synthetic.batch(store, trial_id, frames))
         store.end_trial(trial_id, synthetic.trial_end(5))
         store.end_session(session_id)
         stored = store.frames(trial_id)

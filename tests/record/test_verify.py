@@ -147,7 +147,7 @@ def test_a_trial_left_open_is_named_until_recovered(tmp_path: Path) -> None:
     store = Store.open(path, writer=True)
     session_id = store.create_session(synthetic.session_info())
     trial_id = store.start_trial(session_id, synthetic.trial_start())
-    store.add_frames(trial_id, synthetic.frames(0, 5))
+    store.add_frames(trial_id, synthetic.batch(store, trial_id, synthetic.frames(0, 5)))
     store.commit()
     assert verify_store(path) == []  # the recorder is alive
     store.close()  # as if it died: nothing closed the trial

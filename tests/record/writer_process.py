@@ -20,7 +20,7 @@ from collections.abc import Sequence
 
 from tests.record import synthetic
 from workcell.record import StorageError, Store, TrialEnd
-from workcell.record.shutdown import ShutdownSignals
+from workcell.recording.shutdown import ShutdownSignals
 
 EXIT_STORAGE_ERROR = 1
 
@@ -40,14 +40,22 @@ def main(argv: Sequence[str] | None = None) -> int:
         session_id = store.create_session(synthetic.session_info(args.seed))
         for k in range(args.complete):
             trial_id = store.start_trial(session_id, synthetic.trial_start(k))
-            store.add_frames(trial_id, synthetic.frames(0, args.complete_frames, args.seed + k))
+            store.add_frames(
+                trial_id,
+                synthetic.batch(
+                    store, trial_id, synthetic.frames(0, args.complete_frames, args.seed + k)
+                ),
+            )
             store.end_trial(trial_id, synthetic.trial_end(args.complete_frames))
         trial_id = store.start_trial(session_id, synthetic.trial_start(args.complete))
         seed = args.seed + args.complete
         count = 0
         try:
             while shutdown.requested is None and count < args.frames:
-                store.add_frames(trial_id, synthetic.frames(count, args.batch, seed))
+                store.add_frames(
+                    trial_id,
+                    synthetic.batch(store, trial_id, synthetic.frames(count, args.batch, seed)),
+                )
                 store.commit()
                 count += args.batch
                 print(count, flush=True)

@@ -6,6 +6,7 @@ from __future__ import annotations
 import hashlib
 import json
 import os
+import pickle
 import shutil
 import signal
 import sqlite3
@@ -25,6 +26,9 @@ from workcell.record.merge import MergeError, merge_stores
 from workcell.record.schema import SCHEMA_VERSION
 from workcell.record.verify import verify_store
 from workcell.scale.plan import plan_workers
+from workcell.scale.worker import WorkerJob, collect_shard
+from workcell.session.config import SessionConfig, TaskConfig
+from workcell.task.runner import TrialResult
 
 
 def collect(store: Path, *args: str) -> None:
@@ -48,6 +52,22 @@ def test_plan_splits_trials_and_seeds() -> None:
     assert len({p.seed for p in plans}) == 3
     assert plans == plan_workers(3, 7, 10, Path("shards"))  # reproducible
     assert [p.trials for p in plan_workers(4, 0, 2, Path("s"))] == [1, 1]
+
+
+def test_a_worker_takes_a_pickled_job_and_hands_back_each_trials_result(
+    tmp_path: Path,
+) -> None:
+    config = SessionConfig(seed=5, operator_id="expert", task=TaskConfig(mode="collection"))
+    job = WorkerJob(config=config, shard=tmp_path / "shard.sqlite", trials=2)
+    job = pickle.loads(pickle.dumps(job))  # what a worker process or a Ray task receives
+    results: list[TrialResult] = []
+    assert collect_shard(job, results.append) == 0
+    assert [(r.spec.trial_index, r.outcome) for r in results] == [(0, "success"), (1, "success")]
+    assert verify_store(job.shard) == []
+    with Store.open(job.shard, writer=False) as reader:
+        (session,) = reader.sessions()
+        assert [t.score for t in reader.trials()] == [r.score for r in results]
+    assert (session.seed, session.operator_id) == (5, "expert")
 
 
 def test_two_workers_merge_into_a_store_that_verifies(

@@ -16,7 +16,8 @@ from workcell.expert import ExpertOperator
 from workcell.expert.episode import deliver_one_box
 from workcell.record import Store
 from workcell.sim.config import TargetConfig, WorldConfig
-from workcell.sim.randomization import RandomizationConfig, TrialConditions
+from workcell.sim.randomization import RandomizationConfig
+from workcell.sim.trial_conditions import TrialConditions
 
 WIDE = RandomizationConfig(
     box_size=0.15,

@@ -145,6 +145,7 @@ def test_full_default_challenge_campaign_with_the_expert() -> None:
     changes = [e for e in seen if isinstance(e, ev.LevelChanged)]
     assert len(changes) == len(results) - 1
     assert runner.phase is Phase.FINISHED and not runner.capped
+    assert runner.campaign_complete
 
 
 def test_low_skill_challenge_retries_a_timed_out_level() -> None:

@@ -113,3 +113,15 @@ def test_interruption_ends_every_mode(rounds: int, skip: int) -> None:
                 break
             spec = following
         assert schedule.next(spec, "interrupted") is None
+
+
+def test_only_a_success_at_the_last_level_of_the_last_round_completes_a_campaign() -> None:
+    schedule = Schedule(TaskConfig(mode="challenge", rounds=2))
+    last = TrialSpec(9, "challenge", 2, 3, 3, 90.0)
+    assert schedule.completes(last, "success")
+    assert not schedule.completes(last, "timeout")
+    assert not schedule.completes(last, "interrupted")
+    assert not schedule.completes(TrialSpec(8, "challenge", 2, 2, 2, 100.0), "success")
+    assert not schedule.completes(TrialSpec(5, "challenge", 1, 3, 3, 90.0), "success")
+    collection = Schedule(TaskConfig(mode="collection", trials=1))
+    assert not collection.completes(TrialSpec(0, "collection", None, None, 1, 120.0), "success")

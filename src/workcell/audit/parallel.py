@@ -16,6 +16,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
 
+from workcell.audit.auditor import TrialAuditor
 from workcell.audit.config import AuditConfig
 from workcell.audit.rows import Annotation, SessionRow, TrialRow
 from workcell.audit.store_source import StoreSource
@@ -86,8 +87,6 @@ def _start(job: StoreJob) -> None:
 
 
 def _audit_share(rows: list[TrialRow]) -> list[tuple[TrialAudit, int]]:
-    from workcell.audit.run import TrialAuditor  # noqa: PLC0415 (run imports this module)
-
     job = _JOB
     assert job is not None
     auditor = TrialAuditor(job.sessions, job.annotations, job.config)

@@ -7,11 +7,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from workcell.audit.auditor import TrialAuditor
 from workcell.audit.config import AuditConfig
-from workcell.audit.disposition import latest_decisions
 from workcell.audit.errors import AuditError
 from workcell.audit.findings import SESSION, SOURCE, Finding, trial_findings
-from workcell.audit.oscillation import OscillationCriteria
 from workcell.audit.parallel import (
     CHUNKS_PER_WORKER,
     StoreJob,
@@ -19,10 +18,10 @@ from workcell.audit.parallel import (
     shares,
     worker_count,
 )
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import Annotation, SessionRow
 from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray
 from workcell.audit.store_source import StoreSource
-from workcell.audit.trial_audit import TrialAudit, audit_trial
+from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import FrameArrays
 
 Progress = Callable[[int, int, int], None]
@@ -57,36 +56,6 @@ def stratified(count: int, k: int) -> list[int]:
 def _start_aligned(xy: FloatArray) -> FloatArray:
     finite = np.flatnonzero(np.isfinite(xy).all(axis=1))
     return xy - xy[finite[0]] if len(finite) else xy
-
-
-class TrialAuditor:
-    """Audits trials one by one with their session's thresholds, rate and reviews."""
-
-    def __init__(
-        self,
-        sessions: Sequence[SessionRow],
-        annotations: Sequence[Annotation],
-        config: AuditConfig,
-    ) -> None:
-        self.config = config
-        self.sessions = {s.session_id: s for s in sessions}
-        self.decisions = latest_decisions(annotations)
-        self.criteria: dict[float, OscillationCriteria | None] = {}
-
-    def audit(self, row: TrialRow, frames: FrameArrays) -> TrialAudit:
-        session = self.sessions[row.session_id]
-        if session.rate_hz not in self.criteria:
-            self.criteria[session.rate_hz] = OscillationCriteria.of(
-                self.config.oscillation, session.rate_hz
-            )
-        return audit_trial(
-            row,
-            session,
-            frames,
-            review=self.decisions.get(row.trial_id),
-            config=self.config,
-            criteria=self.criteria[session.rate_hz],
-        )
 
 
 def run_audit(

@@ -14,7 +14,7 @@ from typing import TYPE_CHECKING
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
     from workcell.record.records import TrialRecord
 
 MIN_PREFIX = 6

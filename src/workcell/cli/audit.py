@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from workcell.audit.run import AuditResult
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
 
 PROGRESS_EVERY_S = 1.0
 

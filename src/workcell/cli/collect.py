@@ -13,24 +13,18 @@ from typing import TYPE_CHECKING, Any
 
 from workcell.cli.collect_operator import make_operator, policy_checkpoint, with_operator_id
 from workcell.errors import ConfigError, WorkcellError
+from workcell.recording.shutdown import exit_status
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
-    from workcell.record.media import CameraOptions
-    from workcell.record.recorder import Recorder, RecordingStore
-    from workcell.task.runner import SessionRunner
+    from workcell.cli.command import Subparsers
+    from workcell.recording.recorder import RecordingStore
+    from workcell.task.events import InterruptionReason
 
 EXIT_STORAGE = 1
 EXIT_OUTPUT_CLOSED = 128 + signal.SIGPIPE
 """Standard output's reader went away (``collect ... | head``): the shell's status for a
 process SIGPIPE ended."""
 DEFAULT_STORE = "workcell.sqlite"
-
-
-def exit_status(signal_name: str) -> int:
-    """128 + the signal's number: 130 after SIGINT, 143 after SIGTERM (the shells'
-    convention for a process a signal ended)."""
-    return 128 + signal.Signals[signal_name].value
 
 
 def register(subparsers: Subparsers) -> None:
@@ -156,7 +150,7 @@ def run(args: argparse.Namespace) -> int:
         problems += error.problems
     cameras = None
     if args.cameras is not None:
-        from workcell.record.media import CameraOptions  # noqa: PLC0415
+        from workcell.recording.media import CameraOptions  # noqa: PLC0415
 
         try:
             cameras = CameraOptions.parse(args.cameras, args.camera_size)
@@ -175,37 +169,36 @@ def run(args: argparse.Namespace) -> int:
     if args.workers > 1 or args.ray:
         from workcell.cli.parallel_collect import run_parallel  # noqa: PLC0415
 
-        return run_parallel(args, config.seed)
+        return run_parallel(args, config.seed, cameras)
 
     from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
     from workcell.control.simulation import Simulation  # noqa: PLC0415
-    from workcell.record.shutdown import ShutdownSignals  # noqa: PLC0415
+    from workcell.recording.headless import make_recorder, run_recorded  # noqa: PLC0415
+    from workcell.recording.shutdown import ShutdownSignals  # noqa: PLC0415
     from workcell.task.runner import SessionRunner  # noqa: PLC0415
 
     sim = Simulation(config.world)
     operator = make_operator(args, config, sim, checkpoint)
     runner = SessionRunner(config, sim, operator, max_trials=args.trials)
     with _open_store(None if args.no_store else args.store, args.writer, args.key) as store:
-        recorder = _recorder(store, args.store, runner, cameras)
+        recorder = None if store is None else make_recorder(store, args.store, runner, cameras)
         printer = TrialPrinter(args.json)
         printer.header()
-        runner.start()
         shown = 0
+
+        def stop() -> InterruptionReason | None:
+            quit_ = shutdown.requested is not None or printer.check_output()
+            return "application_quit" if quit_ else None
+
+        def after_step() -> None:
+            nonlocal shown
+            printer.progress(runner)
+            for result in runner.results[shown:]:
+                printer.row(result)
+            shown = len(runner.results)
+
         with ShutdownSignals() as shutdown:
-            while runner.current is not None:
-                if recorder is not None and recorder.failure is not None:
-                    runner.interrupt("storage_error")
-                elif shutdown.requested is not None or printer.check_output():
-                    runner.interrupt("application_quit")
-                else:
-                    runner.step()
-                printer.progress(runner)
-                for result in runner.results[shown:]:
-                    printer.row(result)
-                shown = len(runner.results)
-        interrupted = bool(runner.results) and runner.results[-1].outcome == "interrupted"
-        if recorder is not None:
-            recorder.close(interrupted)
+            run_recorded(runner, recorder, stop, after_step)
         printer.summary(runner)
         if recorder is not None and recorder.failure is not None:
             print(f"workcell: error: {recorder.failure}", file=sys.stderr)
@@ -225,33 +218,14 @@ def _open_store(
         yield None
         return
     from workcell.record.chain import ChainKey  # noqa: PLC0415
-    from workcell.record.store import Store  # noqa: PLC0415
-    from workcell.record.store_process import StoreProcess  # noqa: PLC0415
+    from workcell.recording.in_process import InProcessStore  # noqa: PLC0415
+    from workcell.recording.store_process import StoreProcess  # noqa: PLC0415
 
-    opened: StoreProcess | Store
+    opened: StoreProcess | InProcessStore
     if writer == "process":
         opened = StoreProcess.open(path, key_file=key_file)
     else:
         key = None if key_file is None else ChainKey.from_file(key_file)
-        opened = Store.open(path, writer=True, key=key)
+        opened = InProcessStore.open(path, writer=True, key=key)
     with opened as store:
         yield store
-
-
-def _recorder(
-    store: RecordingStore | None,
-    path: Path,
-    runner: SessionRunner,
-    cameras: CameraOptions | None,
-) -> Recorder | None:
-    if store is None:
-        return None
-    from workcell.record.media import MediaRecorder, media_dir_for  # noqa: PLC0415
-    from workcell.record.recorder import Recorder  # noqa: PLC0415
-
-    media = None
-    if cameras is not None:
-        rate = runner.config.recording.sampling_rate_hz
-        model = runner.sim.world.model
-        media = MediaRecorder(model, cameras, media_dir_for(path), rate)
-    return Recorder(store, runner, media=media)

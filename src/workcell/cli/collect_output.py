@@ -138,15 +138,7 @@ class TrialPrinter:
         line = f"{len(results)} trials, {successes} succeeded, total score {total}"
         if runner.config.task.mode == "challenge":
             last = results[-1].spec if results else None
-            complete = (
-                not runner.capped
-                and bool(results)
-                and results[-1].outcome == "success"
-                and last is not None
-                and last.round == runner.config.task.rounds
-                and last.level == runner.config.task.levels
-            )
-            if complete:
+            if runner.campaign_complete:
                 line = f"campaign complete: {line}"
             elif last is not None:
                 why = "stopped by --trials" if runner.capped else "interrupted"

@@ -7,7 +7,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
 
 
 def register(subparsers: Subparsers) -> None:

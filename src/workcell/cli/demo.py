@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
     from workcell.control.simulation import Simulation
 
 VIDEO_FPS = 30

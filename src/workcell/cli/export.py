@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
     from workcell.export.options import ExportOptions
 
 FORMATS = ("csv", "lerobot", "hdf5", "rerun")

@@ -11,8 +11,8 @@ from __future__ import annotations
 
 import argparse
 import sys
-from collections.abc import Callable, Sequence
-from typing import NoReturn, Protocol, TypeAlias, cast
+from collections.abc import Sequence
+from typing import NoReturn, cast
 
 from workcell import __version__
 from workcell.cli import (
@@ -29,24 +29,15 @@ from workcell.cli import (
     train,
     verify,
 )
+from workcell.cli.command import CommandModule, RunFunc, Subparsers
 from workcell.errors import ConfigError, WorkcellError
+
+__all__ = ["COMMANDS", "EXIT_INTERRUPTED", "EXIT_USAGE", "PROG", "Subparsers", "main"]
 
 PROG = "workcell"
 EXIT_USAGE = 2
 """Exit status for bad input and every other WorkcellError."""
 EXIT_INTERRUPTED = 130
-
-Subparsers: TypeAlias = "argparse._SubParsersAction[argparse.ArgumentParser]"
-RunFunc: TypeAlias = Callable[[argparse.Namespace], int]
-
-
-class CommandModule(Protocol):
-    """What a command module provides (modules satisfy this protocol structurally)."""
-
-    def register(self, subparsers: Subparsers) -> None: ...
-
-    def run(self, args: argparse.Namespace) -> int: ...
-
 
 COMMANDS: tuple[CommandModule, ...] = (
     collect,

@@ -7,29 +7,52 @@ import json
 import shutil
 import sys
 import time
+from collections.abc import Sequence
 from pathlib import Path
-from typing import Any
+from typing import TYPE_CHECKING, Any
 
+from workcell.cli.collect_output import trial_json
 from workcell.errors import WorkcellError
+from workcell.recording.shutdown import exit_status
 
-PASS_THROUGH = ("mode", "config", "skill", "operator_id", "cameras", "camera_size", "key")
-
-
-def common_arguments(args: argparse.Namespace) -> list[str]:
-    """The options every worker shares (seed, trials and store are per worker)."""
-    common: list[str] = []
-    for name in PASS_THROUGH:
-        value = getattr(args, name)
-        if value is not None:
-            common += [f"--{name.replace('_', '-')}", str(value)]
-    for override in args.set:
-        common += ["--set", override]
-    return common
+if TYPE_CHECKING:
+    from workcell.recording.media import CameraOptions
+    from workcell.scale.plan import WorkerPlan
+    from workcell.scale.worker import WorkerJob
+    from workcell.task.runner import TrialResult
 
 
-def run_parallel(args: argparse.Namespace, seed: int) -> int:
+def worker_jobs(
+    args: argparse.Namespace, plans: Sequence[WorkerPlan], cameras: CameraOptions | None
+) -> list[tuple[int, WorkerJob]]:
+    """Each worker's job: the session settings resolved as ``workcell collect`` resolves
+    them, with the worker's seed and share of the trials."""
+    from workcell.cli.collect_operator import with_operator_id  # noqa: PLC0415
+    from workcell.scale.worker import WorkerJob  # noqa: PLC0415
+    from workcell.session.load import resolve_session_config  # noqa: PLC0415
+
+    jobs = []
+    for plan in plans:
+        flags: dict[str, Any] = {"task.mode": args.mode, "seed": plan.seed}
+        flags["operator_id"] = args.operator_id
+        if args.mode == "collection" or (args.mode is None and plan.trials is not None):
+            flags["task.trials"] = plan.trials
+        config = resolve_session_config(args.config, args.set, flags)
+        job = WorkerJob(
+            config=with_operator_id(config, args, None),
+            shard=plan.shard,
+            trials=plan.trials,
+            skill=args.skill,
+            key_file=args.key,
+            cameras=cameras,
+        )
+        jobs.append((plan.worker, job))
+    return jobs
+
+
+def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | None) -> int:
     from workcell.record.merge import merge_stores  # noqa: PLC0415
-    from workcell.record.shutdown import ShutdownSignals  # noqa: PLC0415
+    from workcell.recording.shutdown import ShutdownSignals  # noqa: PLC0415
     from workcell.scale.plan import plan_workers  # noqa: PLC0415
     from workcell.scale.processes import run_local_workers  # noqa: PLC0415
 
@@ -37,12 +60,14 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
     shard_dir = store.with_name(f"{store.name}.shards") / time.strftime("run-%Y%m%d-%H%M%S")
     shard_dir.mkdir(parents=True, exist_ok=False)
     plans = plan_workers(args.workers, seed, args.trials, shard_dir)
+    jobs = worker_jobs(args, plans, cameras)
     out = sys.stderr if args.json else sys.stdout
     where = f"Ray tasks on {args.ray}" if args.ray else "worker processes"
     print(f"{len(plans)} {where} writing shards in {shard_dir}", file=sys.stderr)
     counts = {"trials": 0, "successes": 0}
 
-    def on_trial(worker: int, row: dict[str, Any]) -> None:
+    def on_trial(worker: int, result: TrialResult) -> None:
+        row = trial_json(result)
         counts["trials"] += 1
         counts["successes"] += row.get("outcome") == "success"
         if args.json:
@@ -59,11 +84,9 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
         if args.ray:
             from workcell.scale.ray_tasks import run_ray_workers  # noqa: PLC0415
 
-            exits = run_ray_workers(args.ray, plans, common_arguments(args), on_trial)
+            exits = run_ray_workers(args.ray, jobs, on_trial)
         else:
-            exits = run_local_workers(
-                plans, common_arguments(args), on_trial, lambda: shutdown.requested is not None
-            )
+            exits = run_local_workers(jobs, on_trial, lambda: shutdown.requested is not None)
     for exit_ in exits:
         if exit_.returncode not in (0, 130, 143):  # stopped by SIGINT or SIGTERM
             print(
@@ -87,7 +110,5 @@ def run_parallel(args: argparse.Namespace, seed: int) -> int:
         file=out,
     )
     if shutdown.requested is not None:
-        from workcell.cli.collect import exit_status  # noqa: PLC0415
-
         return exit_status(shutdown.requested)
     return 0 if all(e.returncode == 0 for e in exits) else 1

@@ -13,7 +13,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     import uvicorn
 
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
     from workcell.server.conductor import Conductor
     from workcell.server.options import ServerOptions
 

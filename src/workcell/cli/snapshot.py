@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
 
 OVERVIEW = "overview"
 CAMERAS = (OVERVIEW, "head_cam", "wrist_l_cam", "wrist_r_cam")

@@ -12,7 +12,7 @@ from typing import TYPE_CHECKING
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
     from workcell.learn.train import TrainProgress
 
 MAX_EPISODE = 10_000_000

@@ -10,7 +10,7 @@ from typing import TYPE_CHECKING, Any
 from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
-    from workcell.cli.main import Subparsers
+    from workcell.cli.command import Subparsers
     from workcell.record.chain_check import ChainStats
 
 EXIT_PROBLEMS = 1

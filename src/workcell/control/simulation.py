@@ -8,7 +8,7 @@ from workcell.control.command import Command
 from workcell.control.controller import RobotController
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import WorldEvent
-from workcell.sim.randomization import TrialConditions
+from workcell.sim.trial_conditions import TrialConditions
 from workcell.sim.world import World
 
 

@@ -11,7 +11,7 @@ An observation is a dict, as gym-aloha's and gym-pusht's are:
 
 ``lerobot.envs.utils.preprocess_observation`` turns one into exactly the features a
 policy trained on an export reads (same names, shapes and order). The values come from
-the recorder's own frame builder (:class:`workcell.record.frame_format.FrameReader`), so
+the recorder's own frame builder (:class:`workcell.recording.frame_format.FrameReader`), so
 they mean what the recorded columns mean, continuous quaternions included; images are
 rendered as the exports render them (shadows and reflections off).
 """
@@ -29,7 +29,7 @@ from workcell.control.simulation import Simulation
 from workcell.export.boxes import parse_boxes
 from workcell.export.features import ENVIRONMENT_KEY, STATE_KEY, STATE_NAMES, image_key
 from workcell.export.options import ImageSize
-from workcell.record.frame_format import FrameReader
+from workcell.recording.frame_format import FrameReader
 from workcell.render.renderer import OffscreenRenderer
 
 AGENT_POS = "agent_pos"

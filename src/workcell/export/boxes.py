@@ -1,7 +1,7 @@
 """The recorded ``boxes`` frame column, parsed: every box's pose and state at every frame.
 
 A frame stores its boxes as JSON, a list of ``[index, state, x, y, z, qw, qx, qy, qz]``
-(see :mod:`workcell.record.frame_format`). Datasets carry them as numbers: the pose and a
+(see :mod:`workcell.recording.frame_format`). Datasets carry them as numbers: the pose and a
 state code per box.
 """
 

@@ -1,7 +1,7 @@
 """Where an export's camera images come from: the trial's recorded videos, or rendering.
 
 ``workcell collect --cameras`` records one MP4 per trial and camera
-(:mod:`workcell.record.media`) and names each file in the trial's ``media`` event with its
+(:mod:`workcell.recording.media`) and names each file in the trial's ``media`` event with its
 frame count and sha256. An export uses such a video, instead of rendering the camera from
 the recorded states, when it is the camera and the size asked for, its file is still the
 one recorded (sha256), it holds one frame per recorded frame at the session's frame rate

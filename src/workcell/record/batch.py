@@ -18,7 +18,7 @@ from numpy.typing import NDArray
 
 from workcell.record.checksum import row_checksums
 from workcell.record.errors import RecordError
-from workcell.record.schema import TableLayout
+from workcell.record.schema import FRAMES, TableLayout
 
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 Columnar = Mapping[str, Any]
@@ -234,3 +234,16 @@ def _real_matrix(
                     ) from None
         raise
     return real.reshape(len(rows), len(names))
+
+
+def frames_from_columns(
+    columns: Columnar, session_id: str, trial_id: str, first_index: int = 0
+) -> RowBatch:
+    """Frames given as columns (every frame column but the ids) as the batch
+    :meth:`Store.add_frames <workcell.record.store.Store.add_frames>` takes: ``session_id``
+    and ``trial_id`` filled in, ``frame_index`` counting from ``first_index`` where it is
+    left out."""
+    if "frame_index" not in columns and columns:
+        n = len(next(iter(columns.values())))
+        columns = {**columns, "frame_index": range(first_index, first_index + n)}
+    return RowBatch.from_columns(FRAMES, columns, {"session_id": session_id, "trial_id": trial_id})

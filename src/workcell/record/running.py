@@ -4,14 +4,14 @@ trials it opened), and how the rows it is handed are numbered and checked."""
 from __future__ import annotations
 
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 import numpy as np
 from numpy.typing import NDArray
 
 from workcell.metrics.frames import REQUIRED_COLUMNS
-from workcell.record.batch import Columnar, RowBatch
+from workcell.record.batch import RowBatch
 from workcell.record.errors import RecordError
 from workcell.record.records import FLAG_SEPARATOR, StoredMetrics, TrialEnd
 from workcell.record.schema import FRAMES
@@ -69,38 +69,18 @@ def checked_batch(batch: RowBatch, fixed: Mapping[str, str]) -> RowBatch:
     return batch
 
 
-def numbered_columns(frames: Columnar, start: int) -> Columnar:
-    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
-    if "frame_index" in frames or not frames:
-        return frames
-    n = len(next(iter(frames.values())))
-    return {**frames, "frame_index": range(start, start + n)}
-
-
-def numbered_rows(
-    frames: Sequence[Mapping[str, object]], start: int
-) -> Sequence[Mapping[str, object]]:
-    """``frames`` with ``frame_index`` counting from ``start`` where it is left out."""
-    if not frames or "frame_index" in frames[0]:
-        return frames
-    return [{**row, "frame_index": start + i} for i, row in enumerate(frames)]
-
-
 _FRAME_INDEX = FRAMES.of_kind("integer").index("frame_index")
 
 
-def frame_batch(
-    frames: Sequence[Mapping[str, object]] | Columnar | RowBatch, trial: Running, trial_id: str
-) -> RowBatch:
-    """Frames handed to :meth:`Store.add_frames <workcell.record.store.Store.add_frames>`
-    as one batch of the trial's next rows, numbered and checked."""
-    fixed = {"session_id": trial.session_id, "trial_id": trial_id}
-    if isinstance(frames, RowBatch):
-        batch = checked_batch(frames, fixed)
-    elif isinstance(frames, Mapping):
-        batch = RowBatch.from_columns(FRAMES, numbered_columns(frames, trial.next_index), fixed)
-    else:
-        batch = RowBatch.from_mappings(FRAMES, numbered_rows(frames, trial.next_index), fixed)
+def frame_batch(frames: RowBatch, trial: Running, trial_id: str) -> RowBatch:
+    """A batch handed to :meth:`Store.add_frames <workcell.record.store.Store.add_frames>`,
+    checked to be the trial's next rows."""
+    if not isinstance(frames, RowBatch):
+        raise RecordError(
+            f"frames of trial {trial_id}: expected a RowBatch of the frames layout, "
+            f"got {type(frames).__name__}"
+        )
+    batch = checked_batch(frames, {"session_id": trial.session_id, "trial_id": trial_id})
     n = len(batch)
     indices = [row[_FRAME_INDEX] for row in batch.integer]
     if indices != list(range(trial.next_index, trial.next_index + n)):

@@ -27,21 +27,20 @@ import contextlib
 import os
 import sqlite3
 import time
-from collections.abc import Mapping, Sequence
+from collections.abc import Mapping
 from pathlib import Path
 from types import TracebackType
+from typing import Self
 
 from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
 from workcell.record import chain, lifecycle, rowio
-from workcell.record.batch import Columnar, RowBatch
+from workcell.record.batch import RowBatch
 from workcell.record.chain import ChainKey
 from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
 from workcell.record.errors import RecordError, StoreError
 from workcell.record.failure import close_after_failure
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
-from workcell.record.frame_capture import CapturedFrames, FrameLayout
-from workcell.record.frame_format import FrameFormatter
 from workcell.record.ids import new_id
 from workcell.record.reading import StoreReading
 from workcell.record.records import (
@@ -56,9 +55,6 @@ from workcell.record.reserve import Reserve
 from workcell.record.running import Running, end_columns, frame_batch
 from workcell.record.schema import ANNOTATIONS, SCHEMA_VERSION, SESSIONS, TRIALS
 from workcell.record.writes import WriteGuard
-
-FrameRows = Sequence[Mapping[str, object]] | Columnar | RowBatch
-"""Frames as rows (one mapping per frame), as columns (name → values) or as a batch."""
 
 CLOSING_STATUSES = ("completed", "interrupted")
 
@@ -83,7 +79,6 @@ class Store(StoreReading):
         self._guard = WriteGuard(path, conn, self._resync) if lock is not None else None
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when this writer opened the store."""
-        self._formatter = FrameFormatter()
 
     @classmethod
     def open(
@@ -93,7 +88,7 @@ class Store(StoreReading):
         writer: bool,
         key: ChainKey | None = None,
         known: Mapping[str, KnownEnd] | None = None,
-    ) -> Store:
+    ) -> Self:
         """Open (a writer also creates or migrates) the store at ``path``.
 
         A writer takes the store's writer lock, keeps the headroom file beside it, signs
@@ -142,7 +137,7 @@ class Store(StoreReading):
             self._lock.release()
             self._lock = None
 
-    def __enter__(self) -> Store:
+    def __enter__(self) -> Self:
         return self
 
     def __exit__(
@@ -245,13 +240,13 @@ class Store(StoreReading):
         session.next_seq += 1
         return event_id
 
-    def add_frames(self, trial_id: str, frames: FrameRows) -> int:
+    def add_frames(self, trial_id: str, frames: RowBatch) -> int:
         """Append frames to a running trial (not yet durable: call :meth:`commit`).
 
-        ``frames`` holds every column of ``FRAME_COLUMNS``, as rows or as columns;
-        ``session_id``, ``trial_id`` and ``frame_index`` may be left out (the store fills
-        them in); a given ``frame_index`` must continue the trial's frames in steps of 1.
-        A :class:`RowBatch` of the frames layout (the recorder's fast path) has them all.
+        ``frames`` is a batch of the frames layout (:data:`~workcell.record.schema.FRAMES`)
+        with the trial's ``session_id`` and ``trial_id`` and ``frame_index`` continuing the
+        trial's frames in steps of 1 (see :meth:`next_frame`); build one from rows or
+        columns with :meth:`RowBatch.from_mappings` / :meth:`RowBatch.from_columns`.
         NULL (None or NaN) is legitimate in the device columns only; elsewhere it is
         stored as given and reported by ``workcell verify``. Returns the number added.
         """
@@ -265,16 +260,10 @@ class Store(StoreReading):
             trial.metric_rows.append(batch.real[:, BLOCK_REALS])
         return n
 
-    def prepare_frames(self, layout: FrameLayout) -> None:
-        """Nothing to prepare in-process (a :class:`~workcell.record.store_process.
-        StoreProcess` makes its frame ring here)."""
-
-    def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int:
-        """Append frames as captured during recording (see :mod:`workcell.record.
-        frame_capture`), formatted into the frame columns here; as :meth:`add_frames`."""
+    def next_frame(self, trial_id: str) -> tuple[str, int]:
+        """Of a running trial: its session id and the ``frame_index`` its next frame takes."""
         trial = self._running_trial(trial_id)
-        batch = self._formatter.batch(frames, trial.session_id, trial_id, trial.next_index)
-        return self.add_frames(trial_id, batch)
+        return trial.session_id, trial.next_index
 
     def commit(self) -> None:
         """Make everything added so far durable against the death of this process."""

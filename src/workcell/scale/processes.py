@@ -1,12 +1,13 @@
-"""Run the workers as local processes and stream what they print.
+"""Run the workers as local processes and take their results as they come.
 
-Each worker is ``python -m workcell collect --json --store SHARD --seed S ...``: the same
-command a person runs, so a worker records, recovers and fails exactly like one.
+Each worker is ``python -m workcell.scale.worker``: it gets its :class:`~workcell.scale.
+worker.WorkerJob` on standard input and sends each trial's result back on standard output
+(length-prefixed pickles), so a worker records, recovers and fails like ``workcell
+collect`` while nothing it prints is parsed.
 """
 
 from __future__ import annotations
 
-import json
 import os
 import selectors
 import signal
@@ -14,9 +15,12 @@ import subprocess
 import sys
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
-from typing import Any
 
-from workcell.scale.plan import WorkerPlan
+from workcell.recording.pipe_messages import MessageReader, send
+from workcell.scale.worker import WorkerJob
+from workcell.task.runner import TrialResult
+
+WORKER_COMMAND = (sys.executable, "-m", "workcell.scale.worker")
 
 
 @dataclass(frozen=True)
@@ -26,40 +30,35 @@ class WorkerExit:
     stderr_tail: str
 
 
-def worker_command(plan: WorkerPlan, common: Sequence[str]) -> list[str]:
-    # the workers fill the cores: each writes its shard itself, not through a writer process
-    command = [sys.executable, "-m", "workcell", "collect", "--json", "--writer", "inline", *common]
-    command += ["--store", str(plan.shard), "--seed", str(plan.seed)]
-    if plan.trials is not None:
-        command += ["--trials", str(plan.trials)]
-    return command
-
-
 def run_local_workers(
-    plans: Sequence[WorkerPlan],
-    common: Sequence[str],
-    on_trial: Callable[[int, dict[str, Any]], None],
+    jobs: Sequence[tuple[int, WorkerJob]],
+    on_trial: Callable[[int, TrialResult], None],
     should_stop: Callable[[], bool],
 ) -> list[WorkerExit]:
-    """Run every plan as a process; ``on_trial(worker, row)`` for each trial row printed.
+    """Run every ``(worker, job)`` as a process; ``on_trial(worker, result)`` for each
+    trial as it ends.
 
     When ``should_stop`` turns true, every worker gets SIGINT (it ends its trial as
     ``application_quit`` and closes its session)."""
     env = {**os.environ, "PYTHONUNBUFFERED": "1"}
-    processes = {
-        plan.worker: subprocess.Popen(
-            worker_command(plan, common),
+    processes: dict[int, subprocess.Popen[bytes]] = {}
+    for worker, job in jobs:
+        process = subprocess.Popen(
+            WORKER_COMMAND,
+            stdin=subprocess.PIPE,
             stdout=subprocess.PIPE,
             stderr=subprocess.PIPE,
-            text=True,
             env=env,
         )
-        for plan in plans
-    }
+        assert process.stdin is not None
+        send(process.stdin, job)
+        process.stdin.close()
+        processes[worker] = process
     selector = selectors.DefaultSelector()
     for worker, process in processes.items():
         assert process.stdout is not None
-        selector.register(process.stdout, selectors.EVENT_READ, worker)
+        reader = MessageReader(process.stdout.fileno())
+        selector.register(process.stdout, selectors.EVENT_READ, (worker, reader))
     open_streams = len(processes)
     stopping = False
     while open_streams:
@@ -69,19 +68,20 @@ def run_local_workers(
                 if process.poll() is None:
                     process.send_signal(signal.SIGINT)
         for key, _ in selector.select(timeout=0.2):
-            line = key.fileobj.readline()  # type: ignore[union-attr]
-            if not line:
-                selector.unregister(key.fileobj)
-                open_streams -= 1
-                continue
-            try:
-                row = json.loads(line)
-            except json.JSONDecodeError:
-                continue
-            on_trial(int(key.data), row)
+            worker, reader = key.data
+            for message in reader.wait(0.0):
+                if message is None:  # the worker closed its end: it is done
+                    selector.unregister(key.fileobj)
+                    open_streams -= 1
+                elif isinstance(message, TrialResult):
+                    on_trial(worker, message)
     exits = []
     for worker, process in processes.items():
-        _, err = process.communicate()
+        assert process.stdout is not None and process.stderr is not None
+        err = process.stderr.read().decode(errors="replace")
+        process.wait()
+        process.stdout.close()
+        process.stderr.close()
         tail = "\n".join(err.strip().splitlines()[-2:])
         exits.append(WorkerExit(worker, process.returncode, tail))
     return exits

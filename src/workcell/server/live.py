@@ -18,8 +18,8 @@ from workcell.control.simulation import Simulation
 from workcell.errors import WorkcellError
 from workcell.protocol.codec import encode
 from workcell.protocol.messages import Scene, SessionEnded
-from workcell.record.recorder import Recorder
-from workcell.record.store_process import StoreProcess
+from workcell.recording.recorder import Recorder
+from workcell.recording.store_process import StoreProcess
 from workcell.server.pacing import Pacer, PacingStats
 from workcell.server.scene import describe
 from workcell.server.snapshot import StateBuilder, event_message

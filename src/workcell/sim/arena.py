@@ -8,8 +8,7 @@ from __future__ import annotations
 
 import mujoco
 
-from workcell.sim.config import WorldConfig
-from workcell.sim.randomization import longest_box
+from workcell.sim.config import WorldConfig, longest_box
 from workcell.sim.spec_utils import set_env_collision, set_visual_only
 
 BOX = mujoco.mjtGeom.mjGEOM_BOX

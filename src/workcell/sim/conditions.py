@@ -6,7 +6,7 @@ import mujoco
 import numpy as np
 
 from workcell.sim.boxes import BoxPool
-from workcell.sim.randomization import TrialConditions
+from workcell.sim.trial_conditions import TrialConditions
 
 TAPE_HALF_WIDTH = 0.03
 TAPE_HALF_THICKNESS = 0.002

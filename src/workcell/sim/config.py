@@ -16,7 +16,7 @@ from typing import Literal, get_args
 from workcell import checks
 from workcell.errors import ConfigError
 from workcell.settings import section, setting
-from workcell.sim.randomization import RandomizationConfig, longest_box, widest_box
+from workcell.sim.randomization import RandomizationConfig
 
 GraspMode = Literal["assisted", "physical"]
 GRASP_MODES: tuple[str, ...] = get_args(GraspMode)
@@ -255,3 +255,13 @@ def _target_overlaps_conveyor(
     y_lo, y_hi = conveyor.center_y - conveyor.width / 2, conveyor.center_y + conveyor.width / 2
     y_overlap = ty + half_y > y_lo and ty - half_y < y_hi
     return x_overlap and y_overlap
+
+
+def widest_box(config: WorldConfig) -> float:
+    """The widest box (across the belt) a trial can draw."""
+    return config.box.size[1] * (1.0 + config.randomization.box_size)
+
+
+def longest_box(config: WorldConfig) -> float:
+    """The longest box (along the belt) a trial can draw."""
+    return config.box.size[0] * (1.0 + config.randomization.box_size)

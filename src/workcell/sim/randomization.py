@@ -1,4 +1,5 @@
-"""Domain randomization: each trial draws its own box, belt, feed timing, target and start.
+"""Domain randomization's settings: how far each trial's box, belt, feed timing, target and
+start may stray (the draw itself: :mod:`workcell.sim.trial_conditions`).
 
 Off by default (every range 0): the paper's condition is one identical task configuration.
 Turned on, each trial's conditions are drawn from its seed, applied without recompiling,
@@ -9,16 +10,10 @@ from __future__ import annotations
 
 import dataclasses
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any
-
-import numpy as np
 
 from workcell import checks
 from workcell.errors import ConfigError
 from workcell.settings import setting
-
-if TYPE_CHECKING:
-    from workcell.sim.config import WorldConfig
 
 
 @dataclass(frozen=True)
@@ -55,73 +50,3 @@ class RandomizationConfig:
     @property
     def enabled(self) -> bool:
         return any(getattr(self, f.name) > 0 for f in dataclasses.fields(self))
-
-
-@dataclass(frozen=True)
-class TrialConditions:
-    """The conditions one trial runs under (the configured ones unless randomized)."""
-
-    box_size: tuple[float, float, float]
-    box_mass: float
-    box_rgba: tuple[float, float, float, float]
-    conveyor_speed: float
-    release_interval_s: float
-    target_center: tuple[float, float]
-    start_pose: tuple[float, float, float]
-
-    @staticmethod
-    def nominal(config: WorldConfig) -> TrialConditions:
-        return TrialConditions(
-            box_size=config.box.size,
-            box_mass=config.box.mass,
-            box_rgba=config.box.rgba,
-            conveyor_speed=config.conveyor.speed,
-            release_interval_s=config.feeder.release_interval_s,
-            target_center=config.target.center,
-            start_pose=config.robot.start_pose,
-        )
-
-    @staticmethod
-    def draw(config: WorldConfig, rng: np.random.Generator) -> TrialConditions:
-        """This trial's conditions; the nominal ones when randomization is off."""
-        r = config.randomization
-        nominal = TrialConditions.nominal(config)
-        if not r.enabled:
-            return nominal
-
-        def scaled(value: float, fraction: float) -> float:
-            return float(value * (1.0 + rng.uniform(-fraction, fraction)))
-
-        def shifted(values: tuple[float, ...], amount: float) -> list[float]:
-            return [float(v + rng.uniform(-amount, amount)) for v in values]
-
-        size = tuple(scaled(s, r.box_size) for s in nominal.box_size)
-        rgba = [min(1.0, max(0.0, c)) for c in shifted(nominal.box_rgba[:3], r.box_colour)]
-        x, y = shifted(nominal.target_center, r.target_shift)
-        sx, sy = shifted(nominal.start_pose[:2], r.start_shift)
-        yaw = nominal.start_pose[2] + float(rng.uniform(-r.start_yaw, r.start_yaw))
-        return TrialConditions(
-            box_size=(size[0], size[1], size[2]),
-            box_mass=scaled(nominal.box_mass, r.box_mass),
-            box_rgba=(rgba[0], rgba[1], rgba[2], nominal.box_rgba[3]),
-            conveyor_speed=scaled(nominal.conveyor_speed, r.conveyor_speed),
-            release_interval_s=scaled(nominal.release_interval_s, r.release_interval),
-            target_center=(x, y),
-            start_pose=(sx, sy, yaw),
-        )
-
-    def as_dict(self) -> dict[str, Any]:
-        """JSON-ready values, recorded with the trial."""
-        return {
-            k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()
-        }
-
-
-def widest_box(config: WorldConfig) -> float:
-    """The widest box (across the belt) a trial can draw."""
-    return config.box.size[1] * (1.0 + config.randomization.box_size)
-
-
-def longest_box(config: WorldConfig) -> float:
-    """The longest box (along the belt) a trial can draw."""
-    return config.box.size[0] * (1.0 + config.randomization.box_size)

@@ -20,9 +20,9 @@ from workcell.sim.config import WorldConfig
 from workcell.sim.events import BoxDelivered, BoxReleased, GraspChanged, WorldEvent
 from workcell.sim.grasp import Grasp
 from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
-from workcell.sim.randomization import TrialConditions
 from workcell.sim.scene import build_world_model
 from workcell.sim.target import DeliveryZone
+from workcell.sim.trial_conditions import TrialConditions
 
 DELIVERED_CLEAR_S = 1.0
 """A delivered box is taken away (parked) this long after delivery."""
@@ -54,7 +54,7 @@ class World:
         self.grasp = Grasp(self.model, self.boxes, config.grasp)
         self.zone = DeliveryZone(config)
         self.conditions = TrialConditions.nominal(config)
-        """The conditions of the current trial (see :mod:`workcell.sim.randomization`)."""
+        """The conditions of the current trial (see :mod:`workcell.sim.trial_conditions`)."""
         self.substeps = config.control_substeps
         self.control_dt = self.substeps * config.timestep
         joint = self.model.joint

@@ -153,6 +153,13 @@ class SessionRunner:
         return steps * self.config.world.timestep
 
     @property
+    def campaign_complete(self) -> bool:
+        """A challenge session whose last trial completed the campaign (see
+        :meth:`Schedule.completes`)."""
+        last = self.results[-1] if self.results else None
+        return last is not None and self.schedule.completes(last.spec, last.outcome)
+
+    @property
     def current(self) -> TrialSpec | None:
         return self._spec if self.phase is not Phase.FINISHED else None
 

@@ -55,6 +55,16 @@ class Schedule:
             return self._level(index, spec.round + 1, 1)
         return None
 
+    def completes(self, spec: TrialSpec, outcome: Outcome) -> bool:
+        """Whether ``spec`` ending with ``outcome`` completes a challenge campaign: a
+        success at the last level of the last round."""
+        return (
+            self.task.mode == "challenge"
+            and outcome == "success"
+            and spec.round == self.task.rounds
+            and spec.level == self.task.levels
+        )
+
     def _level(self, index: int, round_: int, level: int) -> TrialSpec:
         return TrialSpec(
             trial_index=index,

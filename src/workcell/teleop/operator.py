@@ -16,7 +16,7 @@ from collections.abc import Callable
 
 from workcell.control.command import Command
 from workcell.protocol.messages import Input
-from workcell.record.frame_capture import OperatorInput
+from workcell.recording.frame_capture import OperatorInput
 from workcell.sim.world import World
 from workcell.teleop.clutch import ArmClutch, Pose
 from workcell.teleop.config import TeleopConfig

@@ -21,10 +21,11 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
 from workcell.record import RecordError, StorageError, Store, StoreError
-from workcell.record.frame_capture import CapturedFrames, FrameCapture, input_from_command
-from workcell.record.recorder import Recorder
-from workcell.record.store_process import StoreProcess
 from workcell.record.verify import verify_store
+from workcell.recording.frame_capture import CapturedFrames, FrameCapture, input_from_command
+from workcell.recording.in_process import InProcessStore
+from workcell.recording.recorder import Recorder
+from workcell.recording.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
 
@@ -32,7 +33,7 @@ REPO = Path(__file__).resolve().parents[2]
 WALL_CLOCK_COLUMNS = ("t_wall", "step_wall_ms")
 
 
-def _record(store: Store | StoreProcess, config: SessionConfig) -> None:
+def _record(store: InProcessStore | StoreProcess, config: SessionConfig) -> None:
     runner = SessionRunner(config, Simulation(config.world), ExpertOperator())
     recorder = Recorder(store, runner)
     runner.run()
@@ -43,7 +44,7 @@ def _record(store: Store | StoreProcess, config: SessionConfig) -> None:
 def test_the_writer_process_records_what_the_store_records_in_process(tmp_path: Path) -> None:
     config = SessionConfig(task=TaskConfig(mode="collection", trials=2), seed=4)
     inline, child = tmp_path / "inline.sqlite", tmp_path / "child.sqlite"
-    with Store.open(inline, writer=True) as store:
+    with InProcessStore.open(inline, writer=True) as store:
         _record(store, config)
     with StoreProcess.open(child) as process_store:
         _record(process_store, config)
@@ -223,8 +224,8 @@ RECORDER_SCRIPT = textwrap.dedent(
     """
     import os, signal, sys
     from tests.record import synthetic
-    from tests.record.test_store_process import _capture, _frames
-    from workcell.record.store_process import StoreProcess
+    from tests.recording.test_store_process import _capture, _frames
+    from workcell.recording.store_process import StoreProcess
 
     store = StoreProcess.open(sys.argv[1])
     session_id = store.create_session(synthetic.session_info())

@@ -1,6 +1,6 @@
 """Captured frames into the frame columns, in bulk.
 
-The counterpart of :mod:`workcell.record.frame_capture`: positions, velocities and TCP
+The counterpart of :mod:`workcell.recording.frame_capture`: positions, velocities and TCP
 poses come from the state rows, the command, device input and diagnostics from each
 frame's extras, the ``boxes`` JSON from the box poses and states. Values are those of the
 frame columns (:data:`workcell.record.columns.FRAME_COLUMNS`); a missing device value is
@@ -18,7 +18,9 @@ from numpy.typing import NDArray
 
 from workcell.control.ik_residual import residuals
 from workcell.record.batch import RowBatch
-from workcell.record.frame_capture import (
+from workcell.record.quaternion_sign import continuous
+from workcell.record.schema import FRAMES
+from workcell.recording.frame_capture import (
     BOX_STATES,
     CAPTURED_INTEGERS,
     COMMAND_REALS,
@@ -28,8 +30,6 @@ from workcell.record.frame_capture import (
     FrameLayout,
     OperatorInput,
 )
-from workcell.record.quaternion_sign import continuous
-from workcell.record.schema import FRAMES
 
 if TYPE_CHECKING:
     from workcell.control.command import Command

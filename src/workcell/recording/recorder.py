@@ -2,13 +2,13 @@
 
 It subscribes to the session runner's events and samples a frame at the configured rate on
 the sim clock (exactly: the world calls it at the due physics step), stamping wall time
-too. A sample only copies numbers (:mod:`workcell.record.frame_capture`); frames are
+too. A sample only copies numbers (:mod:`workcell.recording.frame_capture`); frames are
 handed to the store in batches covering at most 0.25 s of sim time, so a killed process
 loses at most that much. At each trial's end the store computes the DESIGN metrics from
 the frames as stored and closes the trial. A storage failure stops recording, is kept in
 :attr:`Recorder.failure`, and the caller interrupts the session (``storage_error``).
 
-Recording through a :class:`~workcell.record.store_process.StoreProcess` (as ``workcell
+Recording through a :class:`~workcell.recording.store_process.StoreProcess` (as ``workcell
 collect`` and ``workcell serve`` do) leaves formatting, checksums and SQLite to a writer
 process on another core.
 """
@@ -26,14 +26,14 @@ from workcell.metrics import (
     MetricThresholds,
 )
 from workcell.record.errors import StorageError
-from workcell.record.frame_capture import (
+from workcell.record.records import SessionInfo, TrialEnd, TrialStart
+from workcell.recording.frame_capture import (
     CapturedFrames,
     FrameCapture,
     FrameLayout,
     OperatorInput,
 )
-from workcell.record.media import MediaRecorder
-from workcell.record.records import SessionInfo, TrialEnd, TrialStart
+from workcell.recording.media import MediaRecorder
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner
@@ -45,8 +45,8 @@ InputSource = Callable[[], OperatorInput | None]
 
 
 class RecordingStore(Protocol):
-    """What a recorder writes to: a :class:`~workcell.record.store.Store` opened for
-    writing, or a :class:`~workcell.record.store_process.StoreProcess`."""
+    """What a recorder writes to: an :class:`~workcell.recording.in_process.InProcessStore`
+    opened for writing, or a :class:`~workcell.recording.store_process.StoreProcess`."""
 
     def create_session(self, info: SessionInfo) -> str: ...
 

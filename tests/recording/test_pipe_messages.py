@@ -5,7 +5,7 @@ from __future__ import annotations
 import os
 import threading
 
-from workcell.record.pipe_messages import MessageReader, send
+from workcell.recording.pipe_messages import MessageReader, send
 
 
 def test_messages_arrive_whole_however_the_pipe_cuts_them() -> None:

@@ -12,13 +12,13 @@ import pytest
 from workcell.control.command import ArmCommand, Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
-from workcell.record.frame_capture import (
+from workcell.recording.frame_capture import (
     FrameCapture,
     OperatorInput,
     _rows_of,
     input_from_command,
 )
-from workcell.record.frame_format import (
+from workcell.recording.frame_format import (
     INTEGER_COLUMNS,
     REAL_COLUMNS,
     FrameFormatter,

@@ -1,8 +1,8 @@
 """A store written by a child process, so that recording costs the simulation little.
 
 The recorder hands over captured frames and events and goes on; the writer process (see
-:mod:`workcell.record.store_worker`) formats, checksums, inserts and commits them on
-another core. Frames go through a shared-memory ring (:mod:`workcell.record.frame_ring`),
+:mod:`workcell.recording.store_worker`) formats, checksums, inserts and commits them on
+another core. Frames go through a shared-memory ring (:mod:`workcell.recording.frame_ring`),
 copied there in blocks; the writer polls it on its own timer, so that handing frames over
 makes no system call and wakes no process (on a virtual machine, waking a process on
 another core costs the waker tens of microseconds). Events and other calls go through a
@@ -46,13 +46,13 @@ from typing import IO, Any
 from workcell.metrics import MetricThresholds
 from workcell.record.chain import ChainKey
 from workcell.record.errors import RecordError, StorageError, StoreError
-from workcell.record.frame_capture import CapturedFrames, FrameLayout
-from workcell.record.frame_ring import FrameRing
 from workcell.record.ids import new_id
-from workcell.record.pipe_messages import receive, send
 from workcell.record.records import SessionInfo, TrialEnd, TrialStart
 from workcell.record.recovery import KnownEnd
-from workcell.record.writer_death import close_for_dead_writer, death_error
+from workcell.recording.frame_capture import CapturedFrames, FrameLayout
+from workcell.recording.frame_ring import FrameRing
+from workcell.recording.pipe_messages import receive, send
+from workcell.recording.writer_death import close_for_dead_writer, death_error
 
 ANSWER_TIMEOUT_S = 60.0
 """How long a call waits for the writer's answer before giving up on the writer."""
@@ -106,7 +106,7 @@ class StoreProcess:
     ) -> StoreProcess:
         """Start a writer process on the store at ``path`` (created if missing); it polls
         the frame ring every ``poll_s`` seconds (default
-        :data:`~workcell.record.store_worker.POLL_S`) and signs chain links with the key
+        :data:`~workcell.recording.store_worker.POLL_S`) and signs chain links with the key
         in ``key_file`` (if given).
 
         Raises what :meth:`Store.open` raises for a writer (a directory that does not
@@ -123,7 +123,7 @@ class StoreProcess:
             [
                 sys.executable,
                 "-m",
-                "workcell.record.store_worker",
+                "workcell.recording.store_worker",
                 str(path),
                 *(() if poll_s is None else ("--poll", repr(poll_s))),
                 *(() if key_file is None else ("--key", str(key_file))),

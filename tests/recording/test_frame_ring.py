@@ -9,7 +9,7 @@ from collections.abc import Iterator
 import numpy as np
 import pytest
 
-from workcell.record.frame_ring import FrameRing
+from workcell.recording.frame_ring import FrameRing
 
 
 @contextlib.contextmanager

@@ -1,12 +1,12 @@
 """The store writer process: owns one store opened for writing and runs what a
-:class:`~workcell.record.store_process.StoreProcess` sends it, in order.
+:class:`~workcell.recording.store_process.StoreProcess` sends it, in order.
 
-Run as ``python -m workcell.record.store_worker STORE [--poll S] [--key FILE]`` by
+Run as ``python -m workcell.recording.store_worker STORE [--poll S] [--key FILE]`` by
 :class:`StoreProcess` only; it computes the hash-chain links (signed with the key in
 ``FILE``) as it closes trials and sessions.
-Frames arrive through a shared-memory :class:`~workcell.record.frame_ring.FrameRing`,
+Frames arrive through a shared-memory :class:`~workcell.recording.frame_ring.FrameRing`,
 polled every :data:`POLL_S` and committed as they come. Calls arrive on stdin and answers
-leave on stdout (see :mod:`workcell.record.pipe_messages`):
+leave on stdout (see :mod:`workcell.recording.pipe_messages`):
 
 - ``(position, calls)``: first the frames published before ring position ``position`` are
   written, then each call ``(call_id, method, args, keywords)`` runs as
@@ -35,10 +35,10 @@ from typing import IO, Any
 from workcell.errors import WorkcellError
 from workcell.record.chain import ChainKey
 from workcell.record.errors import StorageError
-from workcell.record.frame_capture import CapturedFrames, FrameLayout
-from workcell.record.frame_ring import FrameRing
-from workcell.record.pipe_messages import MessageReader, send
-from workcell.record.store import Store
+from workcell.recording.frame_capture import CapturedFrames, FrameLayout
+from workcell.recording.frame_ring import FrameRing
+from workcell.recording.in_process import InProcessStore
+from workcell.recording.pipe_messages import MessageReader, send
 
 POLL_S = 0.05
 """How often the ring is polled for new frames when no call arrives. Frames in the ring
@@ -71,7 +71,7 @@ STORE_CALLS = frozenset(
 class Writer:
     """Runs calls and writes ring frames into ``store``, reporting on ``answers``."""
 
-    def __init__(self, store: Store, answers: IO[bytes], poll_s: float = POLL_S) -> None:
+    def __init__(self, store: InProcessStore, answers: IO[bytes], poll_s: float = POLL_S) -> None:
         self.store = store
         self.answers = answers
         self.poll_s = poll_s
@@ -184,14 +184,14 @@ def main(argv: list[str]) -> int:
     # Ctrl-C is for the recording process, which ends the trial and then closes this one.
     signal.signal(signal.SIGINT, signal.SIG_IGN)
     requests, answers = sys.stdin.buffer, sys.stdout.buffer
-    parser = argparse.ArgumentParser(prog="workcell.record.store_worker")
+    parser = argparse.ArgumentParser(prog="workcell.recording.store_worker")
     parser.add_argument("store")
     parser.add_argument("--poll", type=float, default=POLL_S)
     parser.add_argument("--key", type=Path)
     args = parser.parse_args(argv[1:])
     try:
         key = None if args.key is None else ChainKey.from_file(args.key)
-        store = Store.open(args.store, writer=True, key=key)
+        store = InProcessStore.open(args.store, writer=True, key=key)
     except WorkcellError as error:
         send(answers, ("error", None, type(error).__name__, str(error)))
         return 1

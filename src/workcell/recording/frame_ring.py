@@ -14,7 +14,7 @@ row. Rows are copied in blocks (at most two per batch, at the ring's end).
 Layout of the mapped file: the published count (int64) at byte 0, the consumed count
 (int64) at byte 64 (another cache line), then ``capacity`` rows of ``width + 2`` 64-bit
 words: the trial number (float64), the ``width`` float64 values of a
-:class:`~workcell.record.frame_capture.FrameLayout` row, and the checksum (uint64).
+:class:`~workcell.recording.frame_capture.FrameLayout` row, and the checksum (uint64).
 """
 
 from __future__ import annotations

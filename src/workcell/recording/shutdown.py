@@ -44,3 +44,9 @@ class ShutdownSignals:
         if self.requested is not None:
             raise KeyboardInterrupt
         self.requested = signal.Signals(number).name
+
+
+def exit_status(signal_name: str) -> int:
+    """128 + the signal's number: 130 after SIGINT, 143 after SIGTERM (the shells'
+    convention for a process a signal ended)."""
+    return 128 + signal.Signals[signal_name].value

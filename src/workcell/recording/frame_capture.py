@@ -4,8 +4,8 @@ At the sample instant only numbers are copied, into one row of a float matrix: t
 world's joint positions and velocities, the two TCP site poses, where the IK has each TCP
 and its target (the IK residuals are computed from them later), the command and the
 operator's input, the grasp signals and the boxes' states. Turning rows into the frame's
-columns (:mod:`workcell.record.frame_format`) happens later, in bulk, and when recording
-through a :class:`~workcell.record.store_process.StoreProcess`, in the writer process.
+columns (:mod:`workcell.recording.frame_format`) happens later, in bulk, and when recording
+through a :class:`~workcell.recording.store_process.StoreProcess`, in the writer process.
 """
 
 from __future__ import annotations
