@@ -10,6 +10,7 @@ from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
     from workcell.audit.run import AuditResult
+    from workcell.audit.stats import SuccessRate
     from workcell.cli.command import Subparsers
 
 PROGRESS_EVERY_S = 1.0
@@ -115,12 +116,7 @@ def _summary_line(result: AuditResult) -> str:
     from workcell.audit.stats import SuccessRate  # noqa: PLC0415
 
     c = DispositionCounts.of(result.trials)
-    r = SuccessRate.of(result.trials)
-    rate = (
-        f"success rate {100 * r.rate:.2f} % [{100 * r.low:.2f}, {100 * r.high:.2f}]"
-        if r.n
-        else "no valid trial"
-    )
+    rate = _rate_text(SuccessRate.of(result.trials))
     return (
         f"audited {c.raw} trials ({result.frames_read} frames): {c.valid} valid "
         f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}; "
@@ -136,14 +132,16 @@ def _operator_lines(result: AuditResult) -> list[str]:
 
     lines = []
     for group in grouped(result.trials).get("operator", []):
-        c, r = group.counts, group.rate
-        rate = (
-            f"success rate {100 * r.rate:.2f} % [{100 * r.low:.2f}, {100 * r.high:.2f}]"
-            if r.n
-            else "no valid trial"
-        )
+        c, rate = group.counts, _rate_text(group.rate)
         lines.append(
             f"  operator {group.value}: {c.raw} trials, {c.valid} valid "
             f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}"
         )
     return lines
+
+
+def _rate_text(rate: SuccessRate) -> str:
+    """``success rate P % [low, high]`` (Wilson), or ``no valid trial``."""
+    if not rate.n:
+        return "no valid trial"
+    return f"success rate {100 * rate.rate:.2f} % [{100 * rate.low:.2f}, {100 * rate.high:.2f}]"

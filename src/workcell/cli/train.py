@@ -128,8 +128,10 @@ def run(args: argparse.Namespace) -> int:
 def evaluation_seed(dataset: Path) -> int:
     """The first seed from 1000 on that none of the dataset's sessions used (the export's
     provenance names them), so that an evaluation meets new worlds."""
+    from workcell.export.lerobot_layout import PROVENANCE_JSON_PATH  # noqa: PLC0415
+
     try:
-        provenance = json.loads((dataset / "meta" / "workcell_provenance.json").read_text())
+        provenance = json.loads((dataset / PROVENANCE_JSON_PATH).read_text())
         used = {int(session["seed"]) for session in provenance["sessions"].values()}
     except (OSError, ValueError, KeyError, TypeError, AttributeError):
         used = set()

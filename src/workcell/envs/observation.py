@@ -27,7 +27,7 @@ from numpy.typing import NDArray
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.export.boxes import parse_boxes
-from workcell.export.features import ENVIRONMENT_KEY, STATE_KEY, STATE_NAMES, image_key
+from workcell.export.features import STATE_NAMES
 from workcell.export.options import ImageSize
 from workcell.recording.frame_format import FrameReader
 from workcell.render.renderer import OffscreenRenderer
@@ -38,14 +38,6 @@ PIXELS = "pixels"
 
 Observation = dict[str, Any]
 """``agent_pos`` and ``environment_state`` (float32 arrays), ``pixels`` (a dict of uint8 images)."""
-
-FEATURE_OF_KEY: dict[str, str] = {AGENT_POS: STATE_KEY, ENVIRONMENT_STATE: ENVIRONMENT_KEY}
-"""The dataset feature each observation key becomes (cameras: :func:`feature_of_camera`)."""
-
-
-def feature_of_camera(camera: str) -> str:
-    """``observation.images.<camera>``: the feature of ``pixels[camera]``."""
-    return image_key(camera)
 
 
 class ObservationBuilder:

@@ -56,14 +56,9 @@ class PolicyOperator:
         self.inputs: PolicyInputs = policy_inputs(
             checkpoint, self._policy.config, config.world.feeder.pool_size
         )
-        steps = config.world.robot.control_hz / config.recording.sampling_rate_hz
-        if abs(steps - round(steps)) > 1e-9:
-            raise LearnError(
-                f"recording.sampling_rate_hz = {config.recording.sampling_rate_hz:g}: a policy "
-                "acts once per frame, so it must divide world.robot.control_hz"
-            )
-        self.control_steps_per_frame = round(steps)
-        space = action_space(BoxTransferConfig(session=config), sim.world)
+        environment = BoxTransferConfig(session=config)  # checks that frames are whole steps
+        self.control_steps_per_frame = environment.control_steps_per_frame
+        space = action_space(environment, sim.world)
         self._low, self._high = space.low.astype(np.float64), space.high.astype(np.float64)
         size = self.inputs.image_size or ImageSize()
         self._observations = ObservationBuilder(sim, self.inputs.cameras, size)

@@ -12,7 +12,8 @@ from __future__ import annotations
 from collections.abc import Callable
 from pathlib import Path
 
-from workcell.recording.media import CameraOptions, MediaRecorder, media_dir_for
+from workcell.record.media_paths import media_dir_for
+from workcell.recording.media import CameraOptions, MediaRecorder
 from workcell.recording.recorder import Recorder, RecordingStore
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner

@@ -19,10 +19,7 @@ from typing import Any
 import mujoco
 
 from workcell.errors import ConfigError
-from workcell.record.media_paths import media_dir_for
 from workcell.render import OffscreenRenderer, VideoWriter
-
-__all__ = ["CAMERAS", "CameraOptions", "MediaRecorder", "media_dir_for"]
 
 CAMERAS: tuple[str, ...] = ("head_cam", "wrist_l_cam", "wrist_r_cam")
 
