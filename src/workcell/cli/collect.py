@@ -11,7 +11,12 @@ from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from workcell.cli.collect_operator import make_operator, policy_checkpoint, with_operator_id
+from workcell.cli.collect_operator import (
+    POLICY_PREFIX,
+    make_operator,
+    policy_checkpoint,
+    with_operator_id,
+)
 from workcell.errors import ConfigError, WorkcellError
 from workcell.recording.shutdown import exit_status
 
@@ -118,10 +123,10 @@ def register(subparsers: Subparsers) -> None:
 def _check(args: argparse.Namespace) -> list[str]:
     problems = []
     if args.operator != "expert" and not (
-        args.operator.startswith("policy:") and len(args.operator) > len("policy:")
+        args.operator.startswith(POLICY_PREFIX) and len(args.operator) > len(POLICY_PREFIX)
     ):
         problems.append(f"--operator = {args.operator!r}: must be expert or policy:PATH")
-    if args.operator.startswith("policy:") and (args.workers > 1 or args.ray):
+    if args.operator.startswith(POLICY_PREFIX) and (args.workers > 1 or args.ray):
         problems.append("--operator policy:PATH: runs in this process; drop --workers/--ray")
     if args.trials is not None and not 1 <= args.trials <= 100_000:
         problems.append(f"--trials = {args.trials}: must be 1 to 100000")
