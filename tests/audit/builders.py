@@ -72,6 +72,26 @@ def with_gap(frames: Mapping[str, NDArray[Any]], at_frame: int, seconds: float) 
     return out
 
 
+def with_pause(
+    frames: Mapping[str, NDArray[Any]], at_frame: int, seconds: float, rate_hz: float = 20.0
+) -> Columns:
+    """The robot holds still for ``seconds`` before frame ``at_frame``: frame ``at_frame - 1``
+    repeated at ``rate_hz`` with every rate zero, both clocks of the later frames shifted."""
+    count = round(seconds * rate_hz)
+    out = {}
+    for name, column in frames.items():
+        held = np.repeat(np.asarray(column)[at_frame - 1 : at_frame], count, axis=0)
+        if name.startswith(("dq_", "base_v")):
+            held = np.zeros_like(held)
+        elif name in ("t_sim", "t_wall"):
+            held = held + np.arange(1, count + 1) / rate_hz
+        tail = np.array(column[at_frame:], copy=True)
+        if name in ("t_sim", "t_wall"):
+            tail += count / rate_hz
+        out[name] = np.concatenate([np.array(column[:at_frame]), held, tail])
+    return out
+
+
 def truncated(frames: Mapping[str, NDArray[Any]], n: int) -> Columns:
     return {k: np.array(v[:n], copy=True) for k, v in frames.items()}
 

@@ -7,11 +7,12 @@ from dataclasses import asdict, dataclass, field
 from types import ModuleType
 from typing import Any
 
-from workcell.audit import crosscheck, disposition, nonfinite, oscillation, sampling
+from workcell.audit import crosscheck, disposition, nonfinite, oscillation, sampling, slowness
 from workcell.audit.crosscheck import CROSSCHECKED, Tolerance
 from workcell.audit.nonfinite import NONFINITE_VERSION, NonfiniteParams
 from workcell.audit.oscillation import OSCILLATION_VERSION, OscillationParams
 from workcell.audit.sampling import SAMPLING_VERSION, SamplingParams
+from workcell.audit.slowness import SLOWNESS_VERSION, SlownessParams
 from workcell.errors import ConfigError
 
 AUDIT_VERSION = "1"
@@ -27,6 +28,7 @@ DEFINITIONS: dict[str, str] = {
     "arm_oscillation": _doc(oscillation),
     "sampling": _doc(sampling),
     "nonfinite": _doc(nonfinite),
+    "slow": _doc(slowness),
     "dispositions": _doc(disposition),
 }
 """The written definition of every check and rule, as in their modules (versioned there)."""
@@ -41,6 +43,7 @@ class AuditConfig:
     oscillation: OscillationParams = field(default_factory=OscillationParams)
     sampling: SamplingParams = field(default_factory=SamplingParams)
     nonfinite: NonfiniteParams = field(default_factory=NonfiniteParams)
+    slowness: SlownessParams = field(default_factory=SlownessParams)
     trajectories: int = 30
 
     def __post_init__(self) -> None:
@@ -56,6 +59,7 @@ class AuditConfig:
                 "arm_oscillation": {"version": OSCILLATION_VERSION, **asdict(self.oscillation)},
                 "sampling": {"version": SAMPLING_VERSION, **asdict(self.sampling)},
                 "nonfinite": {"version": NONFINITE_VERSION, **asdict(self.nonfinite)},
+                "slow": {"version": SLOWNESS_VERSION, **asdict(self.slowness)},
             },
             "trajectories": self.trajectories,
             "definitions": DEFINITIONS,

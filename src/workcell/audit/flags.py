@@ -12,8 +12,9 @@ ARM_OSCILLATION = "arm_oscillation"
 SAMPLING_GAP = "sampling_gap"
 NON_MONOTONIC = "non_monotonic"
 NONFINITE = "nonfinite"
+SLOW = "slow"
 
-FLAG_NAMES: tuple[str, ...] = (ARM_OSCILLATION, SAMPLING_GAP, NON_MONOTONIC, NONFINITE)
+FLAG_NAMES: tuple[str, ...] = (ARM_OSCILLATION, SAMPLING_GAP, NON_MONOTONIC, NONFINITE, SLOW)
 """Every flag the audit can raise, in report order."""
 
 

@@ -18,6 +18,7 @@ from workcell.audit.parallel import (
     shares,
     worker_count,
 )
+from workcell.audit.population import flag_slow
 from workcell.audit.rows import Annotation, SessionRow
 from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray
 from workcell.audit.store_source import StoreSource
@@ -123,6 +124,7 @@ def run_audit(
     sessions = sorted(auditor.sessions.values(), key=lambda s: (s.created_wall, s.session_id))
     position = {s.session_id: i for i, s in enumerate(sessions)}
     trials = sorted(done.values(), key=lambda t: (position[t.row.session_id], t.row.trial_index))
+    trials = flag_slow(trials, config.slowness)  # against the whole set: after every trial
     for session in sessions:
         for text in session.notes:
             findings.append(Finding(SESSION, "defaults", text, session_id=session.session_id))

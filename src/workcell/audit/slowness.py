@@ -1,0 +1,63 @@
+"""Slow trials: successes far slower than the audited set's typical success.
+
+Definition (version :data:`SLOWNESS_VERSION`): ``slow`` is raised on a successful trial
+whose recomputed ``completion_time_s`` is more than ``factor`` times the median
+completion time of its reference group: the valid successes (dispositions of the other
+rules, reviewers' decisions included) of the same task — the same mode and number of
+required boxes — in the audited set, when that group holds at least ``min_reference``
+trials. A trial counts in its own reference. The reference is the audited population, not
+an absolute pace: a set whose typical success is slow flags none, and a policy evaluated
+in the same store as its demonstrations is measured against them.
+
+By default ``slow`` marks a trial without excluding it (the paper's dispositions count it
+as valid); ``workcell export --audited`` leaves marked trials out, since a slow
+demonstration is one an imitation learner copies: its pauses and detours look, from the
+current state, like the right action.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+from workcell.audit.flags import SLOW, Flag
+from workcell.errors import ConfigError
+
+SLOWNESS_VERSION = "1"
+"""Bumped whenever the definition above changes meaning."""
+
+
+@dataclass(frozen=True)
+class SlownessParams:
+    """``factor``: how many times the reference median a success may take before it is
+    slow; ``min_reference``: the fewest valid successes a reference group needs;
+    ``disqualifying``: whether ``slow`` excludes a success as low quality."""
+
+    factor: float = 2.0
+    min_reference: int = 5
+    disqualifying: bool = False
+
+    def __post_init__(self) -> None:
+        problems = []
+        if not (math.isfinite(self.factor) and 1.0 <= self.factor <= 100.0):
+            problems.append(f"slowness factor = {self.factor!r}: must be 1 to 100")
+        if type(self.min_reference) is not int or not 1 <= self.min_reference <= 1_000_000:
+            problems.append(
+                f"slowness min_reference = {self.min_reference!r}: must be 1 to 1000000"
+            )
+        if problems:
+            raise ConfigError(problems)
+
+
+def detect_slow(
+    time: float | None, median: float, count: int, params: SlownessParams
+) -> Flag | None:
+    """``slow`` for a success that took ``time`` s against the ``median`` of its reference
+    group of ``count`` valid successes; None when it is not slow."""
+    if time is None or not time > params.factor * median:
+        return None
+    detail = (
+        f"completed in {time:.1f} s, {time / median:.1f}x the median {median:.1f} s of "
+        f"{count} valid successes of this task (limit {params.factor:g}x)"
+    )
+    return Flag(SLOW, detail, params.disqualifying)
