@@ -255,8 +255,10 @@ def describe_operators(trials_csv: Path, store: Path) -> list[str]:
         times = [float(r["completion_time_s"]) for r in kept]
         active = [float(r["active_ratio"]) for r in kept]
         outcomes = ", ".join(f"{n} {o}" for o, n in Counter(r["outcome"] for r in mine).items())
+        flags = Counter(f for r in mine for f in r["quality_flags"].split(";") if f)
+        flagged = ", ".join(f"{n} {name}" for name, n in flags.items()) or "none"
         lines.append(
-            f"{operator}: {len(mine)} trials ({outcomes}),"
+            f"{operator}: {len(mine)} trials ({outcomes}), flags: {flagged};"
             f" {len(kept)} kept; kept trials: completion time median "
             f"{_median(times):.1f} s (max {max(times, default=float('nan')):.1f}), share of "
             f"frames with motion median {_median(active):.2f} (min "

@@ -18,6 +18,7 @@ from workcell.audit.flags import SLOW
 from workcell.audit.run import AuditResult, run_audit
 from workcell.audit.slowness import SlownessParams, detect_slow
 from workcell.audit.store_source import StoreSource
+from workcell.cli.main import main
 from workcell.errors import ConfigError
 from workcell.export.audited import audited_inclusions
 from workcell.record import Store
@@ -121,3 +122,16 @@ def test_detect_slow_by_hand() -> None:
 def test_bad_slowness_parameters_are_named(kwargs: dict[str, float], message: str) -> None:
     with pytest.raises(ConfigError, match=message):
         SlownessParams(**kwargs)  # type: ignore[arg-type]
+
+
+def test_workcell_audit_prints_how_many_trials_a_flag_marks(
+    hesitant: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    out = tmp_path / "report"
+    assert main(["audit", "--store", str(hesitant), "--out", str(out), "--workers", "1"]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert "7 valid (5 successes, 2 timeouts)" in first
+    assert "0 low quality, 0 excluded by reviewer, 1 marked by a quality flag;" in first
+    header, *rows = (out / "trials.csv").read_text().splitlines()
+    column = header.split(",").index("flag_slow")
+    assert [row.split(",")[column] for row in rows] == ["0"] * 4 + ["1"] + ["0"] * 2

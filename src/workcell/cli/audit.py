@@ -9,6 +9,7 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from workcell.audit.counts import DispositionCounts
     from workcell.audit.run import AuditResult
     from workcell.audit.stats import SuccessRate
     from workcell.cli.command import Subparsers
@@ -121,8 +122,14 @@ def _summary_line(result: AuditResult) -> str:
         f"audited {c.raw} trials ({result.frames_read} frames): {c.valid} valid "
         f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}; "
         f"{c.incomplete} incomplete, {c.excluded_low_quality} low quality, "
-        f"{c.excluded_by_reviewer} excluded by reviewer; {len(result.findings)} findings"
+        f"{c.excluded_by_reviewer} excluded by reviewer, {_marked_text(c)}; "
+        f"{len(result.findings)} findings"
     )
+
+
+def _marked_text(counts: DispositionCounts) -> str:
+    """Valid trials kept despite a flag (left out of ``export --audited``)."""
+    return f"{counts.marked_successes + counts.marked_timeouts} marked by a quality flag"
 
 
 def _operator_lines(result: AuditResult) -> list[str]:
@@ -135,7 +142,8 @@ def _operator_lines(result: AuditResult) -> list[str]:
         c, rate = group.counts, _rate_text(group.rate)
         lines.append(
             f"  operator {group.value}: {c.raw} trials, {c.valid} valid "
-            f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}"
+            f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}, "
+            f"{_marked_text(c)}"
         )
     return lines
 
