@@ -4,6 +4,7 @@ exports; what it does not touch stays as it was."""
 
 from __future__ import annotations
 
+import csv
 import statistics
 from pathlib import Path
 
@@ -132,6 +133,6 @@ def test_workcell_audit_prints_how_many_trials_a_flag_marks(
     first = capsys.readouterr().out.splitlines()[0]
     assert "7 valid (5 successes, 2 timeouts)" in first
     assert "0 low quality, 0 excluded by reviewer, 1 marked by a quality flag;" in first
-    header, *rows = (out / "trials.csv").read_text().splitlines()
-    column = header.split(",").index("flag_slow")
-    assert [row.split(",")[column] for row in rows] == ["0"] * 4 + ["1"] + ["0"] * 2
+    with (out / "trials.csv").open() as file:
+        rows = list(csv.DictReader(file))
+    assert [row["flag_slow"] for row in rows] == ["0"] * 4 + ["1"] + ["0"] * 2
