@@ -130,3 +130,26 @@ def test_integers_are_accepted_as_numbers() -> None:
     decoded = decode_client('{"type":"ping","t_client":3}')
     assert decoded == m.Ping(t_client=3.0)
     assert isinstance(decoded, m.Ping) and type(decoded.t_client) is float
+
+
+def test_a_refused_value_comes_with_its_path_value_and_rule_as_data() -> None:
+    with pytest.raises(ProtocolError) as caught:
+        decode_client(input_with("left.stick", [0.0, 2.0]))
+    problem = caught.value.problem
+    assert problem is not None
+    assert problem.path == ("input", "left", "stick")
+    assert problem.value == [0.0, 2.0]
+    assert problem.allowed == "must be from -1 to 1"
+    assert problem.message == str(caught.value)
+    sent = json.loads(
+        encode(m.Error(code="invalid_value", message=problem.message, problem=problem))
+    )
+    assert sent["problem"]["path"] == ["input", "left", "stick"]
+
+
+def test_a_too_large_whole_number_is_named_by_its_path() -> None:
+    with pytest.raises(ProtocolError) as caught:
+        decode_client(input_with("seq", 2**60))
+    assert caught.value.problem is not None
+    assert caught.value.problem.path == ("input", "seq")
+    assert caught.value.problem.value == 2**60

@@ -1,8 +1,8 @@
 """The web client end to end: the real server (``python -m workcell serve``) on a free port,
 Debian's chromium driven by playwright-core from the TypeScript scripts in
 ``web/tests/e2e/`` (compiled once per run with ``npm run build:e2e`` into
-``web/build/e2e/``, then run with node), and an IWER-emulated Meta Quest 3. Each script prints ``RESULT {json}``; these tests then
-read the store the server recorded into.
+``web/build/e2e/``, then run with node), and an IWER-emulated Meta Quest 3. Each script
+prints ``RESULT {json}``; these tests then read the store the server recorded into.
 
 Needs node, ``/usr/bin/chromium`` (``make browser-setup``) and the built client with its
 node modules (``make web-setup``). Without them the tests skip, unless
