@@ -2,9 +2,12 @@
 
 These dataclasses are the single source of truth: the TypeScript types in
 ``web/src/protocol.ts`` are generated from them (``python -m workcell.protocol.typescript``)
-and a test fails when that file is stale. Direction is part of the type: a client can only
-send a :data:`ClientMessage` and the server only sends a :data:`ServerMessage`. Every
-message is a JSON object with a ``type`` field naming it.
+and a test fails when that file is stale. The task's events (:mod:`workcell.task.events`,
+each a message of type ``event`` told apart by ``kind``) and its HUD
+(:mod:`workcell.task.hud`) are sent as they are, so they are declared there, once.
+Direction is part of the type: a client can only send a :data:`ClientMessage` and the
+server only sends a :data:`ServerMessage`. Every message is a JSON object with a ``type``
+field naming it.
 
 Coordinates: poses from the browser are in the WebXR ``local-floor`` reference space
 (metres; x right, y up, -z forward) as (x, y, z, qw, qx, qy, qz); poses sent by the server

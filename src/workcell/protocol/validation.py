@@ -3,7 +3,9 @@
 Exact types (a bool is not a number, a number is not text), no unknown or missing fields
 (fields with defaults may be left out), finite numbers only, documented ranges, unit
 quaternions (within 1e-2, then normalised). Every problem is a :class:`ProtocolError`
-naming the field by its dotted path (``input.left.grip``) and saying what is allowed.
+naming the field by its dotted path (``input.left.grip``) and saying what is allowed; where
+one field's value is the problem it also carries it as data (``problem``: path, value,
+allowed), which the server sends in the ``Error`` message.
 """
 
 from __future__ import annotations

@@ -9,11 +9,12 @@
 import path from "node:path";
 import type { Keyboard } from "playwright-core";
 import type { Pose } from "../../src/protocol";
-import { check, checkDrawn, log, runScript, sleep, waitFor, writeJson } from "./lib.js";
+import { check, checkDrawn, runScript, sleep, waitFor } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
-import { ScriptedOperator, controllerCorrections, observe } from "./operator.js";
-import type { Base, Drive } from "./operator.js";
-import { startSession, waitForEnd } from "./flow.js";
+import { ScriptedOperator, controllerCorrections } from "./operator.js";
+import type { Decision, Drive, Observation } from "./operator.js";
+import { startSession } from "./flow.js";
+import { checkDelivered, deliver, deliveryResult } from "./delivery.js";
 
 const TICK_MS = 15;
 const TAP_MS = 110; // a key tap near the goal...
@@ -91,47 +92,14 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
   await page.keyboard.press("c");
   await waitFor(page, (s) => s.teleop?.view === "third", { what: "C to switch back" });
 
-  const s = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
   await checkDrawn(page, path.join(artifacts, "hud-running.png"), page.locator("#hud"));
 
   const keys = new Keys(page.keyboard);
   const operator = new ScriptedOperator({ onOff: true, lead: 0.25, tolerance: 0.03 });
   let mouse: { x: number; y: number } | null = null; // while the left button is held
-  let startBase: Base | null = null;
-  let maxBaseMove = 0;
-  let maxGrip = 0;
-  let maxTrigger = 0;
-  let lastPhase = "";
-  let shots = 0;
-  let debugAt: number | undefined;
-  let snap = s;
-  const deadline = performance.now() + TRIAL_BUDGET_MS;
-  while (performance.now() < deadline) {
-    const { snap: current, bodies } = await page.evaluate(observeJs);
-    snap = current;
-    if (snap.ended !== null || snap.last_trial_end !== null) break;
-    const base = bodies["base"];
-    if (base === undefined) {
-      await sleep(TICK_MS);
-      continue;
-    }
-    const obs = observe(snap, { ...bodies, base });
-    startBase ??= obs.base;
-    maxBaseMove = Math.max(maxBaseMove, Math.hypot(obs.base[0] - startBase[0], obs.base[1] - startBase[1]));
-    const decision = operator.step(obs);
-    if (operator.phase !== lastPhase) {
-      lastPhase = operator.phase;
-      log(`operator: ${lastPhase} at t=${obs.t.toFixed(2)} s (base ${obs.base.map((v) => v.toFixed(2)).join(", ")})`);
-      if (["squeeze", "carry", "place"].includes(lastPhase) && shots < 3) {
-        shots += 1;
-        await page.screenshot({ path: path.join(artifacts, `desktop-${lastPhase}.png`) });
-      }
-    }
+  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<void> => {
     const sent = snap.teleop?.last_input ?? null;
-    if (process.env["E2E_DEBUG"] && (debugAt === undefined || performance.now() - debugAt > 500)) {
-      debugAt = performance.now();
-      log(`debug ${operator.phase} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} drive=${JSON.stringify(decision.drive, (_k, v: unknown) => (typeof v === "number" ? Number(v.toFixed(2)) : v))} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)}`);
-    }
     const wanted = new Set<string>();
     driveKeys(decision.drive, wanted);
     if (decision.grip) wanted.add("g").add("h");
@@ -182,38 +150,31 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
       await keys.set(wanted);
       await sleep(SETTLE_MS);
     }
-    maxGrip = Math.max(maxGrip, sent?.left.grip ?? 0);
-    maxTrigger = Math.max(maxTrigger, sent?.left.trigger ?? 0);
-    await sleep(TICK_MS);
-  }
+  };
+  const run = await deliver(page, artifacts, operator, {
+    prefix: "desktop",
+    budgetMs: TRIAL_BUDGET_MS,
+    tickMs: TICK_MS,
+    debugEveryMs: 500,
+    look: () => page.evaluate(observeJs),
+    act,
+    debug: (decision, _obs, snap) => {
+      const sent = snap.teleop?.last_input;
+      const drive = JSON.stringify(decision.drive, (_k, v: unknown) => (typeof v === "number" ? Number(v.toFixed(2)) : v));
+      return `drive=${drive} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)}`;
+    },
+  });
   await keys.set(new Set());
   if (mouse !== null) await page.mouse.up();
-  writeJson(path.join(artifacts, "operator-log.json"), operator.log);
-  log(`operator phases: ${JSON.stringify(operator.log)}`);
-
-  const end = await waitForEnd(page, 10000);
-  const trialEnd = end.last_trial_end;
-  check(trialEnd !== null, "no trial_ended event arrived");
-  log(`trial ended: ${JSON.stringify(trialEnd)}`);
   await page.waitForSelector("#end-screen.campaign-end");
   await checkDrawn(page, path.join(artifacts, "end-screen.png"), page.locator("#end-screen"));
   await checkDrawn(page, path.join(artifacts, "view-end.png"));
 
   const result = {
-    session_id: end.ended.session_id,
-    outcome: trialEnd.outcome,
-    boxes_delivered: trialEnd.boxes_delivered,
-    score: trialEnd.score,
-    base_moved_m: Number(maxBaseMove.toFixed(3)),
-    max_grip: maxGrip,
-    max_trigger: maxTrigger,
+    ...deliveryResult(run),
     keys_used: [...keys.pressed].sort(),
-    source: snap.teleop?.last_input?.source ?? null,
-    phases: operator.log,
-    errors: end.errors,
+    source: run.last.teleop?.last_input?.source ?? null,
   };
   console.log(`RESULT ${JSON.stringify(result)}`);
-  check(maxBaseMove > 0.2, `the keyboard did not drive the base (moved ${maxBaseMove.toFixed(3)} m)`);
-  check(maxGrip >= 0.99 && maxTrigger >= 0.99, "grips/triggers never reached the server as pressed");
-  check(trialEnd.outcome === "success", `the trial ended ${trialEnd.outcome}, not success (phases ${JSON.stringify(operator.log)})`);
+  checkDelivered(run, "keyboard");
 });
