@@ -9,7 +9,13 @@ from typing import Any
 import pytest
 
 from workcell.protocol import messages as m
-from workcell.protocol.codec import MAX_MESSAGE_BYTES, ProtocolError, decode_client, encode
+from workcell.protocol.codec import (
+    MAX_MESSAGE_BYTES,
+    ProtocolError,
+    decode_client,
+    decode_server,
+    encode,
+)
 
 HAND = m.ControllerState(
     pose=(0.1, 1.0, -0.3, 1.0, 0.0, 0.0, 0.0), grip=0.0, trigger=0.0, stick=(0.0, 0.0), buttons=0
@@ -147,9 +153,13 @@ def test_a_refused_value_comes_with_its_path_value_and_rule_as_data() -> None:
     assert sent["problem"]["path"] == ["input", "left", "stick"]
 
 
-def test_a_too_large_whole_number_is_named_by_its_path() -> None:
+@pytest.mark.parametrize("value", [2**60, 10**400])
+def test_a_value_a_browser_cannot_hold_is_sent_as_null(value: int) -> None:
     with pytest.raises(ProtocolError) as caught:
-        decode_client(input_with("seq", 2**60))
-    assert caught.value.problem is not None
-    assert caught.value.problem.path == ("input", "seq")
-    assert caught.value.problem.value == 2**60
+        decode_client(input_with("seq", value))
+    problem = caught.value.problem
+    assert problem is not None
+    assert problem.path == ("input", "seq")
+    assert problem.value is None
+    error = m.Error(code=caught.value.code, message=str(caught.value), problem=problem)
+    assert decode_server(encode(error)) == error

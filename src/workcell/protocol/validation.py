@@ -66,10 +66,12 @@ def split_path(path: str) -> tuple[str | int, ...]:
 
 
 def json_value(value: Any) -> object:
-    """``value`` if JSON can carry it as it is (finite numbers, text, lists and objects of
-    them), else None."""
-    if value is None or isinstance(value, bool | int | str):
+    """``value`` if every reader of the JSON holds it as it is (finite numbers, whole
+    numbers within +-(2^53 - 1), text, lists and objects of them), else None."""
+    if value is None or isinstance(value, bool | str):
         return value
+    if isinstance(value, int):
+        return value if abs(value) <= MAX_SAFE_INTEGER else None
     if isinstance(value, float):
         return value if math.isfinite(value) else None
     if isinstance(value, list | tuple):
