@@ -51,14 +51,15 @@ include web/web.mk
 run: setup web-setup
 	$(BIN)/workcell serve
 
-# Static checks (Python and strict TypeScript), then the whole test suite including the
-# browser tests in Debian's chromium and the learning tests (LeRobot); stops at the first
+# Static checks (Python and strict TypeScript), the web client's unit tests, then the
+# whole test suite including the browser tests in Debian's chromium and the learning tests (LeRobot); stops at the first
 # failing step.
 test: setup setup-learn web-setup browser-setup
 	$(BIN)/ruff check src tests bench
 	$(BIN)/ruff format --check src tests bench
 	$(BIN)/mypy
 	$(BIN)/python -m workcell.protocol.typescript --check
+	@$(MAKE) --no-print-directory web-test
 	WORKCELL_BROWSER_TESTS=require WORKCELL_LEARN_TESTS=require $(BIN)/pytest -n 2
 
 bench: setup

@@ -5,6 +5,7 @@
 #                        rebuilds only when a source changed (stamps)
 #   make browser-setup   Debian's chromium for the browser tests (root; CI)
 #   make web-typecheck   strict TypeScript check only
+#   make web-test        the client's unit tests (vitest) and the e2e scripts' compile
 #   make web-e2e URL=http://127.0.0.1:8000
 #                        the browser end-to-end scripts against a running `workcell serve`
 #
@@ -15,11 +16,11 @@
 WEB_DIR        := web
 WEB_DEPS_STAMP := $(WEB_DIR)/node_modules/.workcell-deps.stamp
 WEB_DIST_STAMP := $(WEB_DIR)/dist/.workcell-build.stamp
-WEB_SOURCES    := $(shell find $(WEB_DIR)/src -type f 2>/dev/null) \
+WEB_SOURCES    := $(shell find $(WEB_DIR)/src $(WEB_DIR)/tests/unit -type f 2>/dev/null) \
                   $(WEB_DIR)/index.html $(WEB_DIR)/vite.config.ts $(WEB_DIR)/tsconfig.json
 CHROMIUM       ?= /usr/bin/chromium
 
-.PHONY: web-setup web-typecheck web-e2e browser-setup
+.PHONY: web-setup web-typecheck web-test web-e2e browser-setup
 
 web-setup: $(WEB_DIST_STAMP)
 
@@ -39,9 +40,13 @@ web-typecheck: $(WEB_DEPS_STAMP)
 
 URL ?= http://127.0.0.1:8000
 web-e2e: $(WEB_DIST_STAMP)
-	@cd $(WEB_DIR) && for script in xr_delivery desktop_delivery sessions_replay; do \
-	  node tests/e2e/$$script.mjs $(URL) || exit 1; \
+	@cd $(WEB_DIR) && npm run --silent build:e2e && for script in xr_delivery desktop_delivery sessions_replay; do \
+	  node build/e2e/tests/e2e/$$script.js $(URL) || exit 1; \
 	done
+
+# The client's unit tests (vitest) and the strict type check of the end-to-end scripts.
+web-test: $(WEB_DEPS_STAMP)
+	@cd $(WEB_DIR) && npm run --silent test:unit && npm run --silent build:e2e
 
 browser-setup:
 	@if [ -x $(CHROMIUM) ]; then \

@@ -5,18 +5,12 @@ from __future__ import annotations
 import math
 from collections.abc import Sequence
 
-
-def _fmt(value: object) -> str:
-    if isinstance(value, float):
-        return f"{value:g}"
-    if isinstance(value, tuple):
-        return "(" + ", ".join(_fmt(v) for v in value) + ")"
-    return repr(value)
+from workcell.errors import Problem
 
 
-def problem(field: str, value: object, allowed: str) -> str:
-    """One problem line: ``field = value: allowed``."""
-    return f"{field} = {_fmt(value)}: {allowed}"
+def problem(field: str, value: object, allowed: str) -> Problem:
+    """One problem line: ``field = value: allowed`` (its parts kept, see :class:`Problem`)."""
+    return Problem(field, value, allowed)
 
 
 def positive(field: str, value: float, unit: str = "") -> list[str]:

@@ -13,10 +13,43 @@ class WorkcellError(Exception):
     """Root of every error Workcell raises on purpose."""
 
 
+class Problem(str):
+    """One problem line that keeps its parts: ``path`` (the dotted setting name, list
+    items indexed: ``task.level_boxes[1]``), the ``value`` given and what is ``allowed``.
+
+    It is the line itself (a ``str``), so it goes wherever a problem line goes, and a
+    client can still show the problem beside the field it names without parsing the text.
+    The line reads ``path = value: allowed`` unless ``line`` words it otherwise.
+    """
+
+    path: str
+    value: object
+    allowed: str
+
+    def __new__(cls, path: str, value: object, allowed: str, line: str | None = None) -> Problem:
+        text = line if line is not None else f"{path} = {_show(value)}: {allowed}"
+        problem = super().__new__(cls, text)
+        problem.path, problem.value, problem.allowed = path, value, allowed
+        return problem
+
+    def under(self, prefix: str) -> Problem:
+        """The same problem named from a parent section (``prefix`` ends with a dot)."""
+        return Problem(prefix + self.path, self.value, self.allowed, prefix + self)
+
+
+def _show(value: object) -> str:
+    if isinstance(value, float):
+        return f"{value:g}"
+    if isinstance(value, tuple):
+        return "(" + ", ".join(_show(v) for v in value) + ")"
+    return repr(value)
+
+
 class ConfigError(WorkcellError):
     """One or more configuration values are invalid.
 
-    ``problems`` holds one line per invalid field: the field, the value and what is allowed.
+    ``problems`` holds one line per invalid field: the field, the value and what is allowed
+    (a :class:`Problem` where the field is known, which keeps those parts apart).
     """
 
     def __init__(self, problems: Sequence[str]) -> None:

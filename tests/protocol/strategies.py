@@ -4,6 +4,7 @@ codec's documented ranges), so every message type is covered without listing fie
 from __future__ import annotations
 
 import dataclasses
+import enum
 import math
 import types
 from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
@@ -69,6 +70,8 @@ def for_hint(hint: Any, bounds: tuple[float, float] | None = None, max_text: int
         return json_values
     if isinstance(hint, type) and dataclasses.is_dataclass(hint):
         return for_message(hint)
+    if isinstance(hint, type) and issubclass(hint, enum.Enum):
+        return st.sampled_from(list(hint))
     origin, args = get_origin(hint), get_args(hint)
     if origin is Literal:
         return st.sampled_from(args)

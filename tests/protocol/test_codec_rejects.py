@@ -9,7 +9,13 @@ from typing import Any
 import pytest
 
 from workcell.protocol import messages as m
-from workcell.protocol.codec import MAX_MESSAGE_BYTES, ProtocolError, decode_client, encode
+from workcell.protocol.codec import (
+    MAX_MESSAGE_BYTES,
+    ProtocolError,
+    decode_client,
+    decode_server,
+    encode,
+)
 
 HAND = m.ControllerState(
     pose=(0.1, 1.0, -0.3, 1.0, 0.0, 0.0, 0.0), grip=0.0, trigger=0.0, stick=(0.0, 0.0), buttons=0
@@ -130,3 +136,30 @@ def test_integers_are_accepted_as_numbers() -> None:
     decoded = decode_client('{"type":"ping","t_client":3}')
     assert decoded == m.Ping(t_client=3.0)
     assert isinstance(decoded, m.Ping) and type(decoded.t_client) is float
+
+
+def test_a_refused_value_comes_with_its_path_value_and_rule_as_data() -> None:
+    with pytest.raises(ProtocolError) as caught:
+        decode_client(input_with("left.stick", [0.0, 2.0]))
+    problem = caught.value.problem
+    assert problem is not None
+    assert problem.path == ("input", "left", "stick")
+    assert problem.value == [0.0, 2.0]
+    assert problem.allowed == "must be from -1 to 1"
+    assert problem.message == str(caught.value)
+    sent = json.loads(
+        encode(m.Error(code="invalid_value", message=problem.message, problem=problem))
+    )
+    assert sent["problem"]["path"] == ["input", "left", "stick"]
+
+
+@pytest.mark.parametrize("value", [2**60, 10**400])
+def test_a_value_a_browser_cannot_hold_is_sent_as_null(value: int) -> None:
+    with pytest.raises(ProtocolError) as caught:
+        decode_client(input_with("seq", value))
+    problem = caught.value.problem
+    assert problem is not None
+    assert problem.path == ("input", "seq")
+    assert problem.value is None
+    error = m.Error(code=caught.value.code, message=str(caught.value), problem=problem)
+    assert decode_server(encode(error)) == error

@@ -16,6 +16,8 @@ from workcell.server.live import LiveSession
 from workcell.server.pacing import Pacer
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
+from workcell.task import events as ev
+from workcell.task.hud import Phase
 from workcell.task.runner import SessionRunner
 
 
@@ -105,9 +107,9 @@ def test_a_live_session_keeps_real_time_and_caps_states(tmp_path: Path) -> None:
     ]
     assert min(b - a for a, b in itertools.pairwise(sim_times)) >= 0.0249
     state = decode_server(listener.states[-1][1])
-    assert isinstance(state, m.State) and state.hud is not None and state.hud.phase == "running"
+    assert isinstance(state, m.State) and state.hud is not None and state.hud.phase is Phase.RUNNING
     kinds = [decode_server(t) for t in listener.messages]
-    assert any(isinstance(k, m.TaskEventMessage) and k.kind == "trial_started" for k in kinds)
+    assert any(isinstance(k, ev.TrialStarted) for k in kinds)
     assert listener.end is not None and listener.end.reason == "operator_stop"
     with Store.open(tmp_path / "s.sqlite", writer=False) as store:
         (trial,) = store.trials()

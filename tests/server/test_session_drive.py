@@ -25,10 +25,16 @@ def test_bad_settings_are_rejected_field_by_field(tmp_path: Path) -> None:
                 await c.send(m.StartSession(settings=settings))
                 rejected = await c.wait_for(lambda x: isinstance(x, m.ConfigRejected))
                 assert isinstance(rejected, m.ConfigRejected)
-                fields = {p.field for p in rejected.problems}
-                assert {"task.mode", "task.time_limit_s", "task.colour", "seed"} <= fields
+                given = {p.path: p.value for p in rejected.problems}
+                assert given == {
+                    ("task", "mode"): "marathon",
+                    ("task", "time_limit_s"): -5,
+                    ("task", "colour"): "red",
+                    ("seed",): "x",
+                }
                 for problem in rejected.problems:
-                    assert problem.message.startswith(problem.field)
+                    assert problem.message.startswith(".".join(map(str, problem.path)))
+                    assert problem.message.endswith(problem.allowed)
             assert server.conductor.session is None
             assert server.conductor.sessions_started == 0
 

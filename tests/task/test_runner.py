@@ -14,8 +14,9 @@ from workcell.session.config import SessionConfig, TaskConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
 from workcell.task.bus import EventBus
+from workcell.task.hud import Phase
 from workcell.task.operator import Operator
-from workcell.task.runner import Phase, SessionRunner, trial_seed
+from workcell.task.runner import SessionRunner, trial_seed
 
 
 class IdleOperator:

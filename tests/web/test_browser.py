@@ -1,7 +1,8 @@
 """The web client end to end: the real server (``python -m workcell serve``) on a free port,
-Debian's chromium driven by playwright-core from the node scripts in ``web/tests/e2e/``,
-and an IWER-emulated Meta Quest 3. Each script prints ``RESULT {json}``; these tests then
-read the store the server recorded into.
+Debian's chromium driven by playwright-core from the TypeScript scripts in
+``web/tests/e2e/`` (compiled once per run with ``npm run build:e2e`` into
+``web/build/e2e/``, then run with node), and an IWER-emulated Meta Quest 3. Each script
+prints ``RESULT {json}``; these tests then read the store the server recorded into.
 
 Needs node, ``/usr/bin/chromium`` (``make browser-setup``) and the built client with its
 node modules (``make web-setup``). Without them the tests skip, unless
@@ -36,7 +37,8 @@ import pytest
 
 REPO = Path(__file__).resolve().parents[2]
 WEB = REPO / "web"
-E2E = WEB / "tests" / "e2e"
+E2E = WEB / "build" / "e2e" / "tests" / "e2e"
+"""Where ``npm run build:e2e`` puts the compiled scripts of ``web/tests/e2e/``."""
 CHROMIUM = Path(os.environ.get("WORKCELL_CHROMIUM", "/usr/bin/chromium"))
 REQUIRED = os.environ.get("WORKCELL_BROWSER_TESTS") == "require"
 SCRIPT_TIMEOUT_S = 150.0
@@ -67,15 +69,38 @@ def browser_available() -> None:
         pytest.skip(reason)
 
 
-@pytest.fixture
-def one_browser_at_a_time() -> Iterator[None]:
-    path = Path(tempfile.gettempdir()) / "workcell-browser-tests.lock"
+@contextlib.contextmanager
+def _locked(name: str) -> Iterator[None]:
+    path = Path(tempfile.gettempdir()) / name
     with path.open("w") as lock:
         fcntl.flock(lock, fcntl.LOCK_EX)
         try:
             yield
         finally:
             fcntl.flock(lock, fcntl.LOCK_UN)
+
+
+@pytest.fixture
+def one_browser_at_a_time() -> Iterator[None]:
+    with _locked("workcell-browser-tests.lock"):
+        yield
+
+
+@pytest.fixture(scope="module", autouse=True)
+def scripts_compiled(browser_available: None) -> None:
+    """The end-to-end scripts compiled from their TypeScript (strict) as they are now."""
+    with _locked("workcell-e2e-build.lock"):
+        completed = subprocess.run(
+            ["npm", "run", "--silent", "build:e2e"],
+            cwd=WEB,
+            capture_output=True,
+            text=True,
+            timeout=300,
+            check=False,
+        )
+    assert completed.returncode == 0, (
+        f"npm run build:e2e failed:\n{completed.stdout}{completed.stderr}"
+    )
 
 
 @dataclass
@@ -150,7 +175,7 @@ def _artifacts(name: str) -> Path:
 
 
 def run_script(name: str, server: Server, *extra: str) -> dict[str, Any]:
-    """Run ``web/tests/e2e/<name>.mjs`` against ``server`` (more arguments: ``extra``);
+    """Run the compiled ``web/tests/e2e/<name>.ts`` against ``server`` (more arguments: ``extra``);
     its RESULT line as a dict."""
     artifacts = _artifacts(name)
     if artifacts.exists():
@@ -158,7 +183,7 @@ def run_script(name: str, server: Server, *extra: str) -> dict[str, Any]:
     env = {**os.environ, "WORKCELL_ARTIFACTS": str(artifacts.parent)}
     started = time.monotonic()
     completed = subprocess.run(
-        ["node", str(E2E / f"{name}.mjs"), server.url, *extra],
+        ["node", str(E2E / f"{name}.js"), server.url, *extra],
         capture_output=True,
         text=True,
         timeout=SCRIPT_TIMEOUT_S,
@@ -170,11 +195,11 @@ def run_script(name: str, server: Server, *extra: str) -> dict[str, Any]:
     output = completed.stdout + completed.stderr
     print(f"{name}: {took:.1f} s, artifacts in {artifacts}\n{output}")
     assert completed.returncode == 0, (
-        f"{name}.mjs failed (exit {completed.returncode}); artifacts in {artifacts}\n"
+        f"{name}.ts failed (exit {completed.returncode}); artifacts in {artifacts}\n"
         f"{output}\n--- server log ---\n{server.log.read_text()[-4000:]}"
     )
     lines = [line for line in completed.stdout.splitlines() if line.startswith("RESULT ")]
-    assert lines, f"{name}.mjs printed no RESULT line\n{output}"
+    assert lines, f"{name}.ts printed no RESULT line\n{output}"
     result: dict[str, Any] = json.loads(lines[-1].removeprefix("RESULT "))
     result["wall_s"] = took
     return result

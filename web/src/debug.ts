@@ -2,9 +2,10 @@
 // browser console. Tests poll `window.__workcell.snapshot()` from outside the page.
 
 import type { App } from "./app";
+import type { DebugExtras, DebugSnapshot } from "./debugSnapshot";
 import type { Pose } from "./protocol";
 
-const extras = new Map<string, () => unknown>();
+const extras = new Map<keyof DebugExtras, () => DebugExtras[keyof DebugExtras]>();
 const captures = new Map<string, () => string>();
 
 /** A picture a test may ask for by name (a data: URL), outside the polled snapshot. */
@@ -16,7 +17,7 @@ export function exposeCapture(name: string, capture: () => string): () => void {
 }
 
 /** A page adds what only it knows (view mode, last input sent, ...). */
-export function exposeExtra(name: string, read: () => unknown): () => void {
+export function exposeExtra<K extends keyof DebugExtras>(name: K, read: () => DebugExtras[K]): () => void {
   extras.set(name, read);
   return () => {
     if (extras.get(name) === read) extras.delete(name);
@@ -36,17 +37,6 @@ export function bodyPoses(app: App): Record<string, Pose> {
   return out;
 }
 
-declare global {
-  interface Window {
-    __workcell?: {
-      snapshot: () => Record<string, unknown>;
-      bodies: () => Record<string, Pose>;
-      dropLink: () => void;
-      capture: (name: string) => string | null;
-    };
-  }
-}
-
 export function exposeDebug(app: App): void {
   window.__workcell = {
     bodies: () => bodyPoses(app),
@@ -54,7 +44,7 @@ export function exposeDebug(app: App): void {
     capture: (name) => captures.get(name)?.() ?? null,
     snapshot: () => {
       const state = app.state;
-      const snapshot: Record<string, unknown> = {
+      const snapshot: DebugSnapshot = {
         page: window.location.hash,
         link: { ...app.connection.info },
         role: app.connection.role,
@@ -81,8 +71,7 @@ export function exposeDebug(app: App): void {
         scene_bodies: app.scene?.bodies.length ?? 0,
         head_camera_body: app.scene?.head_camera_body ?? null,
       };
-      for (const [name, read] of extras) snapshot[name] = read();
-      return snapshot;
+      return Object.assign(snapshot, Object.fromEntries([...extras].map(([name, read]) => [name, read()])));
     },
   };
 }

@@ -15,17 +15,9 @@ from workcell.audit.rows import TrialRow
 from workcell.checks import positive
 from workcell.errors import ConfigError
 from workcell.metrics import TrialMetrics
+from workcell.metrics.definitions import RECOMPUTED_COLUMNS
 
-CROSSCHECKED: tuple[str, ...] = (
-    "n_frames",
-    "completion_time_s",
-    "path_length_m",
-    "smoothness",
-    "active_ratio",
-    "hz_wall",
-    "hz_sim",
-    "max_gap_s",
-)
+CROSSCHECKED: tuple[str, ...] = RECOMPUTED_COLUMNS
 """The stored trial columns a recomputation checks (n_frames exactly)."""
 
 

@@ -16,24 +16,13 @@ from typing import Any
 
 from workcell.audit.flags import FLAG_NAMES
 from workcell.audit.trial_audit import TrialAudit
+from workcell.metrics.definitions import AUDIT_ONLY_METRICS, RECOMPUTED_COLUMNS
 from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.csv_format import format_row
 from workcell.record.records import FLAG_SEPARATOR
 
-RECOMPUTED: tuple[str, ...] = (
-    "n_frames",
-    "completion_time_s",
-    "path_length_m",
-    "smoothness",
-    "active_ratio",
-    "hz_wall",
-    "hz_sim",
-    "max_gap_s",
-)
-
 AUDIT_COLUMNS: tuple[str, ...] = (
-    "nonfinite_share",
-    "monotonic",
+    *AUDIT_ONLY_METRICS,
     *(f"flag_{name}" for name in FLAG_NAMES),
     "flag_details",
     "disposition",
@@ -66,7 +55,7 @@ def _cell(value: Any) -> Any:
 def trial_row(trial: TrialAudit) -> list[Any]:
     """One trial's cells in COLUMNS order (Python values; None is an empty cell)."""
     values = dict(trial.row.stored)
-    for name in RECOMPUTED:
+    for name in RECOMPUTED_COLUMNS:
         values[name] = getattr(trial.metrics, name)
     d = trial.disposition
     names = {f.name for f in trial.flags}
@@ -75,8 +64,7 @@ def trial_row(trial: TrialAudit) -> list[Any]:
         "quality_flags": FLAG_SEPARATOR.join(f.name for f in trial.flags) or None,
         "included": d.included,
         "exclusion_reason": d.exclusion_reason,
-        "nonfinite_share": trial.metrics.nonfinite_share,
-        "monotonic": trial.metrics.monotonic,
+        **{name: getattr(trial.metrics, name) for name in AUDIT_ONLY_METRICS},
         **{f"flag_{name}": name in names for name in FLAG_NAMES},
         "flag_details": " | ".join(f"{f.name}: {f.detail}" for f in trial.flags) or None,
         "disposition": d.stage,

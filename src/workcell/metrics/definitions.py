@@ -39,7 +39,7 @@ class MetricThresholds:
     joint_rate_radps: float = 0.05
 
     def __post_init__(self) -> None:
-        problems = []
+        problems: list[str] = []
         grip = self.grip_threshold
         if isinstance(grip, bool) or not isinstance(grip, int | float):
             problems.append(problem("grip_threshold", grip, "must be a number"))
@@ -101,3 +101,13 @@ METRIC_DEFINITIONS: dict[str, str] = {
     ),
 }
 """One definition per metric, keyed by its trials.csv / summary column name."""
+
+AUDIT_ONLY_METRICS: tuple[str, ...] = ("nonfinite_share", "monotonic")
+"""Metrics the audit computes and reports but a trial row does not store."""
+STORED_METRICS: tuple[str, ...] = tuple(
+    m for m in METRIC_DEFINITIONS if m not in AUDIT_ONLY_METRICS
+)
+"""The metrics stored on every trial row (trials.csv columns), in definition order."""
+RECOMPUTED_COLUMNS: tuple[str, ...] = ("n_frames", *STORED_METRICS)
+"""The trial columns that recomputing a trial's metrics from its frames yields: the frame
+count and every stored metric (what the audit cross-checks and writes to its trials.csv)."""

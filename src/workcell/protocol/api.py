@@ -17,8 +17,8 @@ SettingKind = Literal["int", "float", "text", "choice", "int_list", "float_list"
 
 @dataclass(frozen=True)
 class SettingInfo:
-    """One setting of the setup page: its dotted ``key`` (as in the TOML file and in
-    :class:`~workcell.protocol.messages.FieldProblem`), kind, default and documentation
+    """One setting of the setup page: its dotted ``key`` (as in the TOML file; the names
+    of a :class:`~workcell.protocol.messages.FieldProblem` path), kind, default and documentation
     (which says the unit and the allowed range). ``choices`` lists a choice's values."""
 
     key: str

@@ -8,6 +8,7 @@ valid :data:`~workcell.protocol.messages.ClientMessage` or raises :class:`Protoc
 from __future__ import annotations
 
 import dataclasses
+import enum
 import functools
 import json
 import math
@@ -15,6 +16,7 @@ from typing import Any
 
 from workcell.protocol import messages as m
 from workcell.protocol.validation import ProtocolError, build
+from workcell.task.events import TASK_EVENTS
 
 MAX_MESSAGE_BYTES = 64 * 1024
 """The largest message a client may send."""
@@ -22,8 +24,18 @@ MAX_MESSAGE_BYTES = 64 * 1024
 __all__ = ["MAX_MESSAGE_BYTES", "ProtocolError", "decode_client", "decode_server", "encode"]
 
 
+def _default(cls: type, name: str) -> Any:
+    return next(f.default for f in dataclasses.fields(cls) if f.name == name)
+
+
+def _key(cls: type) -> str:
+    """What names a message class: its ``type``; ``event:<kind>`` for a task event."""
+    kind = _default(cls, "type")
+    return f"{kind}:{_default(cls, 'kind')}" if cls in TASK_EVENTS else str(kind)
+
+
 def _by_type(classes: tuple[type, ...]) -> dict[str, type]:
-    return {f.default: cls for cls in classes for f in dataclasses.fields(cls) if f.name == "type"}  # type: ignore[misc]
+    return {_key(cls): cls for cls in classes}
 
 
 _CLIENT = _by_type(m.CLIENT_MESSAGES)
@@ -54,12 +66,14 @@ def _decode(text: str | bytes, known: dict[str, type]) -> Any:
     if not isinstance(data, dict):
         raise ProtocolError("malformed", "message must be a JSON object with a 'type' field")
     kind = data.get("type")
+    if kind == "event":
+        kind = f"event:{data.get('kind')}"
     cls = known.get(kind) if isinstance(kind, str) else None
     if cls is None:
         allowed = ", ".join(sorted(known))
         raise ProtocolError("malformed", f"type = {str(kind)[:40]!r}: must be one of {allowed}")
     try:
-        return build(cls, data, str(kind))
+        return build(cls, data, str(data["type"]))
     except RecursionError:
         raise ProtocolError("malformed", "message is nested too deeply") from None
 
@@ -91,6 +105,8 @@ def to_json_value(value: Any) -> Any:
         return value if math.isfinite(value) else None
     if isinstance(value, _PLAIN):
         return value
+    if isinstance(value, enum.Enum):
+        return to_json_value(value.value)
     if isinstance(value, tuple | list):
         return [to_json_value(item) for item in value]
     if isinstance(value, dict):

@@ -2,9 +2,12 @@
 
 These dataclasses are the single source of truth: the TypeScript types in
 ``web/src/protocol.ts`` are generated from them (``python -m workcell.protocol.typescript``)
-and a test fails when that file is stale. Direction is part of the type: a client can only
-send a :data:`ClientMessage` and the server only sends a :data:`ServerMessage`. Every
-message is a JSON object with a ``type`` field naming it.
+and a test fails when that file is stale. The task's events (:mod:`workcell.task.events`,
+each a message of type ``event`` told apart by ``kind``) and its HUD
+(:mod:`workcell.task.hud`) are sent as they are, so they are declared there, once.
+Direction is part of the type: a client can only send a :data:`ClientMessage` and the
+server only sends a :data:`ServerMessage`. Every message is a JSON object with a ``type``
+field naming it.
 
 Coordinates: poses from the browser are in the WebXR ``local-floor`` reference space
 (metres; x right, y up, -z forward) as (x, y, z, qw, qx, qy, qz); poses sent by the server
@@ -16,6 +19,10 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+from workcell.session.config import Mode
+from workcell.task.events import TASK_EVENTS, TaskEvent
+from workcell.task.hud import Hud
+
 PROTOCOL_VERSION = 1
 SUBPROTOCOL = f"workcell.v{PROTOCOL_VERSION}"
 """The WebSocket subprotocol a client must offer; another version is refused."""
@@ -23,7 +30,6 @@ SUBPROTOCOL = f"workcell.v{PROTOCOL_VERSION}"
 Pose = tuple[float, float, float, float, float, float, float]
 Role = Literal["operator", "spectator"]
 InputSource = Literal["xr", "desktop", "gamepad"]
-HudPhase = Literal["countdown", "running", "finished"]
 ErrorCode = Literal[
     "malformed", "too_large", "invalid_value", "not_allowed", "rate_limited", "protocol"
 ]
@@ -149,23 +155,6 @@ class Scene:
 
 
 @dataclass(frozen=True)
-class Hud:
-    """What the operator sees: mode, progress, clock and score."""
-
-    phase: HudPhase
-    mode: str
-    trial_index: int
-    round: int | None
-    rounds: int | None
-    level: int | None
-    boxes_delivered: int
-    required_boxes: int
-    countdown_s: float
-    remaining_s: float
-    score: int
-
-
-@dataclass(frozen=True)
 class State:
     """The latest poses of the dynamic bodies (in :class:`BodyDescription` index order),
     sent at up to 60 Hz; a client that falls behind gets only the newest."""
@@ -184,20 +173,15 @@ class State:
 
 
 @dataclass(frozen=True)
-class TaskEventMessage:
-    """A task event (trial started, box delivered, ...): its kind and fields."""
-
-    kind: str
-    t_sim: float
-    fields: dict[str, object]
-    type: Literal["event"] = "event"
-
-
-@dataclass(frozen=True)
 class FieldProblem:
-    """One invalid setting: its dotted name (as in the TOML file) and what is allowed."""
+    """One invalid value, as data: ``path`` names where it is (the dotted setting name
+    split at its dots, list indices as numbers: ``["task", "level_boxes", 1]``; empty when
+    the problem names no field), ``value`` is what was given (null when it has no JSON
+    form) and ``allowed`` what would be accepted; ``message`` says it all in one line."""
 
-    field: str
+    path: tuple[str | int, ...]
+    value: object
+    allowed: str
     message: str
 
 
@@ -214,7 +198,7 @@ class SessionStarted:
     """A session began (sent to every client): its id and the settings it runs under."""
 
     session_id: str
-    mode: str
+    mode: Mode
     operator_id: str
     settings: dict[str, object]
     type: Literal["session_started"] = "session_started"
@@ -241,6 +225,8 @@ class Error:
     code: ErrorCode
     message: str
     fatal: bool = False
+    problem: FieldProblem | None = None
+    """The refused value as data, when the problem is one field's."""
     type: Literal["error"] = "error"
 
 
@@ -257,7 +243,7 @@ ServerMessage = (
     Welcome
     | Scene
     | State
-    | TaskEventMessage
+    | TaskEvent
     | ConfigRejected
     | SessionStarted
     | SessionEnded
@@ -270,7 +256,7 @@ SERVER_MESSAGES: tuple[type, ...] = (
     Welcome,
     Scene,
     State,
-    TaskEventMessage,
+    *TASK_EVENTS,
     ConfigRejected,
     SessionStarted,
     SessionEnded,

@@ -3,20 +3,25 @@
 Exact types (a bool is not a number, a number is not text), no unknown or missing fields
 (fields with defaults may be left out), finite numbers only, documented ranges, unit
 quaternions (within 1e-2, then normalised). Every problem is a :class:`ProtocolError`
-naming the field by its dotted path (``input.left.grip``) and saying what is allowed.
+naming the field by its dotted path (``input.left.grip``) and saying what is allowed; where
+one field's value is the problem it also carries it as data (``problem``: path, value,
+allowed), which the server sends in the ``Error`` message.
 """
 
 from __future__ import annotations
 
 import dataclasses
+import enum
 import functools
 import math
+import re
 import types
 from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 
 from workcell.errors import WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.messages import ErrorCode
+from workcell.task.events import TrialStarted
 
 QUATERNION_TOLERANCE = 1e-2
 """How far from 1 a pose quaternion's norm may be before it is refused."""
@@ -35,14 +40,57 @@ RANGES: dict[tuple[type, str], tuple[float, float]] = {
 """Inclusive bounds of numeric fields (each element, for tuples)."""
 MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128}
 """Longest allowed text of a field (characters)."""
+WIDE_INTEGERS: frozenset[tuple[type, str]] = frozenset({(TrialStarted, "trial_seed")})
+"""Whole numbers the server sends that may exceed 2^53 (a 63-bit seed): a browser reads
+them rounded and does not use them; a Python client reads them exactly."""
 
 
 class ProtocolError(WorkcellError):
-    """A message that is not valid protocol; ``code`` is an :class:`~messages.Error` code."""
+    """A message that is not valid protocol; ``code`` is an :class:`~messages.Error` code.
+    ``problem`` holds the refused value as data when one field's value is the problem."""
 
-    def __init__(self, code: ErrorCode, message: str) -> None:
+    def __init__(
+        self, code: ErrorCode, message: str, problem: m.FieldProblem | None = None
+    ) -> None:
         self.code: ErrorCode = code
+        self.problem = problem
         super().__init__(message)
+
+
+def split_path(path: str) -> tuple[str | int, ...]:
+    """``"input.left.stick[1]"`` as ``("input", "left", "stick", 1)``."""
+    parts: list[str | int] = []
+    for name, index in re.findall(r"([^.\[\]]+)|\[(\d+)\]", path):
+        parts.append(int(index) if index else name)
+    return tuple(parts)
+
+
+def json_value(value: Any) -> object:
+    """``value`` if every reader of the JSON holds it as it is (finite numbers, whole
+    numbers within +-(2^53 - 1), text, lists and objects of them), else None."""
+    if value is None or isinstance(value, bool | str):
+        return value
+    if isinstance(value, int):
+        return value if abs(value) <= MAX_SAFE_INTEGER else None
+    if isinstance(value, float):
+        return value if math.isfinite(value) else None
+    if isinstance(value, list | tuple):
+        items = [json_value(item) for item in value]
+        carried = all(i is not None or v is None for i, v in zip(items, value, strict=True))
+        return items if carried else None
+    if isinstance(value, dict) and all(isinstance(k, str) for k in value):
+        return {k: json_value(v) for k, v in value.items()}
+    return None
+
+
+def field_problem(path: str, value: Any, allowed: str, message: str) -> m.FieldProblem:
+    """A :class:`~messages.FieldProblem` for the value at dotted ``path``."""
+    return m.FieldProblem(split_path(path), json_value(value), allowed, message)
+
+
+def _invalid(code: ErrorCode, path: str, value: Any, allowed: str) -> ProtocolError:
+    message = f"{path} = {_show(value)}: {allowed}"
+    return ProtocolError(code, message, field_problem(path, value, allowed, message))
 
 
 @functools.cache
@@ -63,7 +111,7 @@ def _show(value: Any) -> str:
 def build(cls: type, value: Any, path: str) -> Any:
     """``value`` (a decoded JSON object) as dataclass ``cls``; ``path`` names it."""
     if not isinstance(value, dict):
-        raise ProtocolError("malformed", f"{path} = {_show(value)}: must be an object")
+        raise _invalid("malformed", path, value, "must be an object")
     fields = _fields(cls)
     names = {f.name for f in fields}
     unknown = [key for key in value if key not in names]
@@ -80,48 +128,62 @@ def build(cls: type, value: Any, path: str) -> Any:
             if f.default is dataclasses.MISSING and f.default_factory is dataclasses.MISSING:
                 raise ProtocolError("malformed", f"{where}: missing; it is required")
             continue
-        converted = convert(value[f.name], hints[f.name], where)
+        converted = (
+            _wide_integer(value[f.name], where)
+            if (cls, f.name) in WIDE_INTEGERS
+            else convert(value[f.name], hints[f.name], where)
+        )
         _check_range(cls, f.name, converted, where)
         kwargs[f.name] = converted
     return cls(**kwargs)
+
+
+def _wide_integer(value: Any, path: str) -> int:
+    if type(value) is not int:
+        raise _invalid("malformed", path, value, "must be a whole number")
+    return value
 
 
 def convert(value: Any, hint: Any, path: str) -> Any:
     """``value`` as type ``hint`` or a ProtocolError saying what is allowed."""
     if hint is bool:
         if type(value) is not bool:
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be true or false")
+            raise _invalid("malformed", path, value, "must be true or false")
         return value
     if hint is int:
         if type(value) is not int:
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a whole number")
+            raise _invalid("malformed", path, value, "must be a whole number")
         if abs(value) > MAX_SAFE_INTEGER:
-            raise ProtocolError(
-                "invalid_value", f"{path} = {_show(value)}: must be within +-(2^53 - 1)"
-            )
+            raise _invalid("invalid_value", path, value, "must be within +-(2^53 - 1)")
         return value
     if hint is float:
         if type(value) not in (int, float):
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a number")
+            raise _invalid("malformed", path, value, "must be a number")
         return _finite_float(value, path)
     if hint is str:
         if not isinstance(value, str):
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be text")
+            raise _invalid("malformed", path, value, "must be text")
         return value
     if hint is object:
         _require_finite(value, path)
         return value
     if hint is type(None):
         if value is not None:
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be null")
+            raise _invalid("malformed", path, value, "must be null")
         return None
     if dataclasses.is_dataclass(hint):
         return build(hint, value, path)  # type: ignore[arg-type]
+    if isinstance(hint, type) and issubclass(hint, enum.Enum):
+        allowed = ", ".join(repr(member.value) for member in hint)
+        for member in hint:
+            if type(value) is type(member.value) and value == member.value:
+                return member
+        raise _invalid("malformed", path, value, f"must be one of {allowed}")
     origin, args = get_origin(hint), get_args(hint)
     if origin is Literal:
         if value not in args or type(value) is not type(args[0]):
             allowed = ", ".join(repr(a) for a in args)
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be one of {allowed}")
+            raise _invalid("malformed", path, value, f"must be one of {allowed}")
         return value
     if origin in (Union, types.UnionType):
         return _convert_union(value, args, path)
@@ -130,7 +192,7 @@ def convert(value: Any, hint: Any, path: str) -> Any:
         return _unit_pose(converted, path) if hint == m.Pose else converted
     if origin is dict:
         if not isinstance(value, dict):
-            raise ProtocolError("malformed", f"{path} = {_show(value)}: must be an object")
+            raise _invalid("malformed", path, value, "must be an object")
         return {key: convert(item, args[1], f"{path}.{key}") for key, item in value.items()}
     raise TypeError(f"{path}: no conversion for {hint!r}")  # a protocol author's mistake
 
@@ -143,9 +205,7 @@ def _finite_float(value: int | float, path: str) -> float:
     except OverflowError:
         number = math.inf
     if not math.isfinite(number):
-        raise ProtocolError(
-            "invalid_value", f"{path} = {_show(value)}: must be a finite number (within +-1.8e308)"
-        )
+        raise _invalid("invalid_value", path, value, "must be a finite number (within +-1.8e308)")
     return number
 
 
@@ -175,12 +235,12 @@ def _convert_union(value: Any, args: tuple[Any, ...], path: str) -> Any:
             return convert(value, option, path)
         except ProtocolError:
             continue
-    raise ProtocolError("malformed", f"{path} = {_show(value)}: has none of the allowed types")
+    raise _invalid("malformed", path, value, "has none of the allowed types")
 
 
 def _convert_tuple(value: Any, args: tuple[Any, ...], path: str) -> tuple[Any, ...]:
     if not isinstance(value, list):
-        raise ProtocolError("malformed", f"{path} = {_show(value)}: must be a list")
+        raise _invalid("malformed", path, value, "must be a list")
     if len(args) == 2 and args[1] is Ellipsis:
         return tuple(convert(item, args[0], f"{path}[{i}]") for i, item in enumerate(value))
     if len(value) != len(args):
@@ -222,6 +282,4 @@ def _check_range(cls: type, name: str, value: Any, path: str) -> None:
     items = value if isinstance(value, tuple) else (value,)
     for item in items:
         if not low <= item <= high:
-            raise ProtocolError(
-                "invalid_value", f"{path} = {_show(value)}: must be from {low:g} to {high:g}"
-            )
+            raise _invalid("invalid_value", path, value, f"must be from {low:g} to {high:g}")

@@ -6,7 +6,11 @@ names are public API: CSV headers, SQL columns and dataset features use them ver
 
 from __future__ import annotations
 
+from typing import get_args
+
+from workcell.metrics.definitions import STORED_METRICS
 from workcell.sim.joints import JOINT_ORDER
+from workcell.task.events import InterruptionReason, Outcome
 
 POSE_SUFFIXES: tuple[str, ...] = ("x", "y", "z", "qw", "qx", "qy", "qz")
 
@@ -106,26 +110,17 @@ TRIAL_COLUMNS: tuple[str, ...] = (
     "boxes_delivered",
     "score",
     "n_frames",
-    "path_length_m",
-    "smoothness",
-    "active_ratio",
-    "hz_wall",
-    "hz_sim",
-    "max_gap_s",
+    *(name for name in STORED_METRICS if name != "completion_time_s"),
     "quality_flags",
     "included",
     "exclusion_reason",
 )
-"""trials.csv's columns, in the contract's order."""
+"""trials.csv's columns, in the contract's order: the trial's result, then the frame count
+and the stored metrics of :mod:`workcell.metrics.definitions` (``completion_time_s``, a
+result as much as a metric, stands beside ``elapsed_s``)."""
 
-OUTCOMES: tuple[str, ...] = ("success", "timeout", "interrupted")
-INTERRUPTION_REASONS: tuple[str, ...] = (
-    "operator_stop",
-    "application_quit",
-    "client_lost",
-    "crash_recovered",
-    "storage_error",
-)
+OUTCOMES: tuple[str, ...] = get_args(Outcome)
+INTERRUPTION_REASONS: tuple[str, ...] = get_args(InterruptionReason)
 
 FRAME_DEVICE_COLUMNS: tuple[str, ...] = (
     *pose_columns("ctrl_l"),

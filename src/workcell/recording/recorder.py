@@ -196,11 +196,10 @@ class Recorder:
         self.sample()  # the frame at t_sim = 0
 
     def _add_event(self, event: ev.TaskEvent, session_level: bool = False) -> None:
-        payload = {k: v for k, v in dataclasses.asdict(event).items() if k != "t_sim"}
         self.store.add_event(
             self.session_id,
             ev.event_kind(event),
-            payload,
+            ev.event_payload(event),
             trial_id=None if session_level else self._trial_id,
             t_sim=event.t_sim,
         )

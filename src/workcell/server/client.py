@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 from starlette.websockets import WebSocket
 
 from workcell.protocol.codec import encode
-from workcell.protocol.messages import Error, ErrorCode, Role, ServerMessage
+from workcell.protocol.messages import Error, ErrorCode, FieldProblem, Role, ServerMessage
 from workcell.server.ratelimit import TokenBucket
 
 MAX_QUEUED = 512
@@ -78,11 +78,12 @@ class Client:
         self._state = text
         self._wake.set()
 
-    def refuse(self, code: ErrorCode, message: str) -> None:
-        """Count a refused message and tell the client (unless it floods us with them)."""
+    def refuse(self, code: ErrorCode, message: str, problem: FieldProblem | None = None) -> None:
+        """Count a refused message and tell the client (unless it floods us with them);
+        ``problem`` is the refused value as data."""
         self.stats.refused(code)
         if self._error_replies.allow():
-            self.send(Error(code=code, message=message))
+            self.send(Error(code=code, message=message, problem=problem))
 
     async def run_sender(self) -> None:
         """Send queued messages, then the latest State, until the client closes."""

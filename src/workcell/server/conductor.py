@@ -15,9 +15,10 @@ import secrets
 from typing import Any
 
 from workcell.control.simulation import Simulation
-from workcell.errors import ConfigError, WorkcellError
+from workcell.errors import ConfigError, Problem, WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.codec import encode
+from workcell.protocol.validation import field_problem
 from workcell.server.client import Client
 from workcell.server.live import LiveSession
 from workcell.server.options import ServerOptions
@@ -29,14 +30,14 @@ logger = logging.getLogger(__name__)
 
 
 def field_problems(error: ConfigError) -> tuple[m.FieldProblem, ...]:
-    """One FieldProblem per line of a ConfigError: the field is the dotted name before
-    ``" = "`` or ``":"``."""
-    problems = []
-    for line in error.problems:
-        cut = [i for i in (line.find(" = "), line.find(":")) if i >= 0]
-        end = min(cut) if cut else len(line)
-        problems.append(m.FieldProblem(field=line[:end].strip(), message=line))
-    return tuple(problems)
+    """One FieldProblem per line of a ConfigError, its parts as data; a line that names no
+    field (not a :class:`Problem`) has an empty path and the whole line as ``allowed``."""
+    return tuple(
+        field_problem(line.path, line.value, line.allowed, line)
+        if isinstance(line, Problem)
+        else m.FieldProblem(path=(), value=None, allowed=line, message=line)
+        for line in error.problems
+    )
 
 
 class Conductor:

@@ -4,41 +4,30 @@ from __future__ import annotations
 
 import dataclasses
 import math
-from typing import Any
 
 import numpy as np
 
 from workcell.control.command import ArmCommand
-from workcell.protocol.messages import Hud, Pose, State, TaskEventMessage
+from workcell.protocol.messages import Pose, State
 from workcell.server.scene import DIGITS, PoseReader
 from workcell.sim.world import World
 from workcell.task import events as ev
-from workcell.task.runner import HudState, SessionRunner
+from workcell.task.hud import Hud
+from workcell.task.runner import SessionRunner
 from workcell.teleop.operator import TeleopOperator, measured_tcp
 from workcell.teleop.rotation import multiply
 
 
-def hud_message(hud: HudState) -> Hud:
-    return Hud(
-        phase=hud.phase.value,
-        mode=hud.mode,
-        trial_index=hud.trial_index,
-        round=hud.round,
-        rounds=hud.rounds,
-        level=hud.level,
-        boxes_delivered=hud.boxes_delivered,
-        required_boxes=hud.required_boxes,
-        countdown_s=round(hud.countdown_s, 3),
-        remaining_s=round(hud.remaining_s, 3),
-        score=hud.score,
+def hud_message(hud: Hud) -> Hud:
+    """The HUD as sent: its clocks to the millisecond."""
+    return dataclasses.replace(
+        hud, countdown_s=round(hud.countdown_s, 3), remaining_s=round(hud.remaining_s, 3)
     )
 
 
-def event_message(event: ev.TaskEvent) -> TaskEventMessage:
-    fields: dict[str, Any] = {
-        f.name: getattr(event, f.name) for f in dataclasses.fields(event) if f.name != "t_sim"
-    }
-    return TaskEventMessage(kind=ev.event_kind(event), t_sim=round(event.t_sim, 6), fields=fields)
+def event_message(event: ev.TaskEvent) -> ev.TaskEvent:
+    """A task event as sent: its time to the microsecond."""
+    return dataclasses.replace(event, t_sim=round(event.t_sim, 6))
 
 
 def _world_pose(world: World, base_pose: Pose) -> Pose:

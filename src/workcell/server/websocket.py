@@ -69,7 +69,7 @@ async def _handle(client: Client, conductor: Conductor, raw: str | bytes | None)
     try:
         message = decode_client(raw if raw is not None else b"")
     except ProtocolError as error:
-        client.refuse(error.code, str(error))
+        client.refuse(error.code, str(error), error.problem)
         return
     if isinstance(message, m.Ping):
         client.send(m.Pong(t_client=message.t_client, t_server=time.time()))

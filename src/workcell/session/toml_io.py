@@ -15,7 +15,7 @@ from collections.abc import Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
-from workcell.errors import ConfigError
+from workcell.errors import ConfigError, Problem
 from workcell.settings import field_doc
 
 T = TypeVar("T")
@@ -70,7 +70,8 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], path: str = "") -> T:
     fields = {f.name: f for f in dataclasses.fields(cls)}  # type: ignore[arg-type]
     for key in data:
         if key not in fields:
-            problems.append(f"{path}{key}: unknown setting; allowed here: {', '.join(fields)}")
+            allowed = f"unknown setting; allowed here: {', '.join(fields)}"
+            problems.append(Problem(f"{path}{key}", data[key], allowed, f"{path}{key}: {allowed}"))
     kwargs: dict[str, Any] = {}
     for name in fields:
         value = data.get(name, _MISSING)
@@ -79,7 +80,10 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], path: str = "") -> T:
         kind = hints[name]
         if dataclasses.is_dataclass(kind):
             if not isinstance(value, Mapping):
-                problems.append(f"{path}{name} = {value!r}: must be a [{path}{name}] section")
+                allowed = f"must be a [{path}{name}] section"
+                problems.append(
+                    Problem(path + name, value, allowed, f"{path}{name} = {value!r}: {allowed}")
+                )
                 continue
             try:
                 kwargs[name] = from_mapping(kind, value, f"{path}{name}.")  # type: ignore[arg-type]
@@ -88,7 +92,9 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], path: str = "") -> T:
             continue
         converted, problem = _convert(value, kind)
         if problem:
-            problems.append(f"{path}{name} = {value!r}: {problem}")
+            problems.append(
+                Problem(path + name, value, problem, f"{path}{name} = {value!r}: {problem}")
+            )
         else:
             kwargs[name] = converted
     # Build even when something above failed, so that every problem is reported at once.
@@ -96,7 +102,9 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], path: str = "") -> T:
     try:
         built = cls(**kwargs)
     except ConfigError as error:
-        problems += [parent + p for p in error.problems]
+        problems += [
+            p.under(parent) if isinstance(p, Problem) else parent + p for p in error.problems
+        ]
     if problems:
         raise ConfigError(problems)
     return built

@@ -1,4 +1,9 @@
-"""Typed events the world emits as boxes move through the task."""
+"""Typed events the world emits as boxes move through the task.
+
+``t_sim`` is the world's clock here. The task layer stamps each of them with its trial
+(:mod:`workcell.task.events` extends these classes, adding the trial index and putting
+``t_sim`` on the trial clock), so the fields of a box event are declared only here.
+"""
 
 from __future__ import annotations
 

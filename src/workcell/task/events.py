@@ -1,28 +1,45 @@
 """Typed task events: every transition of a session, published to subscribers.
 
-``t_sim`` is trial time (0 when the trial's clock starts; negative during the countdown).
+Each event is also the message the server sends for it (``type`` ``"event"``, told apart
+by ``kind``): the TypeScript union ``TaskEvent`` in ``web/src/protocol.ts`` is generated
+from these classes. ``t_sim`` is trial time (0 when the trial's clock starts; negative
+during the countdown). The box events are the world's (:mod:`workcell.sim.events`)
+stamped with the trial.
 """
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
-from typing import Literal
+from typing import Literal, get_args
+
+from workcell.sim import events as world
 
 Outcome = Literal["success", "timeout", "interrupted"]
 InterruptionReason = Literal[
     "operator_stop", "application_quit", "client_lost", "crash_recovered", "storage_error"
 ]
 
+_WIRE_ONLY = ("t_sim", "kind", "type")
+"""Fields that are not part of an event's stored payload (the store has columns for
+``t_sim`` and ``kind``; ``type`` names the message)."""
+
 
 @dataclass(frozen=True)
 class CountdownStarted:
+    """A trial's countdown began (``seconds`` long)."""
+
     trial_index: int
     t_sim: float
     seconds: float
+    kind: Literal["countdown_started"] = "countdown_started"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
 class TrialStarted:
+    """A trial's clock started."""
+
     trial_index: int
     t_sim: float
     mode: str
@@ -33,29 +50,37 @@ class TrialStarted:
     trial_seed: int
     conditions: dict[str, object]
     """The trial's box, belt, feed, target and start conditions (randomized or not)."""
+    kind: Literal["trial_started"] = "trial_started"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
-class BoxReleased:
+class BoxReleased(world.BoxReleased):
+    """The feeder put a box on the belt start."""
+
     trial_index: int
-    t_sim: float
-    box: int
+    kind: Literal["box_released"] = "box_released"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
-class GraspChanged:
+class GraspChanged(world.GraspChanged):
+    """Both pads closed on a box (``engaged``) or let go of it."""
+
     trial_index: int
-    t_sim: float
-    box: int
-    engaged: bool
+    kind: Literal["grasp_changed"] = "grasp_changed"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
-class BoxDelivered:
+class BoxDelivered(world.BoxDelivered):
+    """A released box came to rest inside the delivery zone while the trial ran;
+    ``boxes_delivered`` counts the trial's deliveries so far."""
+
     trial_index: int
-    t_sim: float
-    box: int
     boxes_delivered: int
+    kind: Literal["box_delivered"] = "box_delivered"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
@@ -67,23 +92,35 @@ class LevelChanged:
     round: int
     level: int
     repeat: bool
+    kind: Literal["level_changed"] = "level_changed"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
 class TrialTimedOut:
+    """The trial's time limit passed."""
+
     trial_index: int
     t_sim: float
+    kind: Literal["trial_timed_out"] = "trial_timed_out"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
 class TrialInterrupted:
+    """The trial was cut short (``reason``)."""
+
     trial_index: int
     t_sim: float
     reason: InterruptionReason
+    kind: Literal["trial_interrupted"] = "trial_interrupted"
+    type: Literal["event"] = "event"
 
 
 @dataclass(frozen=True)
 class TrialEnded:
+    """A trial is over: its outcome, time, deliveries and score."""
+
     trial_index: int
     t_sim: float
     outcome: Outcome
@@ -91,6 +128,8 @@ class TrialEnded:
     elapsed_s: float
     boxes_delivered: int
     score: int
+    kind: Literal["trial_ended"] = "trial_ended"
+    type: Literal["event"] = "event"
 
 
 TaskEvent = (
@@ -104,9 +143,31 @@ TaskEvent = (
     | TrialInterrupted
     | TrialEnded
 )
+TASK_EVENTS: tuple[type[TaskEvent], ...] = get_args(TaskEvent)
 
 
 def event_kind(event: TaskEvent) -> str:
     """The stored name of an event type: ``trial_started``, ``box_delivered``, ..."""
-    name = type(event).__name__
-    return "".join("_" + c.lower() if c.isupper() else c for c in name).lstrip("_")
+    return event.kind
+
+
+def event_payload(event: TaskEvent) -> dict[str, object]:
+    """What the store keeps of an event beside its kind and time: the trial index first,
+    then the event's own fields in declaration order."""
+    payload: dict[str, object] = {"trial_index": event.trial_index}
+    for field in dataclasses.fields(event):
+        if field.name not in _WIRE_ONLY:
+            payload[field.name] = getattr(event, field.name)
+    return payload
+
+
+def stamped(
+    event: world.WorldEvent, trial_index: int, t_sim: float, boxes_delivered: int
+) -> TaskEvent:
+    """A world event as the task publishes it: on the trial clock, with its trial
+    (``boxes_delivered`` is the trial's count including a delivery ``event`` makes)."""
+    if isinstance(event, world.BoxReleased):
+        return BoxReleased(t_sim=t_sim, box=event.box, trial_index=trial_index)
+    if isinstance(event, world.GraspChanged):
+        return GraspChanged(t_sim, event.box, event.engaged, trial_index=trial_index)
+    return BoxDelivered(t_sim, event.box, trial_index, boxes_delivered)

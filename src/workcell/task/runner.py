@@ -10,7 +10,6 @@ both drive it.
 
 from __future__ import annotations
 
-import enum
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
@@ -23,15 +22,10 @@ from workcell.session.config import SessionConfig
 from workcell.sim import events as world_events
 from workcell.task import events as ev
 from workcell.task.bus import EventBus
+from workcell.task.hud import Hud, Phase
 from workcell.task.operator import Operator
 from workcell.task.schedule import Schedule, TrialSpec
 from workcell.task.scoring import trial_score
-
-
-class Phase(enum.Enum):
-    COUNTDOWN = "countdown"
-    RUNNING = "running"
-    FINISHED = "finished"
 
 
 @dataclass(frozen=True)
@@ -43,23 +37,6 @@ class TrialResult:
     elapsed_s: float
     completion_time_s: float | None
     boxes_delivered: int
-    score: int
-
-
-@dataclass(frozen=True)
-class HudState:
-    """What the operator sees: mode, progress, clock and score."""
-
-    phase: Phase
-    mode: str
-    trial_index: int
-    round: int | None
-    rounds: int | None
-    level: int | None
-    boxes_delivered: int
-    required_boxes: int
-    countdown_s: float
-    remaining_s: float
     score: int
 
 
@@ -168,12 +145,12 @@ class SessionRunner:
         """The physics step count at which the current trial's clock started (or starts)."""
         return self._start_step
 
-    def hud(self) -> HudState:
+    def hud(self) -> Hud:
         spec = self._spec
         t = self.trial_time
         limit = spec.time_limit_s if spec else 0.0
         boxes = self._delivered
-        return HudState(
+        return Hud(
             phase=self.phase,
             mode=self.config.task.mode,
             trial_index=spec.trial_index if spec else 0,
@@ -280,11 +257,8 @@ class SessionRunner:
     def _publish_world_event(self, event: world_events.WorldEvent) -> None:
         spec = self._spec
         assert spec is not None
-        index, t = spec.trial_index, self.trial_time
-        if isinstance(event, world_events.BoxReleased):
-            self.bus.publish(ev.BoxReleased(index, t, event.box))
-        elif isinstance(event, world_events.GraspChanged):
-            self.bus.publish(ev.GraspChanged(index, t, event.box, event.engaged))
-        elif isinstance(event, world_events.BoxDelivered) and self.phase is Phase.RUNNING:
+        if isinstance(event, world_events.BoxDelivered):
+            if self.phase is not Phase.RUNNING:
+                return
             self._delivered += 1
-            self.bus.publish(ev.BoxDelivered(index, t, event.box, self._delivered))
+        self.bus.publish(ev.stamped(event, spec.trial_index, self.trial_time, self._delivered))

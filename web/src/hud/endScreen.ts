@@ -23,9 +23,8 @@ function nextTrialText(app: App): string {
   const after = ended === null ? [] : app.events.slice(app.events.lastIndexOf(ended) + 1);
   const change = after.find((e) => e.kind === "level_changed");
   if (change === undefined) return "The next trial starts by itself.";
-  const { round, level, repeat } = change.fields;
-  const where = `round ${String(round)}, level ${String(level)}`;
-  return repeat === true ? `Time ran out: ${where} again.` : `Next: ${where}.`;
+  const where = `round ${change.round}, level ${change.level}`;
+  return change.repeat ? `Time ran out: ${where} again.` : `Next: ${where}.`;
 }
 
 /** Fill `overlay` for the app's current state (hidden while a trial runs). */
@@ -50,7 +49,7 @@ export function renderEndScreen(overlay: HTMLElement, app: App): void {
     if (trialEnd !== null) {
       overlay.append(
         el("h3", { textContent: "Last trial" }),
-        linesToDom(trialEndSummary(trialEnd.fields), "summary"),
+        linesToDom(trialEndSummary(trialEnd), "summary"),
       );
     }
     const actions = el("div", { className: "actions" });
@@ -61,10 +60,10 @@ export function renderEndScreen(overlay: HTMLElement, app: App): void {
     overlay.append(actions);
   } else if (trialEnd !== null) {
     overlay.className = "overlay trial-end";
-    const outcome = String(trialEnd.fields["outcome"] ?? "ended");
+    const outcome = trialEnd.outcome;
     overlay.append(
       el("h2", { textContent: outcome === "success" ? "Delivered!" : `Trial over: ${outcome}` }),
-      linesToDom(trialEndSummary(trialEnd.fields), "summary"),
+      linesToDom(trialEndSummary(trialEnd), "summary"),
       el("p", { textContent: nextTrialText(app) }),
     );
   } else if (!app.sessionActive) {

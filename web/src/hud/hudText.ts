@@ -1,6 +1,6 @@
 // The HUD's content, one function for both the desktop overlay and the XR panel.
 
-import type { Hud } from "../protocol";
+import type { Hud, TrialEnded } from "../protocol";
 
 export interface HudLine {
   label: string;
@@ -37,22 +37,12 @@ export function hudLines(hud: Hud): HudLine[] {
   return lines;
 }
 
-/** The headline of the end-of-trial screen from a trial_ended event's fields. */
-export function trialEndSummary(fields: { readonly [key: string]: unknown }): HudLine[] {
-  const num = (key: string): number | null => {
-    const value = fields[key];
-    return typeof value === "number" ? value : null;
-  };
-  const lines: HudLine[] = [];
-  const outcome = typeof fields["outcome"] === "string" ? fields["outcome"] : "ended";
-  lines.push({ label: "Outcome", value: outcome, alert: outcome !== "success" });
-  const reason = fields["interruption_reason"];
-  if (typeof reason === "string") lines.push({ label: "Reason", value: reason });
-  const boxes = num("boxes_delivered");
-  if (boxes !== null) lines.push({ label: "Boxes delivered", value: String(boxes) });
-  const elapsed = num("elapsed_s");
-  if (elapsed !== null) lines.push({ label: "Time", value: `${elapsed.toFixed(1)} s` });
-  const score = num("score");
-  if (score !== null) lines.push({ label: "Score", value: String(score) });
+/** The headline of the end-of-trial screen from a trial_ended event. */
+export function trialEndSummary(ended: TrialEnded): HudLine[] {
+  const lines: HudLine[] = [{ label: "Outcome", value: ended.outcome, alert: ended.outcome !== "success" }];
+  if (ended.interruption_reason !== null) lines.push({ label: "Reason", value: ended.interruption_reason });
+  lines.push({ label: "Boxes delivered", value: String(ended.boxes_delivered) });
+  lines.push({ label: "Time", value: `${ended.elapsed_s.toFixed(1)} s` });
+  lines.push({ label: "Score", value: String(ended.score) });
   return lines;
 }

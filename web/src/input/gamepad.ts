@@ -16,12 +16,12 @@ export interface PadReading {
 
 const DEAD = 0.12;
 
-function axis(pad: Gamepad, i: number): number {
+function axis(pad: Pick<Gamepad, "axes">, i: number): number {
   const v = pad.axes[i] ?? 0;
   return Math.abs(v) < DEAD ? 0 : v;
 }
 
-function button(pad: Gamepad, i: number): number {
+function button(pad: Pick<Gamepad, "buttons">, i: number): number {
   return pad.buttons[i]?.value ?? 0;
 }
 
@@ -31,7 +31,11 @@ export function readGamepad(): PadReading | null {
   const pad = Array.from(navigator.getGamepads()).find(
     (p): p is Gamepad => p !== null && p.connected && p.mapping === "standard",
   );
-  if (pad === undefined) return null;
+  return pad === undefined ? null : padReading(pad);
+}
+
+/** What a standard-mapping pad's axes and buttons ask for. */
+export function padReading(pad: Pick<Gamepad, "axes" | "buttons">): PadReading {
   const reading: PadReading = {
     stickL: [axis(pad, 0), -axis(pad, 1)],
     turn: axis(pad, 2),

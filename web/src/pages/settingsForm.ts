@@ -72,15 +72,32 @@ export function nest(values: ReadonlyMap<string, unknown>): Record<string, unkno
   return root;
 }
 
-/** The setting a problem names: `task.level_boxes[1]` → `task.level_boxes`; else the
- * longest known key that prefixes it; null when none does. */
+/** The setting a problem's path lands in: its names joined with dots, list indices
+ * left out (`["task", "level_boxes", 1]` → `task.level_boxes`), cut back to the longest
+ * leading part that is a known setting; null when no part is. */
 export function fieldFor(problem: FieldProblem, keys: readonly string[]): string | null {
-  const bare = problem.field.replace(/\[\d+\]/g, "");
-  if (keys.includes(bare)) return bare;
-  const owner = keys
-    .filter((k) => bare.startsWith(`${k}.`) || bare.startsWith(`${k}[`))
-    .sort((a, b) => b.length - a.length)[0];
-  return owner ?? null;
+  const names = problem.path.filter((part): part is string => typeof part === "string");
+  for (let n = names.length; n > 0; n -= 1) {
+    const key = names.slice(0, n).join(".");
+    if (keys.includes(key)) return key;
+  }
+  return null;
+}
+
+/** Where each problem is shown: the lines beside each setting's field (in the order the
+ * server sent them), and the lines that name no known setting. */
+export function placeProblems(
+  problems: readonly FieldProblem[],
+  keys: readonly string[],
+): { byField: Map<string, string[]>; general: string[] } {
+  const byField = new Map<string, string[]>();
+  const general: string[] = [];
+  for (const problem of problems) {
+    const key = fieldFor(problem, keys);
+    if (key === null) general.push(problem.message);
+    else byField.set(key, [...(byField.get(key) ?? []), problem.message]);
+  }
+  return { byField, general };
 }
 
 /** Which section a field belongs to: the longest section key that prefixes it. */

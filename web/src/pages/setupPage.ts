@@ -5,7 +5,7 @@
 import type { App } from "../app";
 import type { Defaults, FieldProblem } from "../protocol";
 import { fetchDefaults } from "../net/api";
-import { buildControl, fieldFor, nest, readValue, sectionOf, writeValue } from "./settingsForm";
+import { buildControl, nest, placeProblems, readValue, sectionOf, writeValue } from "./settingsForm";
 import type { FieldControl } from "./settingsForm";
 import { el } from "../util/dom";
 
@@ -33,20 +33,16 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
       control.row.classList.remove("invalid");
     }
     if (general !== null) general.textContent = "";
-    const keys = [...controls.keys()];
+    const placed = placeProblems(problems, [...controls.keys()]);
     let first: FieldControl | null = null;
-    for (const problem of problems) {
-      const key = fieldFor(problem, keys);
-      const control = key === null ? undefined : controls.get(key);
-      if (control === undefined) {
-        if (general !== null) general.textContent += `${problem.field}: ${problem.message}\n`;
-        continue;
-      }
+    for (const [key, lines] of placed.byField) {
+      const control = controls.get(key);
+      if (control === undefined) continue;
       control.row.classList.add("invalid");
-      const line = problem.field === key ? problem.message : `${problem.field}: ${problem.message}`;
-      control.problem.textContent += (control.problem.textContent === "" ? "" : "\n") + line;
+      control.problem.textContent = lines.join("\n");
       first ??= control;
     }
+    if (general !== null) general.textContent = placed.general.map((line) => `${line}\n`).join("");
     first?.input.focus();
     if (startButton !== null) {
       startButton.disabled = false;

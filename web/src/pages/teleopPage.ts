@@ -152,7 +152,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
           { label: "Total score", value: String(app.ended.total_score) },
         ]);
       } else if (trialEnd !== null) {
-        hudPanel.show("Trial over", trialEndSummary(trialEnd.fields));
+        hudPanel.show("Trial over", trialEndSummary(trialEnd));
       } else {
         hudPanel.show("Workcell", h !== null ? hudLines(h) : [{ label: "Status", value: info.status }]);
       }

@@ -1,9 +1,14 @@
 // `?emulate=quest3`: an emulated Meta Quest 3 and its controllers (IWER), installed before
 // the page asks for an XR session. Tests drive it through `window.__xrDevice`.
 
+import type { XRDevice } from "iwer";
+
+/** The emulated headset the tests drive (IWER's device). */
+export type EmulatedDevice = XRDevice;
+
 declare global {
   interface Window {
-    __xrDevice?: unknown;
+    __xrDevice?: EmulatedDevice;
   }
 }
 

@@ -14,105 +14,97 @@
 // Geometry: base frame = the robot's; WebXR local-floor x right, y up, -z forward, so a
 // base-frame displacement (dx, dy, dz) is a controller displacement (-dy, dz, -dx).
 
+import { add, norm, sub, toBase, wrap } from "./observation.js";
+import type { Base, BoxSeen, Observation, Vec3 } from "./observation.js";
+
+export type { Base, Observation, Vec3 } from "./observation.js";
+export { observe } from "./observation.js";
+
+export type Phase = "wait" | "approach" | "engage" | "pregrasp" | "squeeze" | "lift" | "carry" | "place" | "release" | "backoff";
+
+export interface Targets {
+  l: Vec3;
+  r: Vec3;
+}
+
+export interface Drive {
+  forward: number;
+  left: number;
+  turn: number;
+  fine: boolean;
+}
+
+export interface Decision {
+  drive: Drive;
+  grip: boolean;
+  trigger: boolean;
+  palmsIn: boolean;
+  targets: Targets | null;
+}
+
 const BOX_HALF = 0.15; // half the default box width across the belt (the grasp axis)
 const BELT_TOP = 0.75;
 const PICK_DISTANCE = 0.6;
 const PREGRASP_GAP = 0.07;
 const SQUEEZE_GAP = -0.006;
-const LIFT = [-0.05, 0, 0.12];
+const LIFT: Vec3 = [-0.05, 0, 0.12];
 const TABLE_TOP = 0.6;
 const PLACE_DISTANCE = 0.8;
 const ARM_REACH = 0.65;
 const DEAD_ZONE = 0.15;
 
-export const wrap = (a) => Math.atan2(Math.sin(a), Math.cos(a));
-
-export function yawOf(pose) {
-  const [, , , w, x, y, z] = pose;
-  return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
-}
-
-export function toBase(base, p) {
-  const [bx, by, yaw] = base;
-  const dx = p[0] - bx;
-  const dy = p[1] - by;
-  const c = Math.cos(yaw);
-  const s = Math.sin(yaw);
-  return [c * dx + s * dy, -s * dx + c * dy, p[2]];
-}
-
-export const sub = (a, b) => a.map((v, i) => v - b[i]);
-export const add = (a, b) => a.map((v, i) => v + b[i]);
-export const norm = (a) => Math.hypot(...a);
-
-/** Observation from a page snapshot: what an operator can see. */
-export function observe(snap, bodies) {
-  const basePose = bodies.base;
-  const base = [basePose[0], basePose[1], yawOf(basePose)];
-  const boxes = Object.entries(bodies)
-    .filter(([name]) => /^box_\d+$/.test(name))
-    .map(([name, pose]) => ({ name, pos: pose.slice(0, 3), yaw: yawOf(pose) }));
-  const tcp = ["hand_l", "hand_r"].map((name) => tcpOf(bodies[name]));
-  const targets = snap.state?.tcp_targets?.map((p) => p.slice(0, 3)) ?? [null, null];
-  return {
-    t: snap.state?.t_sim ?? 0,
-    phase: snap.hud?.phase ?? null,
-    base,
-    boxes,
-    tcp,
-    targets,
-    following: snap.state?.following ?? [false, false],
-    holding: snap.holding === true,
-    zone: bodies.target ? [bodies.target[0], bodies.target[1]] : [1.6, 1.9],
-  };
-}
-
-const TCP_OFFSET = 0.1375; // the TCP sits this far along the hand's z axis
-
-function tcpOf(pose) {
-  const [x, y, z, w, qx, qy, qz] = pose;
-  // hand z axis in the world: third column of the rotation matrix
-  const zx = 2 * (qx * qz + w * qy);
-  const zy = 2 * (qy * qz - w * qx);
-  const zz = 1 - 2 * (qx * qx + qy * qy);
-  return [x + TCP_OFFSET * zx, y + TCP_OFFSET * zy, z + TCP_OFFSET * zz];
+export interface OperatorOptions {
+  slowDrive?: boolean;
+  lead?: number;
+  tolerance?: number;
+  onOff?: boolean;
 }
 
 export class ScriptedOperator {
+  readonly onOff: boolean;
+  readonly lead: number;
+  readonly tolerance: number;
+  readonly slowDrive: boolean;
+  velocity: Vec3 = [0, 0, 0];
+  phase: Phase = "wait";
+  phaseStart: number | null = null;
+  /** [t, phase] at each change of phase. */
+  readonly log: [number, Phase][] = [];
+  box: string | null = null;
+  route: Base[] = [];
+  targets: Targets | null = null;
+  grip = false;
+  trigger = false;
+  palmsIn = false;
+  drive: Drive = { forward: 0, left: 0, turn: 0, fine: false };
+  lastBase: Base | null = null;
+  baseSpeed = 0;
+  lastT: number | null = null;
+  private candidate: string | null = null;
+  private candidatePos: Vec3 = [0, 0, 0];
+  private lifted: number | null = null;
+  private lowering: number | null = null;
+
   /** `lead` (s): drive on where the base will be after this long (the loop's latency),
    * as a person anticipates; `tolerance` (m): how close to the pick pose is close enough;
    * `onOff`: the drive is keys (full or slow, nothing between), not sticks. */
-  constructor({ slowDrive = false, lead = 0, tolerance = 0.015, onOff = false } = {}) {
+  constructor({ slowDrive = false, lead = 0, tolerance = 0.015, onOff = false }: OperatorOptions = {}) {
     this.onOff = onOff;
     this.lead = lead;
     this.tolerance = tolerance;
-    this.velocity = [0, 0, 0];
-    this.phase = "wait";
-    this.phaseStart = null;
-    this.log = [];
-    this.box = null;
-    this.route = [];
-    this.targets = null;
-    this.grip = false;
-    this.trigger = false;
-    this.palmsIn = false;
-    this.drive = { forward: 0, left: 0, turn: 0, fine: false };
     this.slowDrive = slowDrive;
-    this.lastBase = null;
-    this.baseSpeed = 0;
-    this.lastT = null;
   }
 
-  enter(phase, t) {
+  enter(phase: Phase, t: number): void {
     this.phase = phase;
     this.phaseStart = t;
     this.log.push([Number(t.toFixed(2)), phase]);
   }
 
   /** Stick deflection that moves the base toward `goal` = [x, y, yaw] (world). */
-  driveTo(obs, goal, tolerance = this.tolerance, vmax = 0.5) {
+  driveTo(obs: Observation, goal: Base, tolerance = this.tolerance, vmax = 0.5): boolean {
     const [vx, vy, wz] = this.velocity;
-    const base = [obs.base[0] + vx * this.lead, obs.base[1] + vy * this.lead, obs.base[2] + wz * this.lead];
+    const base: Base = [obs.base[0] + vx * this.lead, obs.base[1] + vy * this.lead, obs.base[2] + wz * this.lead];
     const [ex, ey] = toBase(base, [goal[0], goal[1], 0]);
     const dist = Math.hypot(ex, ey);
     const eyaw = wrap(goal[2] - base[2]);
@@ -146,32 +138,41 @@ export class ScriptedOperator {
     return arrived;
   }
 
-  stop() {
+  stop(): void {
     this.drive = { forward: 0, left: 0, turn: 0, fine: false };
   }
 
-  palms(obs, gap, lift = 0) {
+  private chosenBox(obs: Observation): BoxSeen {
     const box = obs.boxes.find((b) => b.name === this.box);
-    const c = toBase(obs.base, box.pos);
+    if (box === undefined) throw new Error(`the chosen box ${this.box} is not in the scene`);
+    return box;
+  }
+
+  palms(obs: Observation, gap: number, lift = 0): Targets {
+    const c = toBase(obs.base, this.chosenBox(obs).pos);
     c[2] += lift;
     return { l: [c[0], c[1] + BOX_HALF + gap, c[2]], r: [c[0], c[1] - BOX_HALF - gap, c[2]] };
   }
 
-  handsAt(obs, tolerance) {
-    if (this.targets === null) return false;
-    return ["l", "r"].every((side, i) => norm(sub(toBase(obs.base, obs.tcp[i]), this.targets[side])) < tolerance);
+  handsAt(obs: Observation, tolerance: number): boolean {
+    const targets = this.targets;
+    if (targets === null) return false;
+    return (
+      norm(sub(toBase(obs.base, obs.tcp[0]), targets.l)) < tolerance &&
+      norm(sub(toBase(obs.base, obs.tcp[1]), targets.r)) < tolerance
+    );
   }
 
-  step(obs) {
+  step(obs: Observation): Decision {
     if (this.lastBase !== null && this.lastT !== null && obs.t > this.lastT) {
       const dt = obs.t - this.lastT;
-      const now = [
+      const now: Vec3 = [
         (obs.base[0] - this.lastBase[0]) / dt,
         (obs.base[1] - this.lastBase[1]) / dt,
         wrap(obs.base[2] - this.lastBase[2]) / dt,
       ];
       const k = Math.min(1, dt / 0.15); // low-pass over ~0.15 s
-      this.velocity = this.velocity.map((v, i) => v + k * (now[i] - v));
+      this.velocity = [0, 1, 2].map((i) => this.velocity[i]! + k * (now[i]! - this.velocity[i]!)) as Vec3;
       this.baseSpeed = Math.hypot(this.velocity[0], this.velocity[1]);
     }
     this.lastBase = obs.base;
@@ -179,7 +180,6 @@ export class ScriptedOperator {
     if (this.phaseStart === null) this.phaseStart = obs.t;
     const t = obs.t;
     const elapsed = t - this.phaseStart;
-    const box = this.box === null ? null : obs.boxes.find((b) => b.name === this.box);
     switch (this.phase) {
       case "wait": {
         this.grip = false;
@@ -189,7 +189,7 @@ export class ScriptedOperator {
         );
         this.driveTo(obs, [1.0, 0, Math.PI]);
         if (resting.length > 0 && obs.phase === "running") {
-          const candidate = resting.sort((a, b) => b.pos[0] - a.pos[0])[0];
+          const candidate = resting.sort((a, b) => b.pos[0] - a.pos[0])[0]!;
           if (this.candidate === candidate.name && norm(sub(candidate.pos, this.candidatePos)) < 0.003) {
             this.box = candidate.name;
             this.enter("approach", t);
@@ -200,8 +200,9 @@ export class ScriptedOperator {
         break;
       }
       case "approach": {
+        const box = this.chosenBox(obs);
         const heading = Math.PI + wrap(box.yaw);
-        const goal = [box.pos[0] - PICK_DISTANCE * Math.cos(heading), box.pos[1] - PICK_DISTANCE * Math.sin(heading), heading];
+        const goal: Base = [box.pos[0] - PICK_DISTANCE * Math.cos(heading), box.pos[1] - PICK_DISTANCE * Math.sin(heading), heading];
         if (this.driveTo(obs, goal, this.tolerance, this.slowDrive ? 0.3 : 0.6) && this.baseSpeed < 0.03) {
           this.stop();
           this.enter("engage", t);
@@ -232,13 +233,13 @@ export class ScriptedOperator {
         }
         break;
       case "lift":
-        if (this.lifted !== this.phaseStart) {
+        if (this.lifted !== this.phaseStart && this.targets !== null) {
           this.lifted = this.phaseStart;
           this.targets = { l: add(this.targets.l, LIFT), r: add(this.targets.r, LIFT) };
         }
         if ((this.handsAt(obs, 0.03) && elapsed > 0.5) || elapsed > 3) {
           const [bx, by, yaw] = obs.base;
-          const retreat = [bx - 0.5 * Math.cos(yaw), by - 0.5 * Math.sin(yaw), yaw];
+          const retreat: Base = [bx - 0.5 * Math.cos(yaw), by - 0.5 * Math.sin(yaw), yaw];
           const [zx, zy] = obs.zone;
           const dx = zx - retreat[0];
           const dy = zy - retreat[1];
@@ -250,6 +251,7 @@ export class ScriptedOperator {
         break;
       case "carry": {
         const goal = this.route[0];
+        if (goal === undefined) break;
         const last = this.route.length === 1;
         const arrived = this.driveTo(obs, goal, last ? Math.max(0.02, this.tolerance) : 0.1, this.slowDrive ? 0.35 : 0.6);
         if (arrived && (!last || this.baseSpeed < 0.03)) {
@@ -267,7 +269,7 @@ export class ScriptedOperator {
         this.stop();
         const goal = toBase(obs.base, [obs.zone[0], obs.zone[1], TABLE_TOP + BOX_HALF + 0.012]);
         goal[0] = Math.min(goal[0], ARM_REACH);
-        const held = toBase(obs.base, box.pos);
+        const held = toBase(obs.base, this.chosenBox(obs).pos);
         const lowering = this.lowering === this.phaseStart;
         const aim = lowering ? goal : add(goal, [0, 0, 0.06]);
         this.targets = {
@@ -290,12 +292,12 @@ export class ScriptedOperator {
           this.enter("backoff", t);
         }
         break;
-      case "backoff":
-        if (this.route.length > 0 && this.driveTo(obs, this.route[0], 0.05)) this.route = [];
+      case "backoff": {
+        const goal = this.route[0];
+        if (goal !== undefined && this.driveTo(obs, goal, 0.05)) this.route = [];
         if (this.route.length === 0) this.stop();
         break;
-      default:
-        break;
+      }
     }
     return {
       drive: this.drive,
@@ -309,13 +311,19 @@ export class ScriptedOperator {
 
 /** Per-hand controller corrections (local-floor) that bring the observed arm targets to
  * the desired ones; null for a hand whose arm does not follow yet. */
-export function controllerCorrections(obs, targets, gain = 0.7, maxStep = 0.03) {
+export function controllerCorrections(
+  obs: Observation,
+  targets: Targets | null,
+  gain = 0.7,
+  maxStep = 0.03,
+): [Vec3 | null, Vec3 | null] {
   if (targets === null) return [null, null];
-  return ["l", "r"].map((side, i) => {
+  const correction = (i: 0 | 1): Vec3 | null => {
     const observed = obs.targets[i];
     if (observed === null || !obs.following[i]) return null;
-    const err = sub(targets[side], toBase(obs.base, observed));
-    const step = err.map((v) => Math.max(-maxStep, Math.min(maxStep, v * gain)));
-    return [-step[1], step[2], -step[0]];
-  });
+    const err = sub(i === 0 ? targets.l : targets.r, toBase(obs.base, observed));
+    const [x, y, z] = err.map((v) => Math.max(-maxStep, Math.min(maxStep, v * gain))) as Vec3;
+    return [-y, z, -x];
+  };
+  return [correction(0), correction(1)];
 }

@@ -1,4 +1,4 @@
-// `npm run test:e2e -- <server url>`: every end-to-end script, one after another, against a
+// `npm run test:e2e -- <server url>` (in web/, which compiles the scripts first): every end-to-end script, one after another, against a
 // running `workcell serve` (default http://127.0.0.1:8000). Exits non-zero if any fails.
 
 import { spawnSync } from "node:child_process";
@@ -11,7 +11,7 @@ const scripts = ["xr_delivery", "desktop_delivery", "sessions_replay", "xr_exit_
 let failed = 0;
 for (const name of scripts) {
   console.log(`--- ${name}`);
-  const run = spawnSync(process.execPath, [path.join(here, `${name}.mjs`), url], { stdio: "inherit" });
+  const run = spawnSync(process.execPath, [path.join(here, `${name}.js`), url], { stdio: "inherit" });
   if (run.status !== 0) failed += 1;
 }
 console.log(failed === 0 ? `all ${scripts.length} passed` : `${failed} of ${scripts.length} failed`);

@@ -1,18 +1,24 @@
-// Shared helpers of the end-to-end scripts: launch Debian's chromium with playwright-core,
-// poll the page's `window.__workcell`, keep screenshots and check they are drawn.
+// The harness of the end-to-end scripts: launch Debian's chromium with playwright-core,
+// poll the page's `window.__workcell` (typed by src/debugSnapshot.ts), keep screenshots
+// and check they are drawn, and run a script's body with one exit-code convention.
 //
 // Every script takes the server's base URL as its first argument and exits 0 on success,
 // 1 on a failed check (the reason on stderr). Artifacts go to $WORKCELL_ARTIFACTS (or
-// web/test-artifacts/<script>), printed as "artifacts: <dir>".
+// web/test-artifacts/<script>), printed as "artifacts: <dir>". The scripts are compiled
+// with `npm run build:e2e` (strict TypeScript) into web/build/e2e and run with node there.
 
 import { mkdirSync, mkdtempSync, rmSync, writeFileSync } from "node:fs";
 import { tmpdir } from "node:os";
 import path from "node:path";
-import { fileURLToPath } from "node:url";
 import { chromium } from "playwright-core";
+import type { BrowserContext, Locator, Page } from "playwright-core";
+import type { DebugSnapshot } from "../../src/debugSnapshot";
 
-const here = path.dirname(fileURLToPath(import.meta.url));
-export const CHROMIUM = process.env.WORKCELL_CHROMIUM ?? "/usr/bin/chromium";
+export type { DebugSnapshot } from "../../src/debugSnapshot";
+
+/** web/: the scripts run from there (pytest and `npm run test:e2e` both do). */
+const WEB_DIR = process.cwd();
+export const CHROMIUM = process.env["WORKCELL_CHROMIUM"] ?? "/usr/bin/chromium";
 export const CHROMIUM_ARGS = [
   "--headless",
   "--no-sandbox",
@@ -29,26 +35,32 @@ export const CHROMIUM_ARGS = [
 
 export class CheckFailed extends Error {}
 
-export function check(condition, message) {
+export function check(condition: unknown, message: string): asserts condition {
   if (!condition) throw new CheckFailed(message);
 }
 
-export function log(...parts) {
+export function log(...parts: unknown[]): void {
   const t = (performance.now() / 1000).toFixed(1).padStart(6);
   console.log(`[${t}s]`, ...parts);
 }
 
-export function artifactsDir(name) {
-  const dir = process.env.WORKCELL_ARTIFACTS
-    ? path.join(process.env.WORKCELL_ARTIFACTS, name)
-    : path.resolve(here, "..", "..", "test-artifacts", name);
+export function artifactsDir(name: string): string {
+  const root = process.env["WORKCELL_ARTIFACTS"];
+  const dir = root !== undefined && root !== "" ? path.join(root, name) : path.resolve(WEB_DIR, "test-artifacts", name);
   mkdirSync(dir, { recursive: true });
   console.log(`artifacts: ${dir}`);
   return dir;
 }
 
-/** A fresh browser profile each run; returns { context, page, close }. */
-export async function launch({ width = 960, height = 600 } = {}) {
+export interface Browser {
+  context: BrowserContext;
+  page: Page;
+  consoleLines: string[];
+  close: () => Promise<void>;
+}
+
+/** A fresh browser profile each run. */
+export async function launch({ width = 960, height = 600 } = {}): Promise<Browser> {
   const profile = mkdtempSync(path.join(tmpdir(), "workcell-chromium-"));
   const context = await chromium.launchPersistentContext(profile, {
     executablePath: CHROMIUM,
@@ -57,7 +69,7 @@ export async function launch({ width = 960, height = 600 } = {}) {
     viewport: { width, height },
   });
   const page = context.pages()[0] ?? (await context.newPage());
-  const consoleLines = [];
+  const consoleLines: string[] = [];
   page.on("console", (message) => {
     const line = `${message.type()}: ${message.text()}`;
     consoleLines.push(line);
@@ -67,24 +79,34 @@ export async function launch({ width = 960, height = 600 } = {}) {
     consoleLines.push(`pageerror: ${error.message}`);
     console.error(`page error: ${error.message}`);
   });
-  const close = async () => {
-    await context.close().catch(() => {});
+  const close = async (): Promise<void> => {
+    await context.close().catch(() => undefined);
     rmSync(profile, { recursive: true, force: true });
   };
   return { context, page, consoleLines, close };
 }
 
-export const sleep = (ms) => new Promise((resolve) => setTimeout(resolve, ms));
+export const sleep = (ms: number): Promise<void> => new Promise((resolve) => setTimeout(resolve, ms));
 
 /** The page's state as `window.__workcell.snapshot()` gives it (null before the app runs). */
-export async function snapshot(page) {
-  return page.evaluate(() => (window.__workcell ? window.__workcell.snapshot() : null));
+export async function snapshot(page: Page): Promise<DebugSnapshot | null> {
+  return page.evaluate(() => window.__workcell?.snapshot() ?? null);
+}
+
+export interface WaitOptions {
+  timeout?: number;
+  every?: number;
+  what?: string;
 }
 
 /** Poll `predicate(snapshot)` until it holds; returns the snapshot. */
-export async function waitFor(page, predicate, { timeout = 15000, every = 100, what = "condition" } = {}) {
+export async function waitFor(
+  page: Page,
+  predicate: (s: DebugSnapshot) => boolean,
+  { timeout = 15000, every = 100, what = "condition" }: WaitOptions = {},
+): Promise<DebugSnapshot> {
   const deadline = performance.now() + timeout;
-  let last = null;
+  let last: DebugSnapshot | null = null;
   while (performance.now() < deadline) {
     last = await snapshot(page);
     if (last !== null && predicate(last)) return last;
@@ -93,7 +115,7 @@ export async function waitFor(page, predicate, { timeout = 15000, every = 100, w
   throw new CheckFailed(`timed out after ${timeout} ms waiting for ${what}; last page state: ${JSON.stringify(summary(last))}`);
 }
 
-export function summary(s) {
+export function summary(s: DebugSnapshot | null): object | null {
   if (s === null) return null;
   return {
     page: s.page,
@@ -105,15 +127,23 @@ export function summary(s) {
     state: s.state && { seq: s.state.seq, t_sim: s.state.t_sim, following: s.state.following },
     teleop: s.teleop && { presenting: s.teleop.presenting, inputs_sent: s.teleop.inputs_sent, xr_frames: s.teleop.xr_frames },
     errors: s.errors,
-    events: (s.events ?? []).map((e) => e.kind),
+    events: s.events.map((e) => e.kind),
   };
+}
+
+export interface ImageStats {
+  width: number;
+  height: number;
+  mean: number;
+  variance: number;
+  colours: number;
 }
 
 /**
  * Save a screenshot (of `locator` or the page) and measure it inside the browser: the
  * luminance variance and the number of distinct colours. A blank canvas has ~0 variance.
  */
-export async function screenshotStats(page, file, locator = null) {
+export async function screenshotStats(page: Page, file: string, locator: Locator | null = null): Promise<ImageStats> {
   const buffer = locator ? await locator.screenshot({ path: file }) : await page.screenshot({ path: file });
   const stats = await imageStats(page, `data:image/png;base64,${buffer.toString("base64")}`);
   log(`screenshot ${path.basename(file)}: ${stats.width}x${stats.height}, luminance variance ${stats.variance.toFixed(1)}, ${stats.colours} colours`);
@@ -122,7 +152,7 @@ export async function screenshotStats(page, file, locator = null) {
 
 /** Luminance mean and variance and (sampled) distinct colours of an image, measured in
  * the page (no image library needed in node). */
-export async function imageStats(page, dataUrl) {
+export async function imageStats(page: Page, dataUrl: string): Promise<ImageStats> {
   return page.evaluate(async (url) => {
     const image = new Image();
     image.src = url;
@@ -131,32 +161,48 @@ export async function imageStats(page, dataUrl) {
     canvas.width = image.width;
     canvas.height = image.height;
     const context = canvas.getContext("2d");
+    if (context === null) throw new Error("no 2D canvas");
     context.drawImage(image, 0, 0);
     const { data } = context.getImageData(0, 0, image.width, image.height);
     let sum = 0;
     let sumSq = 0;
-    const colours = new Set();
+    const colours = new Set<number>();
     const n = data.length / 4;
     for (let i = 0; i < data.length; i += 4) {
-      const y = 0.299 * data[i] + 0.587 * data[i + 1] + 0.114 * data[i + 2];
+      const r = data[i] ?? 0;
+      const g = data[i + 1] ?? 0;
+      const b = data[i + 2] ?? 0;
+      const y = 0.299 * r + 0.587 * g + 0.114 * b;
       sum += y;
       sumSq += y * y;
-      if (i % 64 === 0) colours.add((data[i] << 16) | (data[i + 1] << 8) | data[i + 2]);
+      if (i % 64 === 0) colours.add((r << 16) | (g << 8) | b);
     }
     const mean = sum / n;
     return { width: image.width, height: image.height, mean, variance: sumSq / n - mean * mean, colours: colours.size };
   }, dataUrl);
 }
 
-export function writeJson(file, value) {
+/** Check that a screenshot shows something drawn (not a blank canvas). */
+export async function checkDrawn(page: Page, file: string, locator: Locator | null = null, minVariance = 50): Promise<ImageStats> {
+  const stats = await screenshotStats(page, file, locator);
+  check(stats.variance > minVariance && stats.colours > 20, `${path.basename(file)} looks blank (variance ${stats.variance.toFixed(1)}, ${stats.colours} colours)`);
+  return stats;
+}
+
+export function writeJson(file: string, value: unknown): void {
   writeFileSync(file, JSON.stringify(value, null, 2));
 }
 
+export interface ScriptContext extends Browser {
+  url: string;
+  artifacts: string;
+}
+
 /** Run `body` with a launched browser; exit code 0 on success, 1 on a failed check. */
-export async function runScript(name, body) {
+export async function runScript(name: string, body: (context: ScriptContext) => Promise<void>): Promise<never> {
   const url = process.argv[2];
-  if (!url) {
-    console.error(`usage: node ${name}.mjs <server url>`);
+  if (url === undefined || url === "") {
+    console.error(`usage: node ${name}.js <server url>`);
     process.exit(2);
   }
   const artifacts = artifactsDir(name);
@@ -168,8 +214,9 @@ export async function runScript(name, body) {
     log(`PASS ${name} in ${((performance.now() - started) / 1000).toFixed(1)} s`);
   } catch (error) {
     code = 1;
-    console.error(`FAIL ${name}: ${error instanceof CheckFailed ? error.message : error?.stack ?? error}`);
-    await browser.page.screenshot({ path: path.join(artifacts, "failure.png") }).catch(() => {});
+    const reason = error instanceof CheckFailed ? error.message : error instanceof Error ? (error.stack ?? error.message) : String(error);
+    console.error(`FAIL ${name}: ${reason}`);
+    await browser.page.screenshot({ path: path.join(artifacts, "failure.png") }).catch(() => undefined);
     const last = await snapshot(browser.page).catch(() => null);
     if (last !== null) writeJson(path.join(artifacts, "failure-state.json"), last);
     writeFileSync(path.join(artifacts, "console.log"), browser.consoleLines.join("\n"));
@@ -180,7 +227,7 @@ export async function runScript(name, body) {
 }
 
 /** Compose a URL on the server with extra query parameters (the token rides along). */
-export function pageUrl(base, query = {}, hash = "#/") {
+export function pageUrl(base: string, query: Record<string, string> = {}, hash = "#/"): string {
   const url = new URL(base + "/");
   for (const [k, v] of Object.entries(query)) url.searchParams.set(k, v);
   return url.toString().replace(/#.*$/, "") + hash;

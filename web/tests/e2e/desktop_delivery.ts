@@ -4,12 +4,17 @@
 // grippers, comma/period bring the hands together or apart) and dragging the mouse / turning
 // the wheel to move the gripped hands. Prints "RESULT {json}" for the pytest wrapper.
 //
-//   node web/tests/e2e/desktop_delivery.mjs http://127.0.0.1:8000
+//   npm run build:e2e && node build/e2e/tests/e2e/desktop_delivery.js http://127.0.0.1:8000   (in web/)
 
 import path from "node:path";
-import { check, log, runScript, sleep, waitFor, writeJson } from "./lib.mjs";
-import { ScriptedOperator, controllerCorrections, observe } from "./operator.mjs";
-import { checkDrawn, startSession, waitForEnd } from "./flow.mjs";
+import type { Keyboard } from "playwright-core";
+import type { Pose } from "../../src/protocol";
+import { check, checkDrawn, runScript, sleep, waitFor } from "./lib.js";
+import type { DebugSnapshot } from "./lib.js";
+import { ScriptedOperator, controllerCorrections } from "./operator.js";
+import type { Decision, Drive, Observation } from "./operator.js";
+import { startSession } from "./flow.js";
+import { checkDelivered, deliver, deliveryResult } from "./delivery.js";
 
 const TICK_MS = 15;
 const TAP_MS = 110; // a key tap near the goal...
@@ -19,20 +24,21 @@ const METRES_PER_PIXEL = 0.0015; // src/input/desktop.ts MOUSE_METRES_PER_PIXEL
 const METRES_PER_WHEEL = 0.0004; // src/input/desktop.ts WHEEL_METRES_PER_UNIT
 const PALM_IN_Z = Math.SQRT1_2; // quaternion z of a controller turned palm-in
 
-function observeJs() {
+function observeJs(): { snap: DebugSnapshot; bodies: Record<string, Pose> } {
   const workcell = window.__workcell;
+  if (workcell === undefined) throw new Error("no window.__workcell");
   return { snap: workcell.snapshot(), bodies: workcell.bodies() };
 }
 
 /** Keys held down now, pressed and released only on change. */
 class Keys {
-  constructor(keyboard) {
-    this.keyboard = keyboard;
-    this.down = new Set();
-    this.pressed = new Set(); // every key ever used, for the report
-  }
+  readonly down = new Set<string>();
+  /** Every key ever used, for the report. */
+  readonly pressed = new Set<string>();
 
-  async set(wanted) {
+  constructor(private readonly keyboard: Keyboard) {}
+
+  async set(wanted: ReadonlySet<string>): Promise<void> {
     for (const key of [...this.down]) {
       if (!wanted.has(key)) {
         await this.keyboard.up(key);
@@ -51,7 +57,7 @@ class Keys {
 
 /** Drive keys for a stick decision: a component beyond `deadband` holds its key; Shift
  * (slow) unless some component asks for more than half speed. */
-function driveKeys(drive, wanted) {
+function driveKeys(drive: Drive, wanted: Set<string>): void {
   const { forward, left, turn } = drive;
   const deadband = 0.05;
   if (forward > deadband) wanted.add("w");
@@ -73,60 +79,28 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
   await page.mouse.click(centre.x, centre.y); // focus the view
 
   // The key map is on screen.
-  const keymap = await page.textContent("#keymap");
+  const keymap = (await page.textContent("#keymap")) ?? "";
   check(keymap.includes("W A S D") && keymap.includes("G / H"), "the key map is not shown");
   await sleep(500);
   await checkDrawn(page, path.join(artifacts, "desktop-view.png"));
 
   // C toggles the view; both views are drawn.
   await page.keyboard.press("c");
-  await waitFor(page, (s) => s.teleop.view === "first", { what: "C to switch to first person" });
+  await waitFor(page, (s) => s.teleop?.view === "first", { what: "C to switch to first person" });
   await sleep(400);
   await checkDrawn(page, path.join(artifacts, "desktop-first-person.png"));
   await page.keyboard.press("c");
-  await waitFor(page, (s) => s.teleop.view === "third", { what: "C to switch back" });
+  await waitFor(page, (s) => s.teleop?.view === "third", { what: "C to switch back" });
 
-  let s = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
   await checkDrawn(page, path.join(artifacts, "hud-running.png"), page.locator("#hud"));
 
   const keys = new Keys(page.keyboard);
   const operator = new ScriptedOperator({ onOff: true, lead: 0.25, tolerance: 0.03 });
-  let mouse = null; // { x, y } while the left button is held
-  let startBase = null;
-  let maxBaseMove = 0;
-  let maxGrip = 0;
-  let maxTrigger = 0;
-  let lastPhase = "";
-  let shots = 0;
-  let debugAt;
-  let snap = s;
-  const deadline = performance.now() + TRIAL_BUDGET_MS;
-  while (performance.now() < deadline) {
-    const { snap: current, bodies } = await page.evaluate(observeJs);
-    snap = current;
-    if (snap.ended !== null || snap.last_trial_end !== null) break;
-    if (!bodies.base) {
-      await sleep(TICK_MS);
-      continue;
-    }
-    const obs = observe(snap, bodies);
-    startBase ??= obs.base;
-    maxBaseMove = Math.max(maxBaseMove, Math.hypot(obs.base[0] - startBase[0], obs.base[1] - startBase[1]));
-    const decision = operator.step(obs);
-    if (operator.phase !== lastPhase) {
-      lastPhase = operator.phase;
-      log(`operator: ${lastPhase} at t=${obs.t.toFixed(2)} s (base ${obs.base.map((v) => v.toFixed(2)).join(", ")})`);
-      if (["squeeze", "carry", "place"].includes(lastPhase) && shots < 3) {
-        shots += 1;
-        await page.screenshot({ path: path.join(artifacts, `desktop-${lastPhase}.png`) });
-      }
-    }
-    const sent = snap.teleop?.last_input;
-    if (process.env.E2E_DEBUG && (debugAt === undefined || performance.now() - debugAt > 500)) {
-      debugAt = performance.now();
-      log(`debug ${operator.phase} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} drive=${JSON.stringify(decision.drive, (k, v) => (typeof v === "number" ? Number(v.toFixed(2)) : v))} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)}`);
-    }
-    const wanted = new Set();
+  let mouse: { x: number; y: number } | null = null; // while the left button is held
+  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<void> => {
+    const sent = snap.teleop?.last_input ?? null;
+    const wanted = new Set<string>();
     driveKeys(decision.drive, wanted);
     if (decision.grip) wanted.add("g").add("h");
     if (decision.trigger) wanted.add("f").add("j");
@@ -141,7 +115,7 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
       const together = (cl[0] - cr[0]) / 2;
       if (together > 0.004) wanted.add("Comma");
       if (together < -0.004) wanted.add("Period");
-      const common = [0, 1, 2].map((k) => (cl[k] + cr[k]) / 2);
+      const common = [0, 1, 2].map((k) => ((cl[k] ?? 0) + (cr[k] ?? 0)) / 2) as [number, number, number];
       if (mouse === null) {
         mouse = { ...centre };
         await page.mouse.move(mouse.x, mouse.y);
@@ -150,8 +124,8 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
       const dx = Math.round(common[0] / METRES_PER_PIXEL);
       const dy = Math.round(common[2] / METRES_PER_PIXEL);
       if (dx !== 0 || dy !== 0) {
-        const nx = mouse.x + dx;
-        const ny = mouse.y + dy;
+        const nx: number = mouse.x + dx;
+        const ny: number = mouse.y + dy;
         if (nx < box.x + 5 || nx > box.x + box.width - 5 || ny < box.y + 5 || ny > box.y + box.height - 5) {
           // Out of room: let go of the button, recentre, press again (no motion while up).
           await page.mouse.up();
@@ -176,38 +150,31 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
       await keys.set(wanted);
       await sleep(SETTLE_MS);
     }
-    maxGrip = Math.max(maxGrip, sent?.left.grip ?? 0);
-    maxTrigger = Math.max(maxTrigger, sent?.left.trigger ?? 0);
-    await sleep(TICK_MS);
-  }
+  };
+  const run = await deliver(page, artifacts, operator, {
+    prefix: "desktop",
+    budgetMs: TRIAL_BUDGET_MS,
+    tickMs: TICK_MS,
+    debugEveryMs: 500,
+    look: () => page.evaluate(observeJs),
+    act,
+    debug: (decision, _obs, snap) => {
+      const sent = snap.teleop?.last_input;
+      const drive = JSON.stringify(decision.drive, (_k, v: unknown) => (typeof v === "number" ? Number(v.toFixed(2)) : v));
+      return `drive=${drive} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)}`;
+    },
+  });
   await keys.set(new Set());
   if (mouse !== null) await page.mouse.up();
-  writeJson(path.join(artifacts, "operator-log.json"), operator.log);
-  log(`operator phases: ${JSON.stringify(operator.log)}`);
-
-  const end = await waitForEnd(page, 10000);
-  const trialEnd = end.last_trial_end;
-  check(trialEnd !== null, "no trial_ended event arrived");
-  log(`trial ended: ${JSON.stringify(trialEnd.fields)}`);
   await page.waitForSelector("#end-screen.campaign-end");
   await checkDrawn(page, path.join(artifacts, "end-screen.png"), page.locator("#end-screen"));
   await checkDrawn(page, path.join(artifacts, "view-end.png"));
 
   const result = {
-    session_id: end.ended.session_id,
-    outcome: trialEnd.fields.outcome,
-    boxes_delivered: trialEnd.fields.boxes_delivered,
-    score: trialEnd.fields.score,
-    base_moved_m: Number(maxBaseMove.toFixed(3)),
-    max_grip: maxGrip,
-    max_trigger: maxTrigger,
+    ...deliveryResult(run),
     keys_used: [...keys.pressed].sort(),
-    source: snap.teleop?.last_input?.source ?? null,
-    phases: operator.log,
-    errors: end.errors,
+    source: run.last.teleop?.last_input?.source ?? null,
   };
   console.log(`RESULT ${JSON.stringify(result)}`);
-  check(maxBaseMove > 0.2, `the keyboard did not drive the base (moved ${maxBaseMove.toFixed(3)} m)`);
-  check(maxGrip >= 0.99 && maxTrigger >= 0.99, "grips/triggers never reached the server as pressed");
-  check(trialEnd.fields.outcome === "success", `the trial ended ${trialEnd.fields.outcome}, not success (phases ${JSON.stringify(operator.log)})`);
+  checkDelivered(run, "keyboard");
 });

@@ -4,15 +4,15 @@
 // IWER puts the canvas back as the viewport's last child, which used to cover the toolbar.
 // Prints "RESULT {json}" for the pytest wrapper, which checks the store.
 //
-//   node web/tests/e2e/xr_exit_toolbar.mjs http://127.0.0.1:8000
+//   npm run build:e2e && node build/e2e/tests/e2e/xr_exit_toolbar.js http://127.0.0.1:8000   (in web/)
 
 import path from "node:path";
-import { check, log, runScript, waitFor } from "./lib.mjs";
-import { checkDrawn, startSession, waitForEnd } from "./flow.mjs";
+import { check, checkDrawn, log, runScript, waitFor } from "./lib.js";
+import { startSession, waitForEnd } from "./flow.js";
 
 /** In the page: what the pointer would hit at the centre of each toolbar control. */
-function topmostOverToolbar() {
-  return [...document.querySelectorAll(".toolbar button")].map((button) => {
+function topmostOverToolbar(): { id: string | null; hit: string | null; ok: boolean }[] {
+  return [...document.querySelectorAll<HTMLButtonElement>(".toolbar button")].map((button) => {
     const box = button.getBoundingClientRect();
     const hit = document.elementFromPoint(box.x + box.width / 2, box.y + box.height / 2);
     return { id: button.id || button.textContent, hit: hit === null ? null : hit.id || hit.className, ok: hit !== null && button.contains(hit) };
@@ -25,10 +25,10 @@ await runScript("xr_exit_toolbar", async ({ url, page, artifacts }) => {
   check(before.every((b) => b.ok), `before VR the toolbar is covered: ${JSON.stringify(before)}`);
 
   await page.click("#enter-vr"); // the user gesture WebXR needs
-  await waitFor(page, (s) => s.teleop?.presenting && s.teleop.xr_frames > 5, { what: "the XR session" });
+  await waitFor(page, (s) => s.teleop?.presenting === true && s.teleop.xr_frames > 5, { what: "the XR session" });
   log("in immersive-vr; leaving it");
-  await page.evaluate(() => document.querySelector("#enter-vr").click()); // "Exit VR"
-  await waitFor(page, (s) => !s.teleop.presenting, { what: "the XR session to end" });
+  await page.evaluate(() => document.querySelector<HTMLButtonElement>("#enter-vr")?.click()); // "Exit VR"
+  await waitFor(page, (s) => s.teleop?.presenting === false, { what: "the XR session to end" });
   await checkDrawn(page, path.join(artifacts, "after-vr.png"));
 
   const after = await page.evaluate(topmostOverToolbar);

@@ -4,15 +4,30 @@
 // refused) and http://127.0.0.1:PORT (which the pytest wrapper passes to `workcell serve
 // --allow-origin`: accepted, it only says hello as a spectator). Prints "RESULT {json}".
 //
-//   node web/tests/e2e/cross_origin.mjs http://127.0.0.1:8000 18009
+//   npm run build:e2e && node build/e2e/tests/e2e/cross_origin.js http://127.0.0.1:8000 18009   (in web/)
 
 import { createServer } from "node:http";
-import { check, log, runScript, sleep } from "./lib.mjs";
+import { check, log, runScript, sleep } from "./lib.js";
+
+/** What the attacking page managed to do. */
+interface Attack {
+  opened: boolean;
+  messages: string[];
+  close_code: number | null;
+  errors: number;
+  api: string | null;
+}
+
+declare global {
+  interface Window {
+    __attack?: Attack;
+  }
+}
 
 const ATTACK_MS = 4000;
 
 /** The attacking page: everything it manages to do goes into window.__attack. */
-function attackPage(target, role) {
+function attackPage(target: string, role: "operator" | "spectator"): string {
   const ws = target.replace(/^http/, "ws") + "/ws";
   return `<!doctype html><html><body><script>
     const attack = { opened: false, messages: [], close_code: null, errors: 0, api: null };
@@ -36,24 +51,26 @@ function attackPage(target, role) {
 
 await runScript("cross_origin", async ({ url, page }) => {
   const port = Number(process.argv[3]);
-  check(port > 0, "usage: cross_origin.mjs <server url> <port for the other origin>");
+  check(port > 0, "usage: cross_origin.js <server url> <port for the other origin>");
   const pages = createServer((request, reply) => {
-    const role = request.url.startsWith("/spectator") ? "spectator" : "operator";
+    const role = (request.url ?? "").startsWith("/spectator") ? "spectator" : "operator";
     reply.writeHead(200, { "content-type": "text/html" });
     reply.end(attackPage(url, role));
   });
-  await new Promise((resolve) => pages.listen(port, "127.0.0.1", resolve));
+  await new Promise<void>((resolve) => pages.listen(port, "127.0.0.1", resolve));
   try {
-    const visits = {};
-    for (const [name, address] of [
-      ["foreign", `http://localhost:${port}/operator`],
-      ["allowed", `http://127.0.0.1:${port}/spectator`],
-    ]) {
+    const visit = async (name: string, address: string): Promise<Attack> => {
       await page.goto(address);
       await sleep(ATTACK_MS);
-      visits[name] = await page.evaluate(() => window.__attack);
-      log(`${name} origin ${address}: ${JSON.stringify(visits[name])}`);
-    }
+      const attack = await page.evaluate(() => window.__attack ?? null);
+      log(`${name} origin ${address}: ${JSON.stringify(attack)}`);
+      check(attack !== null, `the ${name} page did not run`);
+      return attack;
+    };
+    const visits = {
+      foreign: await visit("foreign", `http://localhost:${port}/operator`),
+      allowed: await visit("allowed", `http://127.0.0.1:${port}/spectator`),
+    };
     console.log(`RESULT ${JSON.stringify(visits)}`);
     check(!visits.foreign.opened && visits.foreign.messages.length === 0, "a foreign page opened the socket");
     check(visits.allowed.opened && visits.allowed.messages.includes("welcome"), "the allowed origin was refused");

@@ -1,0 +1,38 @@
+"""What the operator sees of a running session: the HUD, one type for the task and the wire.
+
+:meth:`~workcell.task.runner.SessionRunner.hud` builds it and the server sends it inside
+each ``State`` message unchanged, so the TypeScript ``Hud`` in ``web/src/protocol.ts`` is
+generated from this class.
+"""
+
+from __future__ import annotations
+
+import enum
+from dataclasses import dataclass
+
+from workcell.session.config import Mode
+
+
+class Phase(enum.Enum):
+    """Where the session's current trial is (``finished`` once the session is over)."""
+
+    COUNTDOWN = "countdown"
+    RUNNING = "running"
+    FINISHED = "finished"
+
+
+@dataclass(frozen=True)
+class Hud:
+    """What the operator sees: mode, progress, clock and score."""
+
+    phase: Phase
+    mode: Mode
+    trial_index: int
+    round: int | None
+    rounds: int | None
+    level: int | None
+    boxes_delivered: int
+    required_boxes: int
+    countdown_s: float
+    remaining_s: float
+    score: int

@@ -1,0 +1,78 @@
+// The shape of `window.__workcell` (see debug.ts): what the end-to-end tests read from
+// outside the page, typed here once for the page and the tests (web/tests/e2e) alike.
+
+import type { LinkInfo } from "./net/connection";
+import type {
+  Hud,
+  Input,
+  Pose,
+  Role,
+  SessionEnded,
+  SessionStarted,
+  State,
+  TaskEvent,
+  TrialEnded,
+} from "./protocol";
+
+/** What the teleoperation page adds (`teleop`). */
+export interface TeleopDebug {
+  view: "first" | "third";
+  presenting: boolean;
+  xr_frames: number;
+  frames: number;
+  draw_calls: number;
+  inputs_sent: number;
+  last_input: Input | null;
+  grips_latched: boolean;
+  triggers_latched: boolean;
+  overlay: string;
+}
+
+/** What the replay page adds (`replay`). */
+export interface ReplayDebug {
+  trial_id: string;
+  loaded: boolean;
+  frames: number;
+  index: number;
+  playing: boolean;
+  t: number | null;
+  base: Pose | null;
+}
+
+/** What a page adds to the snapshot, by name. */
+export interface DebugExtras {
+  teleop: TeleopDebug;
+  replay: ReplayDebug;
+}
+
+export interface DebugSnapshot extends Partial<DebugExtras> {
+  page: string;
+  link: LinkInfo;
+  role: Role;
+  session_id: string | null;
+  session_active: boolean;
+  session: SessionStarted | null;
+  ended: SessionEnded | null;
+  last_trial_end: TrialEnded | null;
+  hud: Hud | null;
+  holding: boolean;
+  state: Pick<State, "seq" | "t_sim" | "input_seq" | "following" | "tcp_targets"> | null;
+  stats: { states: number; stale: number };
+  events: TaskEvent[];
+  errors: { code: string; message: string }[];
+  scene_bodies: number;
+  head_camera_body: string | null;
+}
+
+export interface WorkcellDebug {
+  snapshot: () => DebugSnapshot;
+  bodies: () => Record<string, Pose>;
+  dropLink: () => void;
+  capture: (name: string) => string | null;
+}
+
+declare global {
+  interface Window {
+    __workcell?: WorkcellDebug;
+  }
+}

@@ -1,0 +1,123 @@
+// The delivery loop both device scripts share: each tick, look at the page, let the
+// scripted operator decide, let the device carry the decision out; then the end of the
+// trial and the checks every delivery must pass. Only looking and acting differ by
+// device (emulated Quest controllers, or keyboard and mouse).
+
+import path from "node:path";
+import type { Page } from "playwright-core";
+import type { Pose, TrialEnded } from "../../src/protocol";
+import { check, log, sleep, writeJson } from "./lib.js";
+import type { DebugSnapshot } from "./lib.js";
+import { observe } from "./operator.js";
+import type { Base, Decision, Observation, ScriptedOperator } from "./operator.js";
+import { waitForEnd } from "./flow.js";
+import type { EndedSnapshot } from "./flow.js";
+
+/** What the page shows in one look. */
+export interface Seen {
+  snap: DebugSnapshot;
+  bodies: Record<string, Pose>;
+}
+
+export interface DeliveryOptions {
+  /** Screenshot names start with it (`xr`, `desktop`). */
+  prefix: string;
+  budgetMs: number;
+  tickMs: number;
+  /** With E2E_DEBUG set: how often to log `debug`'s line. */
+  debugEveryMs: number;
+  /** Read the page (and apply what `act` prepared, if the device works that way). */
+  look: () => Promise<Seen>;
+  /** Carry one decision out. */
+  act: (decision: Decision, obs: Observation, snap: DebugSnapshot) => Promise<void>;
+  debug: (decision: Decision, obs: Observation, snap: DebugSnapshot) => string;
+}
+
+export interface Delivery {
+  operator: ScriptedOperator;
+  last: DebugSnapshot;
+  baseMovedM: number;
+  maxGrip: number;
+  maxTrigger: number;
+  end: EndedSnapshot;
+  trialEnd: TrialEnded;
+}
+
+const PHASE_SHOTS = ["squeeze", "carry", "place"];
+
+/** Run the operator until the trial ends (or the budget runs out), then wait for the
+ * session's end; its trial_ended event must have arrived. */
+export async function deliver(page: Page, artifacts: string, operator: ScriptedOperator, options: DeliveryOptions): Promise<Delivery> {
+  const { prefix, budgetMs, tickMs, debugEveryMs, look, act, debug } = options;
+  let startBase: Base | null = null;
+  let baseMovedM = 0;
+  let maxGrip = 0;
+  let maxTrigger = 0;
+  let lastPhase = "";
+  let shots = 0;
+  let debugAt: number | undefined;
+  let last: DebugSnapshot | null = null;
+  const deadline = performance.now() + budgetMs;
+  while (performance.now() < deadline) {
+    const { snap, bodies } = await look();
+    last = snap;
+    if (snap.ended !== null || snap.last_trial_end !== null) break;
+    const base = bodies["base"];
+    if (base === undefined) {
+      await sleep(tickMs);
+      continue;
+    }
+    const obs = observe(snap, { ...bodies, base });
+    startBase ??= obs.base;
+    baseMovedM = Math.max(baseMovedM, Math.hypot(obs.base[0] - startBase[0], obs.base[1] - startBase[1]));
+    const decision = operator.step(obs);
+    if (operator.phase !== lastPhase) {
+      lastPhase = operator.phase;
+      log(`operator: ${lastPhase} at t=${obs.t.toFixed(2)} s (base ${obs.base.map((v) => v.toFixed(2)).join(", ")})`);
+      if (PHASE_SHOTS.includes(lastPhase) && shots < PHASE_SHOTS.length) {
+        shots += 1;
+        await page.screenshot({ path: path.join(artifacts, `${prefix}-${lastPhase}.png`) });
+      }
+    }
+    if (process.env["E2E_DEBUG"] && (debugAt === undefined || performance.now() - debugAt > debugEveryMs)) {
+      debugAt = performance.now();
+      log(`debug ${operator.phase} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} ${debug(decision, obs, snap)}`);
+    }
+    await act(decision, obs, snap);
+    const sent = snap.teleop?.last_input;
+    maxGrip = Math.max(maxGrip, sent?.left.grip ?? 0);
+    maxTrigger = Math.max(maxTrigger, sent?.left.trigger ?? 0);
+    await sleep(tickMs);
+  }
+  writeJson(path.join(artifacts, "operator-log.json"), operator.log);
+  log(`operator phases: ${JSON.stringify(operator.log)}`);
+  check(last !== null, "the page never showed its state");
+  const end = await waitForEnd(page, 10000);
+  const trialEnd = end.last_trial_end;
+  check(trialEnd !== null, "no trial_ended event arrived");
+  log(`trial ended: ${JSON.stringify(trialEnd)}`);
+  return { operator, last, baseMovedM, maxGrip, maxTrigger, end, trialEnd };
+}
+
+/** The RESULT fields every delivery reports. */
+export function deliveryResult(run: Delivery): Record<string, unknown> {
+  return {
+    session_id: run.end.ended.session_id,
+    outcome: run.trialEnd.outcome,
+    boxes_delivered: run.trialEnd.boxes_delivered,
+    score: run.trialEnd.score,
+    base_moved_m: Number(run.baseMovedM.toFixed(3)),
+    max_grip: run.maxGrip,
+    max_trigger: run.maxTrigger,
+    phases: run.operator.log,
+    errors: run.end.errors,
+  };
+}
+
+/** The checks every delivery must pass: the device drove the base, its grips and
+ * triggers reached the server pressed, and the trial succeeded. */
+export function checkDelivered(run: Delivery, device: string): void {
+  check(run.baseMovedM > 0.2, `the ${device} did not drive the base (moved ${run.baseMovedM.toFixed(3)} m)`);
+  check(run.maxGrip >= 0.99 && run.maxTrigger >= 0.99, "grips/triggers never reached the server as pressed");
+  check(run.trialEnd.outcome === "success", `the trial ended ${run.trialEnd.outcome}, not success (phases ${JSON.stringify(run.operator.log)})`);
+}

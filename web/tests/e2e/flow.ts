@@ -1,0 +1,68 @@
+// Steps the scripts share: open the setup page, check it, start a session with
+// test-friendly settings typed into the form, and wait for the session's end.
+
+import path from "node:path";
+import type { Page } from "playwright-core";
+import { check, log, pageUrl, screenshotStats, waitFor } from "./lib.js";
+import type { DebugSnapshot } from "./lib.js";
+
+/** Settings the tests type into the setup form (a faster belt shortens the wait). */
+export const TEST_SETTINGS: Record<string, string> = {
+  "world.conveyor.speed": "0.5",
+  "task.countdown_s": "2",
+};
+
+export interface StartOptions {
+  operatorId: string;
+  query?: Record<string, string>;
+  artifacts?: string;
+  mode?: "practice" | "collection" | "challenge";
+}
+
+export async function startSession(
+  page: Page,
+  url: string,
+  { operatorId, query = {}, artifacts, mode = "practice" }: StartOptions,
+): Promise<DebugSnapshot> {
+  await page.goto(pageUrl(url, query));
+  await waitFor(page, (s) => s.link.status === "open" && s.role === "operator" && s.scene_bodies > 0, {
+    what: "the link to open as operator",
+  });
+  await page.waitForSelector(".setup-form");
+  // Every parameter of /api/defaults is on the page with its default and documentation.
+  const fields = await page.$$eval(".setup-form .field", (rows) => rows.map((r) => (r as HTMLElement).dataset["field"] ?? ""));
+  check(fields.length >= 30, `setup page shows only ${fields.length} settings`);
+  check(fields.includes("task.mode") && fields.includes("world.robot.max_linear_speed"), "setup page misses settings");
+
+  // A bad value is rejected by the server and shown beside its field (by its path).
+  await page.fill('input[name="task.time_limit_s"]', "-5");
+  await page.click("button.start");
+  await page.waitForSelector('.field.invalid[data-field="task.time_limit_s"] .problem:not(:empty)', { timeout: 10000 });
+  const problem = await page.textContent('.field[data-field="task.time_limit_s"] .problem');
+  log(`config rejected beside its field: ${problem}`);
+  check(problem?.startsWith("task.time_limit_s = -5") === true, `the problem beside task.time_limit_s reads: ${problem}`);
+  await page.fill('input[name="task.time_limit_s"]', "120");
+
+  await page.click(`.mode-choice[data-mode="${mode}"]`);
+  await page.fill('input[name="operator_id"]', operatorId);
+  for (const [key, value] of Object.entries(TEST_SETTINGS)) await page.fill(`[name="${key}"]`, value);
+  if (artifacts !== undefined) await screenshotStats(page, path.join(artifacts, "setup.png"));
+  await page.click("button.start");
+  const s = await waitFor(page, (s) => s.session_active && s.page === "#/teleop" && s.state !== null, {
+    what: "the session to start and the teleop page to show",
+    timeout: 20000,
+  });
+  log(`session ${s.session_id} started`);
+  return s;
+}
+
+/** A snapshot whose session has ended (and so has its last trial). */
+export type EndedSnapshot = DebugSnapshot & { ended: NonNullable<DebugSnapshot["ended"]> };
+
+/** Wait for the session's end; returns the last snapshot. */
+export async function waitForEnd(page: Page, timeout: number): Promise<EndedSnapshot> {
+  const s = await waitFor(page, (s) => s.ended !== null, { what: "the session to end", timeout, every: 250 });
+  const ended = s.ended;
+  check(ended !== null, "the session did not end");
+  return { ...s, ended };
+}
