@@ -13,9 +13,9 @@ from workcell.protocol import messages as m
 from workcell.protocol.codec import decode_server
 from workcell.record.store import Store
 from workcell.server.live import LiveSession
-from workcell.server.pacing import Pacer
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
+from workcell.task.pacing import Pacer
 from workcell.task.runner import SessionRunner
 
 
