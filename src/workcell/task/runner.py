@@ -4,8 +4,9 @@ Each trial: reset (the world from a seed derived from the session seed and the t
 index), countdown, running, then success, timeout or interrupted. The trial clock is the
 sim clock counted in physics steps from the end of the countdown, so limits are exact.
 Every transition is published as a typed event on the bus (the recorder and the HUD
-subscribe). The runner is step-driven so that a real-time server and a headless loop can
-both drive it.
+subscribe). The runner is step-driven; :meth:`SessionRunner.run` is the one session loop,
+which a :class:`~workcell.recording.recorded_session.RecordedSession` drives headless at
+full speed or paced on the wall clock for a live operator.
 """
 
 from __future__ import annotations
