@@ -30,7 +30,7 @@ HAND_OVER_S = 0.25
 """Sim time between two hand-overs of frames to the store writer."""
 
 
-def _stored(store: Path) -> tuple[str, list[tuple[str, str | None]]]:
+def _stored(store: Path) -> tuple[str, list[tuple[str | None, str | None]]]:
     """The session's status and each trial's (outcome, interruption reason); the store
     verifies."""
     assert verify_store(store) == []
@@ -64,7 +64,7 @@ def test_it_stops_at_the_trial_count_from_a_pickled_configuration(tmp_path: Path
     assert [(r.spec.trial_index, r.outcome) for r in seen] == [(0, "timeout"), (1, "timeout")]
     assert steps == 2 * 40  # two 1 s trials at 40 Hz, no countdown
     assert session.frames_written == 2 * 21  # 20 Hz frames from t = 0 to t = 1 s
-    assert _stored(config.store) == ("completed", [("timeout", None), ("timeout", None)])
+    assert _stored(tmp_path / "s.sqlite") == ("completed", [("timeout", None), ("timeout", None)])
 
 
 def test_it_stops_when_the_campaign_is_complete(tmp_path: Path) -> None:
@@ -106,7 +106,7 @@ def test_a_dead_writer_ends_the_session_as_storage_error_within_one_hand_over(
     (result,) = session.runner.results
     assert (result.outcome, result.interruption_reason) == ("interrupted", "storage_error")
     assert result.elapsed_s - killed_at[0] <= HAND_OVER_S + 1e-9
-    assert _stored(config.store) == ("interrupted", [("interrupted", "storage_error")])
+    assert _stored(tmp_path / "s.sqlite") == ("interrupted", [("interrupted", "storage_error")])
 
 
 def test_a_stop_request_from_another_thread_ends_a_paced_session(tmp_path: Path) -> None:
@@ -126,4 +126,4 @@ def test_a_stop_request_from_another_thread_ends_a_paced_session(tmp_path: Path)
     steps = session.pacing.steps
     assert 0 < steps <= wall_s * 40 + 1  # 40 Hz on the wall clock, not as fast as it goes
     assert session.runner.results[0].elapsed_s == pytest.approx(steps / 40)
-    assert _stored(config.store) == ("interrupted", [("interrupted", "operator_stop")])
+    assert _stored(tmp_path / "s.sqlite") == ("interrupted", [("interrupted", "operator_stop")])
