@@ -160,7 +160,7 @@ class RecordedSession:
             nonlocal ended
             reason = self._stop_reason(should_stop)
             if reason is None and pacer is not None and not pacer.wait(self.stop):
-                reason = self.stop.reason or "operator_stop"
+                reason = self._stop_reason(None)  # requested while the pacer waited
             if reason is not None:
                 ended = reason
             return reason
