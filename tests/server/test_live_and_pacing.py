@@ -13,11 +13,11 @@ from workcell.protocol import messages as m
 from workcell.protocol.codec import decode_server
 from workcell.record.store import Store
 from workcell.server.live import LiveSession
-from workcell.server.pacing import Pacer
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.task import events as ev
 from workcell.task.hud import Phase
+from workcell.task.pacing import Pacer
 from workcell.task.runner import SessionRunner
 
 

@@ -3,29 +3,22 @@
 from __future__ import annotations
 
 import argparse
-import contextlib
 import math
 import signal
-import sys
-from collections.abc import Iterator
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
 from workcell.cli.collect_operator import (
     POLICY_PREFIX,
-    make_operator,
+    driver,
     policy_checkpoint,
     with_operator_id,
 )
 from workcell.errors import ConfigError, WorkcellError
-from workcell.recording.shutdown import exit_status
 
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
-    from workcell.recording.recorder import RecordingStore
-    from workcell.task.events import InterruptionReason
 
-EXIT_STORAGE = 1
 EXIT_OUTPUT_CLOSED = 128 + signal.SIGPIPE
 """Standard output's reader went away (``collect ... | head``): the shell's status for a
 process SIGPIPE ended."""
@@ -177,60 +170,30 @@ def run(args: argparse.Namespace) -> int:
         return run_parallel(args, config.seed, cameras)
 
     from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
-    from workcell.control.simulation import Simulation  # noqa: PLC0415
-    from workcell.recording.headless import make_recorder, run_recorded  # noqa: PLC0415
-    from workcell.recording.shutdown import ShutdownSignals  # noqa: PLC0415
-    from workcell.task.runner import SessionRunner  # noqa: PLC0415
+    from workcell.recording.headless import headless_status, run_headless  # noqa: PLC0415
+    from workcell.recording.recorded_session import (  # noqa: PLC0415
+        RecordedSession,
+        RecordedSessionConfig,
+    )
 
-    sim = Simulation(config.world)
-    operator = make_operator(args, config, sim, checkpoint)
-    runner = SessionRunner(config, sim, operator, max_trials=args.trials)
-    with _open_store(None if args.no_store else args.store, args.writer, args.key) as store:
-        recorder = None if store is None else make_recorder(store, args.store, runner, cameras)
+    recorded = RecordedSessionConfig(
+        session=config,
+        driver=driver(args, checkpoint),
+        store=None if args.no_store else args.store,
+        writer=args.writer,
+        key_file=args.key,
+        cameras=cameras,
+        max_trials=args.trials,
+    )
+    with RecordedSession.open(recorded) as session:
         printer = TrialPrinter(args.json)
         printer.header()
-        shown = 0
-
-        def stop() -> InterruptionReason | None:
-            quit_ = shutdown.requested is not None or printer.check_output()
-            return "application_quit" if quit_ else None
-
-        def after_step() -> None:
-            nonlocal shown
-            printer.progress(runner)
-            for result in runner.results[shown:]:
-                printer.row(result)
-            shown = len(runner.results)
-
-        with ShutdownSignals() as shutdown:
-            run_recorded(runner, recorder, stop, after_step)
+        runner = session.runner
+        signal_name = run_headless(
+            session, printer.row, lambda: printer.progress(runner), printer.check_output
+        )
         printer.summary(runner)
-        if recorder is not None and recorder.failure is not None:
-            print(f"workcell: error: {recorder.failure}", file=sys.stderr)
-            return EXIT_STORAGE
-        if store is not None and recorder is not None:
-            printer.stored(args.store, recorder.session_id, recorder.frames_written)
-    if shutdown.requested is not None:
-        return exit_status(shutdown.requested)
-    return EXIT_OUTPUT_CLOSED if printer.output_closed else 0
-
-
-@contextlib.contextmanager
-def _open_store(
-    path: Path | None, writer: str, key_file: Path | None
-) -> Iterator[RecordingStore | None]:
-    if path is None:
-        yield None
-        return
-    from workcell.record.chain import ChainKey  # noqa: PLC0415
-    from workcell.recording.in_process import InProcessStore  # noqa: PLC0415
-    from workcell.recording.store_process import StoreProcess  # noqa: PLC0415
-
-    opened: StoreProcess | InProcessStore
-    if writer == "process":
-        opened = StoreProcess.open(path, key_file=key_file)
-    else:
-        key = None if key_file is None else ChainKey.from_file(key_file)
-        opened = InProcessStore.open(path, writer=True, key=key)
-    with opened as store:
-        yield store
+        if session.recorder is not None and session.failure is None:
+            printer.stored(args.store, session.session_id, session.frames_written)
+    closed = EXIT_OUTPUT_CLOSED if printer.output_closed else 0
+    return headless_status(session, signal_name, closed)

@@ -15,9 +15,8 @@ from typing import TYPE_CHECKING
 from workcell.session.config import SessionConfig
 
 if TYPE_CHECKING:
-    from workcell.control.simulation import Simulation
     from workcell.learn.checkpoint import PolicyCheckpoint
-    from workcell.task.operator import Operator
+    from workcell.recording.drivers import Driver
 
 POLICY_PREFIX = "policy:"
 DEFAULT_OPERATOR_ID = SessionConfig().operator_id
@@ -46,16 +45,12 @@ def with_operator_id(
     return dataclasses.replace(config, operator_id=name)
 
 
-def make_operator(
-    args: argparse.Namespace,
-    config: SessionConfig,
-    sim: Simulation,
-    checkpoint: PolicyCheckpoint | None,
-) -> Operator:
+def driver(args: argparse.Namespace, checkpoint: PolicyCheckpoint | None) -> Driver:
+    """Who ``--operator`` (and ``--skill``) name, as the recorded session builds it."""
+    from workcell.recording.drivers import ExpertDriver, PolicyDriver  # noqa: PLC0415
+
     if checkpoint is None:
-        from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
+        from workcell.expert.skill import ExpertConfig  # noqa: PLC0415
 
-        return ExpertOperator(ExpertConfig(skill=args.skill))
-    from workcell.learn.policy_operator import PolicyOperator  # noqa: PLC0415
-
-    return PolicyOperator(checkpoint, config, sim)
+        return ExpertDriver(ExpertConfig(skill=args.skill))
+    return PolicyDriver(checkpoint)

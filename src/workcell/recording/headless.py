@@ -1,58 +1,50 @@
-"""A session run headless to its end, recorded: the loop ``workcell collect`` and its
-scale-out workers share.
+"""A recorded session run headless as a command: ``workcell collect`` and its scale-out
+workers.
 
-Each pass steps the session, unless the recorder has failed (the running trial ends
-``interrupted``/``storage_error``) or the caller asks to stop (it ends with the reason the
-caller gives, e.g. ``application_quit`` on SIGINT); the session is recorded as
-``interrupted`` when its last trial was.
+The session runs as fast as it goes; SIGINT or SIGTERM (or the caller's own reason to
+quit, e.g. standard output closed) end its running trial as
+``interrupted``/``application_quit`` and the session as ``interrupted``. The exit status
+then says how it ended: :data:`EXIT_STORAGE` when recording failed (the error on standard
+error; the store holds what came before), the shells' 130 or 143 after a signal.
 """
 
 from __future__ import annotations
 
+import sys
 from collections.abc import Callable
-from pathlib import Path
+from typing import Literal
 
-from workcell.record.media_paths import media_dir_for
-from workcell.recording.media import CameraOptions, MediaRecorder
-from workcell.recording.recorder import Recorder, RecordingStore
-from workcell.task import events as ev
-from workcell.task.runner import SessionRunner
+from workcell.recording.recorded_session import RecordedSession
+from workcell.recording.shutdown import ShutdownSignals, exit_status
+from workcell.task.runner import TrialResult
 
-StopReason = Callable[[], ev.InterruptionReason | None]
-"""Why the session must stop now (the running trial is interrupted so), or None."""
+EXIT_STORAGE = 1
+"""The recording failed (disk full, I/O error, the writer process died)."""
 
 
-def make_recorder(
-    store: RecordingStore, store_path: Path, runner: SessionRunner, cameras: CameraOptions | None
-) -> Recorder:
-    """A recorder of ``runner``'s session into ``store`` (at ``store_path``), with the
-    ``cameras`` recorded as videos beside the store when given."""
-    media = None
-    if cameras is not None:
-        rate = runner.config.recording.sampling_rate_hz
-        media = MediaRecorder(runner.sim.world.model, cameras, media_dir_for(store_path), rate)
-    return Recorder(store, runner, media=media)
+def run_headless(
+    session: RecordedSession,
+    on_trial: Callable[[TrialResult], None],
+    after_step: Callable[[], None] | None = None,
+    should_quit: Callable[[], bool] | None = None,
+) -> str | None:
+    """Run ``session`` to its end, ``on_trial`` for each trial as it ends; returns the name
+    of the signal that stopped it (``"SIGINT"``, ``"SIGTERM"``), or None."""
+    with ShutdownSignals() as shutdown:
+
+        def quit_reason() -> Literal["application_quit"] | None:
+            quitting = shutdown.requested is not None or (should_quit is not None and should_quit())
+            return "application_quit" if quitting else None
+
+        session.run(quit_reason, after_step, on_trial)
+    return shutdown.requested
 
 
-def run_recorded(
-    runner: SessionRunner,
-    recorder: Recorder | None,
-    stop: StopReason,
-    after_step: Callable[[], None],
-) -> bool:
-    """Run ``runner``'s session to its end, recorded by ``recorder`` (None: not recorded),
-    calling ``after_step`` after every pass; closes the recorder. Returns whether the
-    session ended interrupted."""
-    runner.start()
-    while runner.current is not None:
-        if recorder is not None and recorder.failure is not None:
-            runner.interrupt("storage_error")
-        elif (reason := stop()) is not None:
-            runner.interrupt(reason)
-        else:
-            runner.step()
-        after_step()
-    interrupted = bool(runner.results) and runner.results[-1].outcome == "interrupted"
-    if recorder is not None:
-        recorder.close(interrupted)
-    return interrupted
+def headless_status(session: RecordedSession, signal_name: str | None, otherwise: int = 0) -> int:
+    """The exit status of a session :func:`run_headless` ran: :data:`EXIT_STORAGE` when its
+    recording failed (said on standard error), 130 or 143 after ``signal_name``, else
+    ``otherwise``."""
+    if session.failure is not None:
+        print(f"workcell: error: {session.failure}", file=sys.stderr)
+        return EXIT_STORAGE
+    return otherwise if signal_name is None else exit_status(signal_name)

@@ -3,7 +3,8 @@
 A worker receives a :class:`WorkerJob` (frozen and picklable: the session configuration
 already resolved, seed and trials the worker's own) and hands back each trial's
 :class:`~workcell.task.runner.TrialResult` as it ends; it records, recovers and fails like
-``workcell collect --writer inline`` (the same loop, :mod:`workcell.recording.headless`).
+``workcell collect --writer inline`` (the same
+:class:`~workcell.recording.recorded_session.RecordedSession`).
 Run as a process (``python -m workcell.scale.worker``) it reads its job from standard
 input and writes its results to standard output, both as length-prefixed pickles
 (:mod:`workcell.recording.pipe_messages`); SIGINT or SIGTERM end its trial as
@@ -19,12 +20,13 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workcell.errors import WorkcellError
+from workcell.expert.skill import ExpertConfig
+from workcell.recording.drivers import ExpertDriver
 from workcell.recording.media import CameraOptions
+from workcell.recording.recorded_session import RecordedSessionConfig
 from workcell.session.config import SessionConfig
 from workcell.task.runner import TrialResult
 
-EXIT_STORAGE = 1
-"""The recording failed (disk full, I/O error): the shard holds what came before."""
 EXIT_ERROR = 2
 """The job could not start (a bad setting, a store that cannot be opened)."""
 
@@ -46,44 +48,30 @@ class WorkerJob:
     cameras: CameraOptions | None = None
     """Cameras recorded as videos at the frame rate."""
 
+    def recorded_session(self) -> RecordedSessionConfig:
+        """The session the worker runs: written in the worker's own process (the workers
+        fill the cores already), as fast as possible."""
+        return RecordedSessionConfig(
+            session=self.config,
+            driver=ExpertDriver(ExpertConfig(skill=self.skill)),
+            store=self.shard,
+            writer="inline",
+            key_file=self.key_file,
+            cameras=self.cameras,
+            max_trials=self.trials,
+        )
+
 
 def collect_shard(job: WorkerJob, on_trial: Callable[[TrialResult], None]) -> int:
     """Run ``job``'s session to its end, ``on_trial`` for each trial as it ends; returns
-    the exit status (0; :data:`EXIT_STORAGE`; 130 or 143 when stopped by a signal)."""
-    from workcell.control.simulation import Simulation  # noqa: PLC0415
-    from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
-    from workcell.record.chain import ChainKey  # noqa: PLC0415
-    from workcell.recording.headless import make_recorder, run_recorded  # noqa: PLC0415
-    from workcell.recording.in_process import InProcessStore  # noqa: PLC0415
-    from workcell.recording.shutdown import ShutdownSignals, exit_status  # noqa: PLC0415
-    from workcell.task.runner import SessionRunner  # noqa: PLC0415
+    the exit status (0; :data:`~workcell.recording.headless.EXIT_STORAGE`; 130 or 143 when
+    stopped by a signal)."""
+    from workcell.recording.headless import headless_status, run_headless  # noqa: PLC0415
+    from workcell.recording.recorded_session import RecordedSession  # noqa: PLC0415
 
-    sim = Simulation(job.config.world)
-    runner = SessionRunner(
-        job.config, sim, ExpertOperator(ExpertConfig(skill=job.skill)), max_trials=job.trials
-    )
-    key = None if job.key_file is None else ChainKey.from_file(job.key_file)
-    with InProcessStore.open(job.shard, writer=True, key=key) as store:
-        recorder = make_recorder(store, job.shard, runner, job.cameras)
-        shown = 0
-
-        def after_step() -> None:
-            nonlocal shown
-            for result in runner.results[shown:]:
-                on_trial(result)
-            shown = len(runner.results)
-
-        with ShutdownSignals() as shutdown:
-            run_recorded(
-                runner,
-                recorder,
-                lambda: None if shutdown.requested is None else "application_quit",
-                after_step,
-            )
-    if recorder.failure is not None:
-        print(f"workcell: error: {recorder.failure}", file=sys.stderr)
-        return EXIT_STORAGE
-    return 0 if shutdown.requested is None else exit_status(shutdown.requested)
+    with RecordedSession.open(job.recorded_session()) as session:
+        signal_name = run_headless(session, on_trial)
+    return headless_status(session, signal_name)
 
 
 def main() -> int:

@@ -4,8 +4,9 @@ Each trial: reset (the world from a seed derived from the session seed and the t
 index), countdown, running, then success, timeout or interrupted. The trial clock is the
 sim clock counted in physics steps from the end of the countdown, so limits are exact.
 Every transition is published as a typed event on the bus (the recorder and the HUD
-subscribe). The runner is step-driven so that a real-time server and a headless loop can
-both drive it.
+subscribe). The runner is step-driven; :meth:`SessionRunner.run` is the one session loop,
+which a :class:`~workcell.recording.recorded_session.RecordedSession` drives headless at
+full speed or paced on the wall clock for a live operator.
 """
 
 from __future__ import annotations
@@ -83,16 +84,24 @@ class SessionRunner:
         """Begin the first trial."""
         self._begin(self.schedule.first())
 
-    def run(self, should_stop: Callable[[], str | None] | None = None) -> list[TrialResult]:
-        """Run to the end; ``should_stop`` returning a reason interrupts the session."""
-        if self._spec is None and not self.results:
+    def run(
+        self,
+        should_stop: Callable[[], ev.InterruptionReason | None] | None = None,
+        after_step: Callable[[], None] | None = None,
+    ) -> list[TrialResult]:
+        """Run to the end (beginning the first trial unless :meth:`start` did): before each
+        control period ``should_stop`` may return a reason, which interrupts the session
+        (it may also wait, to pace the loop); ``after_step`` follows each period."""
+        if not self.started:
             self.start()
         while self.phase is not Phase.FINISHED:
             reason = should_stop() if should_stop is not None else None
             if reason is not None:
-                self.interrupt(reason)  # type: ignore[arg-type]
+                self.interrupt(reason)
                 break
             self.step()
+            if after_step is not None:
+                after_step()
         return self.results
 
     def step(self) -> None:
@@ -128,6 +137,11 @@ class SessionRunner:
         """Seconds on the trial clock; negative during the countdown."""
         steps = self.sim.world.physics_steps - self._start_step
         return steps * self.config.world.timestep
+
+    @property
+    def started(self) -> bool:
+        """Whether the first trial has begun."""
+        return self._spec is not None
 
     @property
     def campaign_complete(self) -> bool:

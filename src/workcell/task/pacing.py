@@ -1,9 +1,10 @@
-"""Fixed-rate pacing of the control loop against the wall clock.
+"""Fixed-rate pacing of the control loop against the wall clock, and stopping it.
 
 Each control step has a due time on a fixed grid. The loop sleeps until the next one is
 due; when it is late it runs steps back to back to catch up, but never more than
 ``max_catch_up_s`` behind: beyond that the grid is moved to now and the lost wall time is
-counted in ``dropped_s`` (a stall never turns into a spiral of catching up).
+counted in ``dropped_s`` (a stall never turns into a spiral of catching up). A
+:class:`StopRequest` ends the loop from another thread, waking a pacer that sleeps.
 """
 
 from __future__ import annotations
@@ -12,6 +13,22 @@ import threading
 import time
 from collections.abc import Callable
 from dataclasses import dataclass
+
+from workcell.task.events import InterruptionReason
+
+
+class StopRequest(threading.Event):
+    """A request, from any thread, to end a session's running trial as interrupted with
+    :attr:`reason` (the first request's reason counts)."""
+
+    def __init__(self) -> None:
+        super().__init__()
+        self.reason: InterruptionReason | None = None
+
+    def request(self, reason: InterruptionReason) -> None:
+        if not self.is_set():
+            self.reason = reason
+            self.set()
 
 
 @dataclass

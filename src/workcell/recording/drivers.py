@@ -1,0 +1,80 @@
+"""Who drives a recorded session, as frozen, picklable values.
+
+A :class:`~workcell.recording.recorded_session.RecordedSessionConfig` names its driver:
+the scripted expert (:class:`ExpertDriver`), a learned policy (:class:`PolicyDriver`) or
+a human at a browser (:class:`TeleopDriver`). The session builds the operator from it in
+whichever process runs the simulation, together with the source of the raw device input
+the recorder stores beside each frame (None for an operator that only gives commands).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
+
+from workcell.expert.skill import ExpertConfig
+
+if TYPE_CHECKING:
+    from workcell.control.simulation import Simulation
+    from workcell.learn.checkpoint import PolicyCheckpoint
+    from workcell.recording.recorder import InputSource
+    from workcell.session.config import SessionConfig
+    from workcell.sim.world import World
+    from workcell.task.operator import Operator
+    from workcell.teleop.clutch import Pose
+
+
+@dataclass(frozen=True)
+class Driving:
+    """A built driver: the operator, and where its raw device input comes from."""
+
+    operator: Operator
+    operator_input: InputSource | None = None
+
+
+@dataclass(frozen=True)
+class ExpertDriver:
+    """The scripted expert at ``expert``'s skill."""
+
+    expert: ExpertConfig = field(default_factory=ExpertConfig)
+
+    def build(self, config: SessionConfig, sim: Simulation) -> Driving:
+        from workcell.expert import ExpertOperator  # noqa: PLC0415
+
+        return Driving(ExpertOperator(self.expert))
+
+
+@dataclass(frozen=True)
+class PolicyDriver:
+    """The learned policy of ``checkpoint`` (needs the learn extra)."""
+
+    checkpoint: PolicyCheckpoint
+
+    def build(self, config: SessionConfig, sim: Simulation) -> Driving:
+        from workcell.learn.policy_operator import PolicyOperator  # noqa: PLC0415
+
+        return Driving(PolicyOperator(self.checkpoint, config, sim))
+
+
+@dataclass(frozen=True)
+class TeleopDriver:
+    """A teleoperator whose inputs are submitted to the built
+    :class:`~workcell.teleop.operator.TeleopOperator` (from any thread)."""
+
+    def build(self, config: SessionConfig, sim: Simulation) -> Driving:
+        from workcell.teleop.config import TeleopConfig  # noqa: PLC0415
+        from workcell.teleop.operator import TeleopOperator  # noqa: PLC0415
+
+        ik = sim.controller.ik
+
+        def tcp_target(world: World, side: str) -> Pose:
+            """The TCP pose the IK configuration is at (base frame): the arm's current
+            target, where a clutch engaging takes over."""
+            qw, qx, qy, qz, x, y, z = (float(v) for v in ik.tcp_pose(side).wxyz_xyz)
+            return (x, y, z, qw, qx, qy, qz)
+
+        operator = TeleopOperator(TeleopConfig.for_session(config), tcp_source=tcp_target)
+        return Driving(operator, operator.operator_input)
+
+
+Driver = ExpertDriver | PolicyDriver | TeleopDriver
