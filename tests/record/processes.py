@@ -112,3 +112,22 @@ def writer_of(pid: int, timeout_s: float = 30.0) -> int:
                 return int(entry.name)
         time.sleep(0.02)
     raise AssertionError(f"process {pid} has no store writer process")
+
+
+def wait_until_dead(pid: int, timeout_s: float = TIMEOUT_S) -> None:
+    """Until the child ``pid`` has exited, every thread of it (a zombie its parent has not
+    reaped yet, or gone): only then does ``waitpid`` report it. A SIGKILL takes effect some
+    time after ``os.kill`` returns, longer on a busy machine. Does not reap it."""
+    deadline = time.monotonic() + timeout_s
+    while time.monotonic() < deadline:
+        try:
+            states = [
+                (task / "stat").read_text().rsplit(")", 1)[1].split()[0]
+                for task in Path(f"/proc/{pid}/task").iterdir()
+            ]
+        except FileNotFoundError:
+            return
+        if all(state in ("Z", "X") for state in states) and len(states) <= 1:
+            return
+        time.sleep(0.005)
+    raise AssertionError(f"process {pid} did not die within {timeout_s} s")

@@ -12,7 +12,7 @@ from pathlib import Path
 
 import pytest
 
-from tests.record.processes import writer_of
+from tests.record.processes import wait_until_dead, writer_of
 from workcell.expert.skill import ExpertConfig
 from workcell.record import Store
 from workcell.record.verify import verify_store
@@ -98,6 +98,7 @@ def test_a_dead_writer_ends_the_session_as_storage_error_within_one_hand_over(
         def kill_at_one_second() -> None:
             if not killed_at and runner.trial_time >= 1.0:
                 os.kill(writer, signal.SIGKILL)
+                wait_until_dead(writer)  # the simulation waits: the death lands at 1 s
                 killed_at.append(runner.trial_time)
 
         ended = session.run(after_step=kill_at_one_second)

@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 from tests.record import synthetic
+from tests.record.processes import wait_until_dead
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
@@ -195,24 +196,6 @@ def test_a_dead_writer_process_stops_recording_with_a_storage_error(tmp_path: Pa
     assert events[-1].kind == "interruption"
     assert "store writer process was killed (SIGKILL)" in str(events[-1].payload["error"])
     assert verify_store(tmp_path / "s.sqlite") == []
-
-
-def wait_until_dead(pid: int, timeout_s: float = 10.0) -> None:
-    """Until ``pid`` has exited, every thread of it (a zombie its parent has not reaped
-    yet, or gone): only then does ``waitpid`` report it."""
-    deadline = time.monotonic() + timeout_s
-    while time.monotonic() < deadline:
-        try:
-            states = [
-                (task / "stat").read_text().rsplit(")", 1)[1].split()[0]
-                for task in Path(f"/proc/{pid}/task").iterdir()
-            ]
-        except FileNotFoundError:
-            return
-        if all(state in ("Z", "X") for state in states) and len(states) <= 1:
-            return
-        time.sleep(0.005)
-    raise AssertionError(f"process {pid} did not die")
 
 
 def _trial_ids(path: Path) -> list[str]:
