@@ -22,8 +22,19 @@ export async function startSession(page, url, { operatorId, query = {}, artifact
   check(fields.length >= 30, `setup page shows only ${fields.length} settings`);
   check(fields.includes("task.mode") && fields.includes("world.robot.max_linear_speed"), "setup page misses settings");
 
+  // Each setting shows what its declaration allows (GET /api/settings/hints), and a number
+  // typed outside those bounds is marked before the server is asked.
+  const hintSelector = '.field[data-field="world.conveyor.speed"] .doc .allowed';
+  await page.waitForSelector(hintSelector, { timeout: 10000 });
+  const allowed = await page.textContent(hintSelector);
+  check(allowed.includes("between 0.01 and 1 m/s"), `conveyor speed hint reads ${allowed}`);
+
   // A bad value is rejected by the server and shown beside its field.
   await page.fill('input[name="task.time_limit_s"]', "-5");
+  check(
+    (await page.$('.field.invalid[data-field="task.time_limit_s"]')) !== null,
+    "a negative time limit is not marked while typing",
+  );
   await page.click("button.start");
   await page.waitForSelector('.field.invalid[data-field="task.time_limit_s"] .problem:not(:empty)', { timeout: 10000 });
   const problem = await page.textContent('.field[data-field="task.time_limit_s"] .problem');
