@@ -10,25 +10,27 @@ from pathlib import Path
 
 import pytest
 
+from workcell.errors import ConfigError
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.session.readme import README, REGENERATE, main, updated
 from workcell.session.toml_io import from_mapping
 from workcell.settings.declare import setting
 from workcell.settings.hints import SettingHint, setting_hints
 from workcell.settings.template import to_toml
-from workcell.settings.validate import allowed_text
-from workcell.settings.walk import leaf_settings, walk
-from workcell.sim.config import WorldConfig
+from workcell.settings.validate import allowed_text, declared_problems
+from workcell.settings.walk import Declared, leaf_settings, walk
+from workcell.sim.config import RobotConfig, WorldConfig
+from workcell.teleop.config import TeleopConfig
 
 SETTINGS = list(leaf_settings(SessionConfig))
+DECLARED = [*SETTINGS, *leaf_settings(TeleopConfig, "teleop.")]
 HINTS_TS = Path(__file__).resolve().parents[2] / "web" / "src" / "pages" / "settingHints.ts"
 
 
-@pytest.mark.parametrize("declared", SETTINGS, ids=[d.key for d in SETTINGS])
-def test_every_setting_has_a_doc_a_unit_and_allowed_values(declared: object) -> None:
+@pytest.mark.parametrize("declared", DECLARED, ids=[d.key for d in DECLARED])
+def test_every_setting_has_a_doc_a_unit_and_allowed_values(declared: Declared) -> None:
     from workcell.settings.walk import Declared
 
-    assert isinstance(declared, Declared)
     spec = declared.spec
     assert spec.doc.strip(), f"{declared.key} has no documentation"
     numeric = declared.choices is None and declared.hint is not str
@@ -133,3 +135,14 @@ def test_a_declaration_change_reaches_the_validation() -> None:
     assert declared_problems(Small(count=6), "small") == [
         "small.count = 6: must be a whole number from 1 to 5 boxes"
     ]
+
+
+def test_a_setting_taken_over_is_declared_like_its_source() -> None:
+    robot = {d.name: d for d in leaf_settings(RobotConfig)}
+    teleop = {d.name: d for d in leaf_settings(TeleopConfig)}
+    speed = teleop["max_linear_speed"]
+    assert speed.default == robot["max_linear_speed"].default
+    assert (speed.spec.unit, speed.spec.low, speed.spec.high) == ("m/s", 0.05, 2.0)
+    assert "stick" in speed.spec.doc
+    with pytest.raises(ConfigError, match=r"teleop.max_yaw_rate = 9: must be between 0.1 and 4"):
+        TeleopConfig(max_yaw_rate=9.0)

@@ -2,7 +2,7 @@
 generated from the declarations: validation, the TOML template, the setup page's hints and
 the README's table; and the one divisibility rule for rates and steps."""
 
-from workcell.settings.declare import Spec, field_doc, section, setting, spec_of
+from workcell.settings.declare import Spec, field_doc, same_as, section, setting, spec_of
 from workcell.settings.rates import divides, steps_per
 from workcell.settings.validate import declared_problems
 
@@ -11,6 +11,7 @@ __all__ = [
     "declared_problems",
     "divides",
     "field_doc",
+    "same_as",
     "section",
     "setting",
     "spec_of",

@@ -82,6 +82,18 @@ def setting(
     return field
 
 
+def same_as(cls: type, name: str, doc: str = "") -> Any:
+    """A field declared like the setting ``name`` of the configuration dataclass ``cls``:
+    its default, unit and allowed values, so a configuration that takes a value over from
+    another does not restate them. ``doc`` replaces the documentation when given."""
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    spec = spec_of(fields[name])
+    if spec is None:
+        raise TypeError(f"{cls.__name__}.{name} is not declared with setting()")
+    spec = dataclasses.replace(spec, doc=doc or spec.doc)
+    return dataclasses.field(default=fields[name].default, metadata={SPEC: spec, DOC: spec.doc})
+
+
 def section(factory: Callable[[], T], doc: str) -> T:
     """A nested configuration dataclass and its documentation."""
     field: T = dataclasses.field(default_factory=factory, metadata={DOC: doc})
