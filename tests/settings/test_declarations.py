@@ -29,8 +29,6 @@ HINTS_TS = Path(__file__).resolve().parents[2] / "web" / "src" / "pages" / "sett
 
 @pytest.mark.parametrize("declared", DECLARED, ids=[d.key for d in DECLARED])
 def test_every_setting_has_a_doc_a_unit_and_allowed_values(declared: Declared) -> None:
-    from workcell.settings.walk import Declared
-
     spec = declared.spec
     assert spec.doc.strip(), f"{declared.key} has no documentation"
     numeric = declared.choices is None and declared.hint is not str
@@ -128,8 +126,6 @@ def test_a_declaration_change_reaches_the_validation() -> None:
     @dataclasses.dataclass(frozen=True)
     class Small:
         count: int = setting(3, "how many", unit="boxes", low=1, high=5)
-
-    from workcell.settings.validate import declared_problems
 
     assert declared_problems(Small(), "small") == []
     assert declared_problems(Small(count=6), "small") == [
