@@ -12,6 +12,7 @@ from workcell.protocol.codec import to_json_value
 from workcell.protocol.messages import PROTOCOL_VERSION
 from workcell.session.config import SessionConfig
 from workcell.settings.hints import SettingHints, setting_hints
+from workcell.settings.validate import described
 from workcell.settings.walk import Declared, walk
 
 
@@ -38,7 +39,8 @@ def session_defaults() -> Defaults:
         if isinstance(item, Declared):
             kind, choices = setting_kind(item.hint)
             default = to_json_value(item.default)
-            fields.append(SettingInfo(item.key, kind, default, item.spec.doc, choices))
+            doc = described(item.spec, item.hint)
+            fields.append(SettingInfo(item.key, kind, default, doc, choices))
         else:
             sections.append(SectionInfo(key=item.key, doc=item.doc))
     settings: dict[str, object] = to_json_value(dataclasses.asdict(SessionConfig()))

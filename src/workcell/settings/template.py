@@ -11,7 +11,7 @@ import dataclasses
 import json
 
 from workcell.settings.declare import field_doc, spec_of
-from workcell.settings.validate import allowed_text
+from workcell.settings.validate import described
 from workcell.settings.walk import type_hints
 
 
@@ -20,11 +20,6 @@ def to_toml(config: object) -> str:
     lines: list[str] = []
     _emit(config, "", lines)
     return "\n".join(lines).strip() + "\n"
-
-
-def comment(doc: str, allowed: str) -> str:
-    """A setting's comment line: ``# doc (allowed)``; ``allowed`` says the unit."""
-    return f"# {doc} ({allowed})"
 
 
 def _emit(config: object, path: str, lines: list[str]) -> None:
@@ -36,7 +31,7 @@ def _emit(config: object, path: str, lines: list[str]) -> None:
         if spec is None:
             sections.append((field, value))
             continue
-        lines.append(comment(spec.doc, allowed_text(spec, hints[field.name])))
+        lines.append(f"# {described(spec, hints[field.name])}")
         lines.append(f"{field.name} = {_literal(value)}")
     for field, value in sections:
         lines.append("")

@@ -67,6 +67,12 @@ def allowed_text(spec: Spec, hint: Any) -> str:
     return f"{text}; {spec.constraint}" if spec.constraint else text
 
 
+def described(spec: Spec, hint: Any) -> str:
+    """A setting's documentation with what it allows: ``belt speed (between 0.01 and 1
+    m/s)``; the TOML template's comment and the setup page's text."""
+    return f"{spec.doc} ({allowed_text(spec, hint)})"
+
+
 def _admits(spec: Spec, value: object, whole: bool) -> bool:
     if whole:
         if type(value) is not int:

@@ -1,7 +1,7 @@
 // The setup form's hints, from GET /api/settings/hints (generated on the server from each
-// setting's declaration, like the TOML template and the README table): what a setting
-// allows (with its unit) beside its documentation, and an early mark on a number typed
-// outside the declared bounds. The server stays the one validator: a hint only warns.
+// setting's declaration, like the documentation /api/defaults carries, the TOML template
+// and the README table): what a setting allows as the input's tooltip, and an early mark
+// on a number typed outside the declared bounds. The server stays the one validator.
 
 import { serverUrl } from "../util/env";
 import { readValue } from "./settingsForm";
@@ -43,19 +43,13 @@ export function outOfBounds(hint: SettingHint, value: unknown): boolean {
   return !numberAllowed(hint, value);
 }
 
-/** Show every control's hint and mark a value outside its bounds as the operator types. */
+/** Give every control its hint and mark a value outside its bounds as the operator types. */
 export function applyHints(controls: ReadonlyMap<string, FieldControl>, hints: SettingHints): void {
   for (const hint of hints.hints) {
     const control = controls.get(hint.key);
     if (control === undefined) continue;
-    const doc = control.row.querySelector(".doc");
-    if (doc !== null) {
-      const allowed = document.createElement("span");
-      allowed.className = "allowed";
-      allowed.textContent = ` — allowed: ${hint.allowed}`;
-      doc.append(allowed);
-    }
     control.input.title = hint.allowed;
+    control.row.dataset["unit"] = hint.unit;
     const mark = (): void => {
       control.row.classList.toggle("invalid", outOfBounds(hint, readValue(control)));
     };
