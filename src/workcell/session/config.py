@@ -1,7 +1,9 @@
 """Every setup parameter of a session (the paper's Fig. 3), frozen and validated.
 
-Defaults are the paper's. A session stores its whole :class:`SessionConfig` as metadata,
-so every trial can be traced to the exact parameters it ran under.
+Defaults are the paper's. Each setting is declared once with
+:func:`~workcell.settings.setting`; its validation, template line, setup-page hint and
+README row come from that declaration. A session stores its whole :class:`SessionConfig`
+as metadata, so every trial can be traced to the exact parameters it ran under.
 """
 
 from __future__ import annotations

@@ -1,7 +1,9 @@
 """Frozen, validated configuration of the world and the robot.
 
-Every dataclass checks its own fields on construction and raises :class:`ConfigError` with
-one line per problem, so an invalid world is rejected before any simulation starts. A
+Every field is declared once with :func:`~workcell.settings.setting` (default, unit,
+allowed values, meaning). Every dataclass checks its fields against those declarations,
+and its cross-field rules, on construction and raises :class:`ConfigError` with one line
+per problem, so an invalid world is rejected before any simulation starts. A
 problem names its field by the section the class fills (``conveyor.speed``,
 ``world.grasp``), the way the TOML file spells it below its parent table.
 Lengths are metres, angles radians, times seconds, masses kilograms.
