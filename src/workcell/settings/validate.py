@@ -87,6 +87,10 @@ def _admits(spec: Spec, value: object, whole: bool) -> bool:
 
 def check_value(key: str, value: object, spec: Spec, hint: Any) -> list[str]:
     """The problems of one value of the setting ``key`` (none when it is allowed)."""
+    if hint is float or hint is int:
+        if _admits(spec, value, hint is int):
+            return []
+        return [checks.problem(key, value, f"must be {bounds_text(spec, hint is int)}")]
     origin = get_origin(hint)
     if origin is Literal:
         return checks.one_of(key, value, tuple(str(a) for a in get_args(hint)))
@@ -95,9 +99,7 @@ def check_value(key: str, value: object, spec: Spec, hint: Any) -> list[str]:
         return [] if ok else [checks.problem(key, value, f"must be {allowed_text(spec, hint)}")]
     if origin is tuple:
         return _check_tuple(key, value, spec, get_args(hint)[0] is int)
-    if _admits(spec, value, hint is int):
-        return []
-    return [checks.problem(key, value, f"must be {bounds_text(spec, hint is int)}")]
+    return []
 
 
 def _check_tuple(key: str, value: object, spec: Spec, whole: bool) -> list[str]:
@@ -118,16 +120,30 @@ def _check_tuple(key: str, value: object, spec: Spec, whole: bool) -> list[str]:
     ]
 
 
+_DECLARED: dict[type, tuple[tuple[str, Spec, Any], ...]] = {}
+
+
+def _declared_fields(cls: type) -> tuple[tuple[str, Spec, Any], ...]:
+    """``(name, spec, type)`` of every declared setting of ``cls`` (cached per class:
+    configurations are validated on every construction)."""
+    found = _DECLARED.get(cls)
+    if found is None:
+        hints = type_hints(cls)
+        found = tuple(
+            (f.name, spec, hints[f.name])
+            for f in dataclasses.fields(cls)
+            if (spec := spec_of(f)) is not None
+        )
+        _DECLARED[cls] = found
+    return found
+
+
 def declared_problems(config: object, prefix: str) -> list[str]:
     """Every declared setting of the dataclass ``config`` checked against its declaration;
     problems name a setting ``prefix.name`` (``prefix`` is the section the class fills,
     ``""`` at the top). Sections are skipped: they validate themselves."""
-    hints = type_hints(type(config))
     problems: list[str] = []
-    for field in dataclasses.fields(config):  # type: ignore[arg-type]
-        spec = spec_of(field)
-        if spec is None:
-            continue
-        key = f"{prefix}.{field.name}" if prefix else field.name
-        problems += check_value(key, getattr(config, field.name), spec, hints[field.name])
+    for name, spec, hint in _declared_fields(type(config)):
+        key = f"{prefix}.{name}" if prefix else name
+        problems += check_value(key, getattr(config, name), spec, hint)
     return problems
