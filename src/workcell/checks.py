@@ -26,12 +26,6 @@ def in_range(field: str, value: float, low: float, high: float, unit: str = "") 
     return []
 
 
-def finite(field: str, values: Sequence[float]) -> list[str]:
-    if not all(math.isfinite(v) for v in values):
-        return [problem(field, tuple(values), "every component must be a finite number")]
-    return []
-
-
 def one_of(field: str, value: object, allowed: Sequence[str]) -> list[str]:
     if value not in allowed:
         return [problem(field, value, "must be one of " + ", ".join(repr(a) for a in allowed))]

@@ -115,9 +115,12 @@ def test_detect_slow_by_hand() -> None:
 @pytest.mark.parametrize(
     ("kwargs", "message"),
     [
-        ({"factor": 0.5}, "slowness factor = 0.5: must be 1 to 100"),
-        ({"factor": float("nan")}, "slowness factor = nan: must be 1 to 100"),
-        ({"min_reference": 0}, "slowness min_reference = 0: must be 1 to 1000000"),
+        ({"factor": 0.5}, "slowness.factor = 0.5: must be between 1 and 100"),
+        ({"factor": float("nan")}, "slowness.factor = nan: must be between 1 and 100"),
+        (
+            {"min_reference": 0},
+            "slowness.min_reference = 0: must be a whole number from 1 to 1000000 trials",
+        ),
     ],
 )
 def test_bad_slowness_parameters_are_named(kwargs: dict[str, float], message: str) -> None:

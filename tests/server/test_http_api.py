@@ -69,3 +69,22 @@ def test_sessions_and_replay_frames(tmp_path: Path) -> None:
         assert server.get("/api/trials/nope/frames")[0] == 404
         assert server.get(f"/api/trials/{trial.trial_id}/frames?every=0")[0] == 400
         assert server.get(f"/api/trials/{trial.trial_id}/frames?every=x")[0] == 400
+
+
+def test_setting_hints_are_generated_from_the_declarations(tmp_path: Path) -> None:
+    with running_server(tmp_path) as server:
+        hints = server.get_json("/api/settings/hints")["hints"]
+        defaults = build(Defaults, server.get_json("/api/defaults"), "defaults")
+    assert isinstance(defaults, Defaults)
+    assert [h["key"] for h in hints] == [f.key for f in defaults.fields]
+    by_key = {h["key"]: h for h in hints}
+    assert by_key["world.conveyor.speed"] == {
+        "key": "world.conveyor.speed",
+        "unit": "m/s",
+        "allowed": "between 0.01 and 1 m/s",
+        "low": 0.01,
+        "high": 1.0,
+        "low_open": False,
+        "whole": False,
+    }
+    assert by_key["task.mode"]["allowed"] == "one of 'practice', 'collection', 'challenge'"

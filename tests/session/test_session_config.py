@@ -11,8 +11,8 @@ import pytest
 from workcell.errors import ConfigError
 from workcell.session.config import RecordingConfig, SessionConfig, TaskConfig
 from workcell.session.load import resolve_session_config
-from workcell.session.toml_io import to_toml
 from workcell.settings import field_doc
+from workcell.settings.template import to_toml
 
 
 def write(tmp_path: Path, text: str) -> Path:

@@ -14,6 +14,7 @@ from workcell.audit.oscillation import OSCILLATION_VERSION, OscillationParams
 from workcell.audit.sampling import SAMPLING_VERSION, SamplingParams
 from workcell.audit.slowness import SLOWNESS_VERSION, SlownessParams
 from workcell.errors import ConfigError
+from workcell.settings import declared_problems, setting
 
 AUDIT_VERSION = "1"
 """Bumped whenever dispositions, statistics or the report's files change meaning."""
@@ -44,11 +45,14 @@ class AuditConfig:
     sampling: SamplingParams = field(default_factory=SamplingParams)
     nonfinite: NonfiniteParams = field(default_factory=NonfiniteParams)
     slowness: SlownessParams = field(default_factory=SlownessParams)
-    trajectories: int = 30
+    trajectories: int = setting(
+        30, "successful trials the trajectory figure draws", unit="trials", low=1, high=1000
+    )
 
     def __post_init__(self) -> None:
-        if not 1 <= self.trajectories <= 1000:
-            raise ConfigError([f"trajectories = {self.trajectories}: must be 1 to 1000"])
+        problems = declared_problems(self, "")
+        if problems:
+            raise ConfigError(problems)
 
     def describe(self) -> dict[str, Any]:
         """Every parameter with its definition's version (for summary.json and the report)."""

@@ -7,17 +7,29 @@ audit recomputes the derived ones from frames and never writes them back.
 
 from __future__ import annotations
 
-import math
 from collections.abc import Mapping
 from dataclasses import dataclass, fields
 from typing import Any
 
+from workcell.errors import ConfigError
 from workcell.metrics import MetricThresholds
 from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.records import FLAG_SEPARATOR
+from workcell.session.config import RecordingConfig
 
-DEFAULT_RATE_HZ = 20.0
-"""Frame rate assumed for a session whose parameters do not state one (DESIGN default)."""
+
+def recorded_rate(parameters: Mapping[str, Any]) -> tuple[float, str | None]:
+    """The frame rate a session's ``parameters`` state, validated by its declaration in
+    :class:`RecordingConfig`; else the declared default and a note saying why."""
+    recording = parameters.get("recording")
+    rate = recording.get("sampling_rate_hz") if isinstance(recording, Mapping) else None
+    default = RecordingConfig().sampling_rate_hz
+    if rate is None:
+        return default, f"parameters hold no recording.sampling_rate_hz; {default:g} Hz was assumed"
+    try:
+        return RecordingConfig(sampling_rate_hz=rate).sampling_rate_hz, None
+    except ConfigError as error:
+        return default, f"{error}; {default:g} Hz was assumed"
 
 
 @dataclass(frozen=True)
@@ -52,12 +64,9 @@ class SessionRow:
         except (ValueError, TypeError) as error:
             metric_thresholds = MetricThresholds()
             notes.append(f"thresholds not readable ({error}); the DESIGN defaults were used")
-        rate = parameters.get("recording", {}).get("sampling_rate_hz")
-        if not (isinstance(rate, int | float) and math.isfinite(rate) and rate > 0):
-            notes.append(
-                f"parameters hold no recording.sampling_rate_hz; {DEFAULT_RATE_HZ:g} Hz was assumed"
-            )
-            rate = DEFAULT_RATE_HZ
+        rate, note = recorded_rate(parameters)
+        if note is not None:
+            notes.append(note)
         return cls(
             session_id=row["session_id"],
             created_wall=float(row["created_wall"]),

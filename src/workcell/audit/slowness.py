@@ -17,11 +17,11 @@ current state, like the right action.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 from workcell.audit.flags import SLOW, Flag
 from workcell.errors import ConfigError
+from workcell.settings import declared_problems, setting
 
 SLOWNESS_VERSION = "1"
 """Bumped whenever the definition above changes meaning."""
@@ -29,22 +29,20 @@ SLOWNESS_VERSION = "1"
 
 @dataclass(frozen=True)
 class SlownessParams:
-    """``factor``: how many times the reference median a success may take before it is
-    slow; ``min_reference``: the fewest valid successes a reference group needs;
-    ``disqualifying``: whether ``slow`` excludes a success as low quality."""
+    """The ``slow`` detector's parameters (see the definition above)."""
 
-    factor: float = 2.0
-    min_reference: int = 5
-    disqualifying: bool = False
+    factor: float = setting(
+        2.0, "how many times its group's median a success may take before it is slow",
+        unit="1", low=1.0, high=100.0,
+    )  # fmt: skip
+    min_reference: int = setting(
+        5, "the fewest valid successes a task's reference group needs",
+        unit="trials", low=1, high=1_000_000,
+    )  # fmt: skip
+    disqualifying: bool = setting(False, "whether slow excludes a success as low quality")
 
     def __post_init__(self) -> None:
-        problems = []
-        if not (math.isfinite(self.factor) and 1.0 <= self.factor <= 100.0):
-            problems.append(f"slowness factor = {self.factor!r}: must be 1 to 100")
-        if type(self.min_reference) is not int or not 1 <= self.min_reference <= 1_000_000:
-            problems.append(
-                f"slowness min_reference = {self.min_reference!r}: must be 1 to 1000000"
-            )
+        problems = declared_problems(self, "slowness")
         if problems:
             raise ConfigError(problems)
 

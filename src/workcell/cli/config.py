@@ -31,7 +31,7 @@ def register(subparsers: Subparsers) -> None:
 def run(args: argparse.Namespace) -> int:
     from workcell.session.config import SessionConfig  # noqa: PLC0415
     from workcell.session.load import resolve_session_config  # noqa: PLC0415
-    from workcell.session.toml_io import to_toml  # noqa: PLC0415
+    from workcell.settings.template import to_toml  # noqa: PLC0415
 
     defaults = args.defaults
     config = SessionConfig() if defaults else resolve_session_config(args.config, args.set)

@@ -11,6 +11,7 @@ from workcell.errors import ConfigError
 from workcell.export.options import ROBOT_CAMERAS, ImageSize
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
+from workcell.settings import divides, steps_per
 
 
 @dataclass(frozen=True)
@@ -30,7 +31,7 @@ class BoxTransferConfig:
     render_size: ImageSize = field(default_factory=ImageSize)
 
     def __post_init__(self) -> None:
-        problems = []
+        problems: list[str] = []
         pool = self.session.world.feeder.pool_size
         if type(self.required_boxes) is not int or not 1 <= self.required_boxes <= pool:
             problems.append(
@@ -49,13 +50,13 @@ class BoxTransferConfig:
             problems.append(
                 f"render_camera = {self.render_camera!r}: must be one of {', '.join(ROBOT_CAMERAS)}"
             )
-        rate = self.session.recording.sampling_rate_hz
-        per_frame = self.session.world.robot.control_hz / rate
-        if abs(rate - round(rate)) > 1e-9 or abs(per_frame - round(per_frame)) > 1e-9:
-            problems.append(
-                f"recording.sampling_rate_hz = {rate:g}: the environment steps whole frames, "
-                "so it must be a whole number dividing world.robot.control_hz"
-            )
+        problems += divides(
+            "recording.sampling_rate_hz",
+            self.session.recording.sampling_rate_hz,
+            self.session.world.robot.control_hz,
+            "the control rate world.robot.control_hz",
+            whole=True,
+        )
         if problems:
             raise ConfigError(problems)
 
@@ -71,7 +72,12 @@ class BoxTransferConfig:
 
     @property
     def control_steps_per_frame(self) -> int:
-        return round(self.session.world.robot.control_hz / self.session.recording.sampling_rate_hz)
+        """Control steps per recorded frame (validated to be whole on construction)."""
+        steps = steps_per(
+            self.session.world.robot.control_hz, self.session.recording.sampling_rate_hz
+        )
+        assert steps is not None, "validated in __post_init__"
+        return steps
 
     @property
     def limit_s(self) -> float:

@@ -1,16 +1,19 @@
-"""``GET /api/defaults``: every session setting with its default and documentation,
-walked from the :class:`~workcell.session.config.SessionConfig` dataclasses."""
+"""``GET /api/defaults`` and ``GET /api/settings/hints``: every session setting with its
+default, documentation and form hint, generated from the declarations of the
+:class:`~workcell.session.config.SessionConfig` dataclasses."""
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Any, Literal, get_args, get_origin, get_type_hints
+from typing import Any, Literal, get_args, get_origin
 
 from workcell.protocol.api import Defaults, SectionInfo, SettingInfo, SettingKind
 from workcell.protocol.codec import to_json_value
 from workcell.protocol.messages import PROTOCOL_VERSION
 from workcell.session.config import SessionConfig
-from workcell.settings import field_doc
+from workcell.settings.hints import SettingHints, setting_hints
+from workcell.settings.validate import described
+from workcell.settings.walk import Declared, walk
 
 
 def setting_kind(hint: Any) -> tuple[SettingKind, tuple[str, ...] | None]:
@@ -29,24 +32,17 @@ def setting_kind(hint: Any) -> tuple[SettingKind, tuple[str, ...] | None]:
     return "text", None
 
 
-def _walk(cls: type, prefix: str, sections: list[SectionInfo], fields: list[SettingInfo]) -> None:
-    hints = get_type_hints(cls)
-    defaults = cls()
-    for f in dataclasses.fields(cls):
-        key, hint = f"{prefix}{f.name}", hints[f.name]
-        if dataclasses.is_dataclass(hint):
-            sections.append(SectionInfo(key=key, doc=field_doc(f)))
-            _walk(hint, f"{key}.", sections, fields)  # type: ignore[arg-type]
-            continue
-        kind, choices = setting_kind(hint)
-        default = to_json_value(getattr(defaults, f.name))
-        fields.append(SettingInfo(key, kind, default, field_doc(f), choices))
-
-
 def session_defaults() -> Defaults:
     sections: list[SectionInfo] = []
     fields: list[SettingInfo] = []
-    _walk(SessionConfig, "", sections, fields)
+    for item in walk(SessionConfig):
+        if isinstance(item, Declared):
+            kind, choices = setting_kind(item.hint)
+            default = to_json_value(item.default)
+            doc = described(item.spec, item.hint)
+            fields.append(SettingInfo(item.key, kind, default, doc, choices))
+        else:
+            sections.append(SectionInfo(key=item.key, doc=item.doc))
     settings: dict[str, object] = to_json_value(dataclasses.asdict(SessionConfig()))
     return Defaults(
         protocol=PROTOCOL_VERSION,
@@ -54,3 +50,8 @@ def session_defaults() -> Defaults:
         sections=tuple(sections),
         fields=tuple(fields),
     )
+
+
+def session_hints() -> SettingHints:
+    """The setup page's form hint of every session setting."""
+    return setting_hints(SessionConfig)

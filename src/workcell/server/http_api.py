@@ -1,4 +1,4 @@
-"""The read-only JSON API: ``/api/defaults``, ``/api/sessions``,
+"""The read-only JSON API: ``/api/defaults``, ``/api/settings/hints``, ``/api/sessions``,
 ``/api/trials/{id}/frames`` and ``/api/diagnostics``."""
 
 from __future__ import annotations
@@ -14,7 +14,7 @@ from workcell.protocol.api import SessionList, SessionSummary, TrialSummary
 from workcell.protocol.codec import encode
 from workcell.record.store import Store
 from workcell.server.conductor import Conductor
-from workcell.server.defaults import session_defaults
+from workcell.server.defaults import session_defaults, session_hints
 from workcell.server.diagnostics import diagnostics
 from workcell.server.replay import TrialNotFoundError, trial_replay
 
@@ -77,6 +77,9 @@ def routes(conductor: Conductor) -> list[Route]:
     def defaults(request: Request) -> Response:
         return json_response(session_defaults())
 
+    def hints(request: Request) -> Response:
+        return json_response(session_hints())
+
     def sessions(request: Request) -> Response:
         return json_response(session_list(store_path))
 
@@ -98,6 +101,7 @@ def routes(conductor: Conductor) -> list[Route]:
 
     return [
         Route("/api/defaults", defaults),
+        Route("/api/settings/hints", hints),
         Route("/api/sessions", sessions),
         Route("/api/trials/{trial_id}/frames", frames),
         Route("/api/diagnostics", diagnostics_route),

@@ -1,8 +1,8 @@
 """Configuration dataclasses to and from TOML, with every problem reported at once.
 
 Loading is strict: an unknown key (a typo) is an error naming the key and the keys that
-section knows, never silently ignored. Dumping writes every field with its documentation
-as a comment, so ``workcell config --defaults`` is a complete, commented file.
+section knows, never silently ignored. The commented template that writes a configuration
+back out is :mod:`workcell.settings.template`.
 """
 
 from __future__ import annotations
@@ -16,7 +16,6 @@ from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
 from workcell.errors import ConfigError, Problem
-from workcell.settings import field_doc
 
 T = TypeVar("T")
 _MISSING = object()
@@ -142,38 +141,3 @@ def _convert(value: Any, kind: Any) -> tuple[Any, str]:
     if kind is str:
         return value, "" if isinstance(value, str) else "must be text in quotes"
     return value, ""
-
-
-def to_toml(config: object) -> str:
-    """Every field of a configuration dataclass as commented TOML."""
-    lines: list[str] = []
-    _emit(config, "", lines)
-    return "\n".join(lines).strip() + "\n"
-
-
-def _emit(config: object, path: str, lines: list[str]) -> None:
-    sections = []
-    for field in dataclasses.fields(config):  # type: ignore[arg-type]
-        value = getattr(config, field.name)
-        if dataclasses.is_dataclass(value):
-            sections.append((field, value))
-            continue
-        lines.append(f"# {field_doc(field)}")
-        lines.append(f"{field.name} = {_literal(value)}")
-    for field, value in sections:
-        lines.append("")
-        lines.append(f"# {field_doc(field)}")
-        lines.append(f"[{path}{field.name}]")
-        _emit(value, f"{path}{field.name}.", lines)
-
-
-def _literal(value: object) -> str:
-    if isinstance(value, bool):
-        return "true" if value else "false"
-    if isinstance(value, int | float):
-        return repr(value)
-    if isinstance(value, str):
-        return json.dumps(value)
-    if isinstance(value, tuple | list):
-        return "[" + ", ".join(_literal(v) for v in value) + "]"
-    raise TypeError(f"cannot write {value!r} as TOML")

@@ -11,39 +11,41 @@ from __future__ import annotations
 import dataclasses
 from dataclasses import dataclass
 
-from workcell import checks
 from workcell.errors import ConfigError
-from workcell.settings import setting
+from workcell.settings import declared_problems, setting
 
 
 @dataclass(frozen=True)
 class RandomizationConfig:
     """How far each trial's conditions may stray from the configured ones (0 = fixed)."""
 
-    box_size: float = setting(0.0, "each box side scaled by up to +/- this fraction (0 to 0.2)")
-    box_mass: float = setting(0.0, "box mass scaled by up to +/- this fraction (0 to 0.5)")
-    box_colour: float = setting(0.0, "each colour channel moved by up to +/- this (0 to 0.3)")
-    conveyor_speed: float = setting(0.0, "belt speed scaled by up to +/- this fraction (0 to 0.5)")
-    release_interval: float = setting(
-        0.0, "release interval scaled by up to +/- this fraction (0 to 0.5)"
+    box_size: float = setting(
+        0.0, "each box side scaled by up to +/- this fraction", unit="1", low=0.0, high=0.2
     )
-    target_shift: float = setting(0.0, "delivery zone moved by up to this in x and y, m (0 to 0.5)")
-    start_shift: float = setting(0.0, "robot start moved by up to this in x and y, m (0 to 0.5)")
-    start_yaw: float = setting(0.0, "robot start turned by up to +/- this, rad (0 to 0.5)")
+    box_mass: float = setting(
+        0.0, "box mass scaled by up to +/- this fraction", unit="1", low=0.0, high=0.5
+    )
+    box_colour: float = setting(
+        0.0, "each colour channel moved by up to +/- this", unit="1", low=0.0, high=0.3
+    )
+    conveyor_speed: float = setting(
+        0.0, "belt speed scaled by up to +/- this fraction", unit="1", low=0.0, high=0.5
+    )
+    release_interval: float = setting(
+        0.0, "release interval scaled by up to +/- this fraction", unit="1", low=0.0, high=0.5
+    )
+    target_shift: float = setting(
+        0.0, "delivery zone moved by up to this in x and y", unit="m", low=0.0, high=0.5
+    )
+    start_shift: float = setting(
+        0.0, "robot start moved by up to this in x and y", unit="m", low=0.0, high=0.5
+    )
+    start_yaw: float = setting(
+        0.0, "robot start turned by up to +/- this", unit="rad", low=0.0, high=0.5
+    )
 
     def __post_init__(self) -> None:
-        problems: list[str] = []
-        for name, high in (
-            ("box_size", 0.2),
-            ("box_mass", 0.5),
-            ("box_colour", 0.3),
-            ("conveyor_speed", 0.5),
-            ("release_interval", 0.5),
-            ("target_shift", 0.5),
-            ("start_shift", 0.5),
-            ("start_yaw", 0.5),
-        ):
-            problems += checks.in_range(f"randomization.{name}", getattr(self, name), 0.0, high)
+        problems = declared_problems(self, "randomization")
         if problems:
             raise ConfigError(problems)
 

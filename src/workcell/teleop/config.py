@@ -2,32 +2,75 @@
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
-from workcell.session.config import SessionConfig
+from workcell.errors import ConfigError
+from workcell.session.config import RecordingConfig, SessionConfig
+from workcell.settings import declared_problems, same_as, setting
+from workcell.sim.config import RobotConfig
 
 
 @dataclass(frozen=True)
 class TeleopConfig:
     """Mapping parameters; :meth:`for_session` takes speeds and the grip threshold from a
-    session's settings so a human drives within the same limits as the expert."""
+    session's settings so a human drives within the same limits as the expert (their
+    defaults and allowed values are those settings' declarations)."""
 
-    max_linear_speed: float = 0.8
-    """Full stick deflection, m/s (the robot's ``max_linear_speed``)."""
-    max_yaw_rate: float = 1.2
-    """Full right-stick deflection, rad/s (the robot's ``max_yaw_rate``)."""
-    dead_zone: float = 0.15
-    """Stick deflection below this counts as zero; above it the scale starts at zero."""
-    grip_threshold: float = 0.5
-    """A grip value at or above this engages arm following."""
-    motion_scale: float = 1.0
-    """Metres of TCP motion per metre of controller motion."""
-    head_pan_limits: tuple[float, float] = (-1.6, 1.6)
-    head_tilt_limits: tuple[float, float] = (-0.8, 1.2)
-    default_head: tuple[float, float] = (0.0, 0.3)
-    """Head pan and tilt (rad) when no headset is tracked."""
-    input_timeout_s: float = 0.5
-    """Older input than this stops the base (a dropped or stalled link)."""
+    max_linear_speed: float = same_as(
+        RobotConfig, "max_linear_speed", "full stick deflection (the robot's max_linear_speed)"
+    )
+    max_yaw_rate: float = same_as(
+        RobotConfig, "max_yaw_rate", "full right-stick deflection (the robot's max_yaw_rate)"
+    )
+    dead_zone: float = setting(
+        0.15,
+        "stick deflection below this counts as zero; above it the scale starts at zero",
+        unit="1",
+        low=0.0,
+        high=0.9,
+    )
+    grip_threshold: float = same_as(RecordingConfig, "grip_threshold")
+    motion_scale: float = setting(
+        1.0,
+        "metres of TCP motion per metre of controller motion",
+        unit="1",
+        low=0.0,
+        low_open=True,
+        high=10.0,
+    )
+    head_pan_limits: tuple[float, float] = setting(
+        (-1.6, 1.6), "lowest and highest head pan", unit="rad", low=-math.pi, high=math.pi, length=2
+    )
+    head_tilt_limits: tuple[float, float] = setting(
+        (-0.8, 1.2),
+        "lowest and highest head tilt",
+        unit="rad",
+        low=-math.pi,
+        high=math.pi,
+        length=2,
+    )
+    default_head: tuple[float, float] = setting(
+        (0.0, 0.3),
+        "head pan and tilt when no headset is tracked",
+        unit="rad",
+        low=-math.pi,
+        high=math.pi,
+        length=2,
+    )
+    input_timeout_s: float = setting(
+        0.5,
+        "older input than this stops the base (a dropped or stalled link)",
+        unit="s",
+        low=0.0,
+        low_open=True,
+        high=10.0,
+    )
+
+    def __post_init__(self) -> None:
+        problems = declared_problems(self, "teleop")
+        if problems:
+            raise ConfigError(problems)
 
     @classmethod
     def for_session(cls, config: SessionConfig) -> TeleopConfig:

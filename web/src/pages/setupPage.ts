@@ -5,6 +5,7 @@
 import type { App } from "../app";
 import type { Defaults, FieldProblem } from "../protocol";
 import { fetchDefaults } from "../net/api";
+import { applyHints, fetchSettingHints } from "./settingHints";
 import { buildControl, nest, placeProblems, readValue, sectionOf, writeValue } from "./settingsForm";
 import type { FieldControl } from "./settingsForm";
 import { el } from "../util/dom";
@@ -54,6 +55,12 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
     status.textContent = "";
     const form = el("form", { className: "setup-form", noValidate: true });
     controls = new Map(defaults.fields.map((info) => [info.key, buildControl(info)]));
+    const built = controls;
+    fetchSettingHints()
+      .then((hints) => {
+        if (!disposed) applyHints(built, hints);
+      })
+      .catch((error: unknown) => console.warn("setting hints unavailable:", error));
 
     // The operator's first choices: mode (as large buttons) and who they are.
     const mode = controls.get(MODE_KEY);

@@ -34,8 +34,19 @@ export async function startSession(
   check(fields.length >= 30, `setup page shows only ${fields.length} settings`);
   check(fields.includes("task.mode") && fields.includes("world.robot.max_linear_speed"), "setup page misses settings");
 
+  // Each setting shows what its declaration allows, and once the hints are in
+  // (GET /api/settings/hints) a number typed outside those bounds is marked before the
+  // server is asked.
+  const doc = (await page.textContent('.field[data-field="world.conveyor.speed"] .doc')) ?? "";
+  check(doc.includes("(between 0.01 and 1 m/s)"), `conveyor speed documentation reads ${doc}`);
+  await page.waitForSelector('.field[data-unit="s"] input[name="task.time_limit_s"][title]', { timeout: 10000 });
+
   // A bad value is rejected by the server and shown beside its field (by its path).
   await page.fill('input[name="task.time_limit_s"]', "-5");
+  check(
+    (await page.$('.field.invalid[data-field="task.time_limit_s"]')) !== null,
+    "a negative time limit is not marked while typing",
+  );
   await page.click("button.start");
   await page.waitForSelector('.field.invalid[data-field="task.time_limit_s"] .problem:not(:empty)', { timeout: 10000 });
   const problem = await page.textContent('.field[data-field="task.time_limit_s"] .problem');
