@@ -31,6 +31,10 @@ export interface DeliveryOptions {
   /** Carry one decision out. */
   act: (decision: Decision, obs: Observation, snap: DebugSnapshot) => Promise<void>;
   debug: (decision: Decision, obs: Observation, snap: DebugSnapshot) => string;
+  /** Set the operator's `lead` to the latency measured as it goes (one loop plus the
+   * link's round trip), at least its initial value: on a slow machine the page draws a
+   * few frames a second, and an operator that does not anticipate that overshoots. */
+  adaptLead?: boolean;
 }
 
 export interface Delivery {
@@ -48,7 +52,10 @@ const PHASE_SHOTS = ["squeeze", "carry", "place"];
 /** Run the operator until the trial ends (or the budget runs out), then wait for the
  * session's end; its trial_ended event must have arrived. */
 export async function deliver(page: Page, artifacts: string, operator: ScriptedOperator, options: DeliveryOptions): Promise<Delivery> {
-  const { prefix, budgetMs, tickMs, debugEveryMs, look, act, debug } = options;
+  const { prefix, budgetMs, tickMs, debugEveryMs, look, act, debug, adaptLead = false } = options;
+  const minimumLead = operator.lead;
+  let loopS: number | null = null;
+  let lookedAt: number | null = null;
   let startBase: Base | null = null;
   let baseMovedM = 0;
   let maxGrip = 0;
@@ -61,6 +68,13 @@ export async function deliver(page: Page, artifacts: string, operator: ScriptedO
   while (performance.now() < deadline) {
     const { snap, bodies } = await look();
     last = snap;
+    const now = performance.now();
+    if (lookedAt !== null) {
+      const seconds = (now - lookedAt) / 1000;
+      loopS = loopS === null ? seconds : 0.8 * loopS + 0.2 * seconds;
+      if (adaptLead) operator.lead = Math.max(minimumLead, loopS + (snap.link.rttMs ?? 0) / 1000);
+    }
+    lookedAt = now;
     if (snap.ended !== null || snap.last_trial_end !== null) break;
     const base = bodies["base"];
     if (base === undefined) {
@@ -81,7 +95,7 @@ export async function deliver(page: Page, artifacts: string, operator: ScriptedO
     }
     if (process.env["E2E_DEBUG"] && (debugAt === undefined || performance.now() - debugAt > debugEveryMs)) {
       debugAt = performance.now();
-      log(`debug ${operator.phase} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} ${debug(decision, obs, snap)}`);
+      log(`debug ${operator.phase} lead=${operator.lead.toFixed(2)} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} ${debug(decision, obs, snap)}`);
     }
     await act(decision, obs, snap);
     const sent = snap.teleop?.last_input;

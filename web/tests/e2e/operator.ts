@@ -62,7 +62,8 @@ export interface OperatorOptions {
 
 export class ScriptedOperator {
   readonly onOff: boolean;
-  readonly lead: number;
+  /** Set by a loop that measures its latency (see `deliver`'s `adaptLead`). */
+  lead: number;
   readonly tolerance: number;
   readonly slowDrive: boolean;
   velocity: Vec3 = [0, 0, 0];
@@ -116,8 +117,10 @@ export class ScriptedOperator {
       // person tapping keys does (heading first, then along, then across).
       const near = dist < 0.3;
       const turnOn = Math.abs(eyaw) > yawTolerance / 2;
-      const turn = turnOn ? -Math.sign(eyaw) * (Math.abs(eyaw) > 0.4 ? 1 : 0.3) : 0;
-      const speed = dist > 0.4 ? 1 : 0.3;
+      // Full speed (no Shift) only far from the goal and when the caller allows it.
+      const full = vmax >= 0.5;
+      const turn = turnOn ? -Math.sign(eyaw) * (Math.abs(eyaw) > 0.4 && full ? 1 : 0.3) : 0;
+      const speed = dist > 0.4 && full ? 1 : 0.3;
       let forward = 0;
       let left = 0;
       if (!(near && turnOn)) {
@@ -125,8 +128,10 @@ export class ScriptedOperator {
         else if (Math.abs(ey) > tolerance / 2) left = Math.sign(ey) * speed;
         if (!near && Math.abs(ey) > tolerance / 2) left = Math.sign(ey) * speed;
       }
-      // Close in, a person taps the keys instead of holding them.
-      const fine = dist < 0.15 && Math.abs(eyaw) < 0.2;
+      // Close in, a person taps the keys instead of holding them: near the goal, or when
+      // only a small turn is left.
+      const onlyTurning = forward === 0 && left === 0;
+      const fine = Math.abs(eyaw) < 0.2 && (dist < 0.15 || onlyTurning);
       this.drive = { forward, left, turn, fine };
       return arrived;
     }
