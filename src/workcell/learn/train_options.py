@@ -23,7 +23,7 @@ DEVICES: tuple[Device, ...] = ("auto", "cpu", "cuda")
 
 POLICY_DEFAULTS: dict[PolicyType, dict[str, str]] = {
     "act": {
-        # a small transformer: ~3 steps/s with batch 32 on 2 CPU cores
+        # a small transformer: ~4 steps/s with batch 32 on a quiet 2-core CPU (one data worker)
         "dim_model": "256",
         "dim_feedforward": "1024",
         "n_encoder_layers": "2",
@@ -66,9 +66,11 @@ class TrainOptions:
     """Torch (OpenMP) threads of the training process; None: torch's default, one per core.
     On a machine busy with other work, 1 is much faster than more (threads that wait for
     each other on a shared core)."""
-    num_workers: int = 0
-    """Data-loading processes (0: in the training process, which is fastest for state-only
-    datasets on a small machine)."""
+    num_workers: int = 1
+    """Data-loading processes (0: in the training process). One worker overlaps LeRobot's
+    loading of each batch (a third of a step here: its query of the 20-step action chunks)
+    with the model's update: 1.5x the steps per second on a quiet 2-core machine
+    (bench/README.md)."""
     extra: tuple[str, ...] = field(default_factory=tuple)
     """Further ``--key=value`` options for ``lerobot-train``, after the defaults."""
 
