@@ -14,7 +14,7 @@ import pytest
 from tests.audit import builders as b
 from workcell.audit.run import AuditResult, run_audit
 from workcell.audit.store_source import StoreSource
-from workcell.record import Store
+from workcell.record import SessionRecord, Store
 
 EXPERT_TRIALS = 4
 SLOW_TRIALS = 2
@@ -67,16 +67,24 @@ class Scenario:
     ids: dict[str, str]
 
 
+def expert_trials(
+    stores: ExpertStores,
+) -> tuple[SessionRecord, list[b.Columns], list[b.Columns]]:
+    """The skilled store's session, its trials' frames (successes) and the slow store's
+    (timeouts), as :func:`builders.columns` gives them."""
+    with (
+        Store.open(stores.skilled, writer=False) as skilled,
+        Store.open(stores.slow, writer=False) as slow,
+    ):
+        wins = [b.columns(skilled, t.trial_id) for t in skilled.trials()]
+        losses = [b.columns(slow, t.trial_id) for t in slow.trials()]
+        return skilled.sessions()[0], wins, losses
+
+
 @pytest.fixture(scope="session")
 def scenario(expert_stores: ExpertStores, tmp_path_factory: pytest.TempPathFactory) -> Scenario:
     path = tmp_path_factory.mktemp("scenario") / "scenario.sqlite"
-    with (
-        Store.open(expert_stores.skilled, writer=False) as skilled,
-        Store.open(expert_stores.slow, writer=False) as slow,
-    ):
-        session = skilled.sessions()[0]
-        wins = [b.columns(skilled, t.trial_id) for t in skilled.trials()]
-        losses = [b.columns(slow, t.trial_id) for t in slow.trials()]
+    session, wins, losses = expert_trials(expert_stores)
     assert len(wins) == EXPERT_TRIALS and len(losses) == SLOW_TRIALS
     cases = {
         "clean": (wins[0], "success", None),

@@ -11,7 +11,7 @@ from pathlib import Path
 import pytest
 
 from tests.audit import builders as b
-from tests.audit.conftest import ExpertStores
+from tests.audit.conftest import ExpertStores, expert_trials
 from workcell.audit.config import AuditConfig
 from workcell.audit.disposition import EXCLUDED_LOW_QUALITY, VALID_SUCCESS, VALID_TIMEOUT
 from workcell.audit.findings import QUALITY_FLAG
@@ -32,13 +32,7 @@ def hesitant(expert_stores: ExpertStores, tmp_path_factory: pytest.TempPathFacto
     """Four real expert successes, one copy of the first that stands still for 40 s half-way
     (a hesitation), and two real timeouts."""
     path = tmp_path_factory.mktemp("slowness") / "hesitant.sqlite"
-    with (
-        Store.open(expert_stores.skilled, writer=False) as skilled,
-        Store.open(expert_stores.slow, writer=False) as slow,
-    ):
-        session = skilled.sessions()[0]
-        wins = [b.columns(skilled, t.trial_id) for t in skilled.trials()]
-        losses = [b.columns(slow, t.trial_id) for t in slow.trials()]
+    session, wins, losses = expert_trials(expert_stores)
     middle = len(wins[0]["t_sim"]) // 2
     with Store.open(path, writer=True) as store:
         session_id = store.create_session(b.session_info(session))
