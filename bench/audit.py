@@ -104,9 +104,9 @@ def generate(path: Path, trials: int, mean_frames: int) -> int:
         parameters={"recording": {"sampling_rate_hz": RATE_HZ}},
         thresholds={
             "grip_threshold": 0.5,
-            "base_linear_mps": 0.02,
-            "base_yaw_radps": 0.05,
-            "joint_rate_radps": 0.05,
+            "base_linear_threshold": 0.02,
+            "base_yaw_threshold": 0.05,
+            "joint_rate_threshold": 0.05,
         },
         metric_definitions=METRIC_DEFINITIONS,
         metrics_version=METRICS_VERSION,

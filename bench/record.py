@@ -45,7 +45,7 @@ import numpy as np
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertOperator
-from workcell.record.records import TrialEnd, TrialStart
+from workcell.record.entries import TrialEnd, TrialStart
 from workcell.recording.frame_capture import FrameCapture
 from workcell.recording.in_process import InProcessStore
 from workcell.recording.recorder import Recorder, session_info
@@ -80,7 +80,10 @@ def session(
     config: SessionConfig, sim: Simulation, store: InProcessStore | StoreProcess | None
 ) -> tuple[float, int]:
     """One session on ``sim``, recorded into ``store`` if given: (wall seconds until the
-    record is durable, frames recorded)."""
+    record is durable, frames recorded). Runner and recorder are put together here rather
+    than by :class:`~workcell.recording.recorded_session.RecordedSession`, which builds its
+    own world and opens its own store: the rounds share one world and one open store (as a
+    server does), so the figure is the recorder's cost alone."""
     runner = SessionRunner(config, sim, ExpertOperator())
     recorder = Recorder(store, runner) if store is not None else None
     start = time.perf_counter()

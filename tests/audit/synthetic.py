@@ -29,9 +29,9 @@ def session_info(operator_id: str = "synthetic", mode: str = "collection") -> Se
         parameters={"recording": {"sampling_rate_hz": RATE_HZ}},
         thresholds={
             "grip_threshold": 0.5,
-            "base_linear_mps": 0.02,
-            "base_yaw_radps": 0.05,
-            "joint_rate_radps": 0.05,
+            "base_linear_threshold": 0.02,
+            "base_yaw_threshold": 0.05,
+            "joint_rate_threshold": 0.05,
         },
         metric_definitions=METRIC_DEFINITIONS,
         metrics_version=METRICS_VERSION,

@@ -23,14 +23,14 @@ INVALID: dict[str, Callable[[], object]] = {
     "arm_position_z_inf": lambda: ArmCommand(position=(0.0, 0.0, -INF)),
     "arm_quat_w_nan": lambda: ArmCommand(quaternion=(NAN, 0.0, 0.0, 0.0)),
     "arm_quat_z_nan": lambda: ArmCommand(quaternion=(1.0, 0.0, 0.0, NAN)),
-    "gripper_left_nan": lambda: Command(gripper_left=NAN),
-    "gripper_right_nan": lambda: Command(gripper_right=NAN),
+    "gripper_left_nan": lambda: Command(close_left=NAN),
+    "gripper_right_nan": lambda: Command(close_right=NAN),
     "head_pan_nan": lambda: Command(head=(NAN, 0.3)),
     "head_tilt_inf": lambda: Command(head=(0.0, INF)),
-    "gripper_left_above": lambda: Command(gripper_left=1.01),
-    "gripper_left_below": lambda: Command(gripper_left=-0.01),
-    "gripper_right_above": lambda: Command(gripper_right=2.0),
-    "gripper_right_below": lambda: Command(gripper_right=-1.0),
+    "gripper_left_above": lambda: Command(close_left=1.01),
+    "gripper_left_below": lambda: Command(close_left=-0.01),
+    "gripper_right_above": lambda: Command(close_right=2.0),
+    "gripper_right_below": lambda: Command(close_right=-1.0),
     "quat_zero": lambda: ArmCommand(quaternion=(0.0, 0.0, 0.0, 0.0)),
     "quat_double": lambda: ArmCommand(quaternion=(2.0, 0.0, 0.0, 0.0)),
     "quat_long": lambda: ArmCommand(quaternion=(1.0, 0.1, 0.1, 0.5)),  # norm 1.13
@@ -59,7 +59,7 @@ def test_non_unit_quaternion_message_states_the_norm() -> None:
     "command",
     [
         Command(),
-        Command(gripper_left=0.0, gripper_right=1.0),
+        Command(close_left=0.0, close_right=1.0),
         Command(base=BaseTwist(vx=-0.3, vy=0.1, wz=2.0)),
         Command(left=ArmCommand((0.6, 0.15, 0.9), (0.7071068, 0.7071068, 0.0, 0.0), follow=True)),
         Command(right=ArmCommand((0.6, -0.15, 0.9), (0.5, -0.5, 0.5, 0.5), follow=True)),
@@ -68,4 +68,4 @@ def test_non_unit_quaternion_message_states_the_norm() -> None:
     ],
 )
 def test_valid_commands_construct(command: Command) -> None:
-    assert command.gripper_left in (0.0, 1.0)
+    assert command.close_left in (0.0, 1.0)

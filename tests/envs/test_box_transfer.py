@@ -151,8 +151,8 @@ def test_actions_and_commands_convert_both_ways() -> None:
         base=BaseTwist(0.5, -0.125, 0.25),
         left=ArmCommand((0.5, 0.25, 1.0), (0.0, 1.0, 0.0, 0.0), True),
         right=ArmCommand((0.375, -0.25, 0.875), (0.5, 0.5, 0.5, 0.5), False),
-        gripper_left=1.0,
-        gripper_right=0.25,
+        close_left=1.0,
+        close_right=0.25,
         head=(0.125, 0.375),
     )
     assert command_from_action(action_from_command(command)) == command

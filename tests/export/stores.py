@@ -13,12 +13,10 @@ from dataclasses import dataclass
 from pathlib import Path
 
 from workcell.cli.main import main
-from workcell.control.simulation import Simulation
-from workcell.expert import ExpertConfig, ExpertOperator
 from workcell.recording.in_process import InProcessStore
-from workcell.recording.recorder import Recorder
+from workcell.recording.recorded_session import RecordedSession, RecordedSessionConfig
 from workcell.session.load import resolve_session_config
-from workcell.task.runner import SessionRunner
+from workcell.task.events import InterruptionReason
 
 INTERRUPT_AFTER_S = 1.0
 REVIEWER = "tests"
@@ -37,16 +35,15 @@ def collect(store: Path, *args: str) -> None:
 def record_interrupted(store: Path, seed: int) -> None:
     """One collection trial stopped by the operator (``application_quit``) after 1 s."""
     config = resolve_session_config(flags={"task.mode": "collection", "seed": seed})
-    runner = SessionRunner(
-        config, Simulation(config.world), ExpertOperator(ExpertConfig()), max_trials=1
-    )
-    with InProcessStore.open(store, writer=True) as writer:
-        recorder = Recorder(writer, runner)
-        runner.start()
-        while runner.current is not None and runner.trial_time < INTERRUPT_AFTER_S:
-            runner.step()
-        runner.interrupt("application_quit")
-        recorder.close(interrupted=True)
+    recorded = RecordedSessionConfig(session=config, store=store, writer="inline", max_trials=1)
+    with RecordedSession.open(recorded) as session:
+
+        def after_one_second() -> InterruptionReason | None:
+            running = session.runner.current is not None
+            late = running and session.runner.trial_time >= INTERRUPT_AFTER_S
+            return "application_quit" if late else None
+
+        assert session.run(should_stop=after_one_second) == "application_quit"
 
 
 def exclude_trial(store: Path, index: int, reason: str) -> str:

@@ -17,7 +17,7 @@ from workcell.export.lerobot_layout import CHUNKS_SIZE, FileCursor
 from workcell.export.options import ExportOptions, ImageSize, parse_cameras
 from workcell.export.selection import decide
 from workcell.export.stats import aggregate, image_stats, vector_stats
-from workcell.record.records import AnnotationRecord, StoredMetrics, TrialRecord
+from workcell.record.entries import AnnotationRecord, StoredMetrics, TrialRecord
 
 
 def test_image_size_and_cameras() -> None:

@@ -30,7 +30,6 @@ from workcell.export.rerun_layout import (
     EVENT_TIMELINE,
     EVENTS_ENTITY,
     FRAME_TIMELINE,
-    HAND_COLUMNS,
     PROVENANCE_ENTITY,
     TCP_COLORS,
     hand_entity,
@@ -39,7 +38,8 @@ from workcell.export.rerun_layout import (
     tcp_entity,
     trajectory_entity,
 )
-from workcell.record.records import TrialRecord
+from workcell.record.columns import HAND_COLUMNS
+from workcell.record.entries import TrialRecord
 from workcell.record.store import Store
 from workcell.sim.joints import JOINT_ORDER
 

@@ -121,5 +121,5 @@ def test_thresholds_are_configurable() -> None:
     # below a grip threshold of 0.95, so the left joint at 1 rad/s no longer counts
     trial = frames(3, base_wz=[0.1, 0, 0], grip_l=[0, 0.9, 0], dq_arm_l_5=[0, 1.0, 0])
     assert compute_trial_metrics(trial, False, DEFAULT).active_ratio == pytest.approx(2 / 3)
-    strict = MetricThresholds(grip_threshold=0.95, base_yaw_radps=0.2)
+    strict = MetricThresholds(grip_threshold=0.95, base_yaw_threshold=0.2)
     assert compute_trial_metrics(trial, False, strict).active_ratio == 0.0

@@ -15,7 +15,7 @@ from tests.record.forgery import editing, rechain, recompute_checksums
 from workcell.record import Store
 from workcell.record.chain import ChainKey
 from workcell.record.export_csv import export_csv
-from workcell.record.verify import Finding, verify_store
+from workcell.record.verify import IntegrityFinding, verify_store
 
 KEY = ChainKey(b"k" * 32)
 
@@ -49,7 +49,7 @@ def store(tmp_path: Path) -> tuple[Path, dict[str, list[str]]]:
     return path, signed_store(path)
 
 
-def chain_problems(findings: list[Finding]) -> list[str]:
+def chain_problems(findings: list[IntegrityFinding]) -> list[str]:
     return [f"{f.row}: {f.problem}" for f in findings if f.table == "chain"]
 
 

@@ -12,7 +12,7 @@ from numpy.typing import NDArray
 
 from tests.record import synthetic
 from workcell.record import Store
-from workcell.record.verify import Finding, verify_store
+from workcell.record.verify import IntegrityFinding, verify_store
 
 
 @pytest.fixture
@@ -28,7 +28,7 @@ def _tamper(path: Path, sql: str, *params: object) -> None:
     conn.close()
 
 
-def _where(findings: list[Finding]) -> list[tuple[str, str, str]]:
+def _where(findings: list[IntegrityFinding]) -> list[tuple[str, str, str]]:
     return [(f.store, f.table, f.row) for f in findings]
 
 

@@ -53,7 +53,7 @@ def sim() -> Simulation:
 def test_a_frame_holds_the_world_the_command_and_the_device(sim: Simulation) -> None:
     command = Command(
         left=ArmCommand((0.5, 0.2, 0.9), (0.0, 1.0, 0.0, 0.0), follow=True),
-        gripper_right=0.75,
+        close_right=0.75,
         head=(0.1, 0.4),
     )
     row = build_frame(
@@ -87,7 +87,7 @@ def test_a_frame_holds_the_world_the_command_and_the_device(sim: Simulation) -> 
 
 
 def test_an_expert_frame_has_no_device_values(sim: Simulation) -> None:
-    command = Command(left=ArmCommand(follow=True), gripper_left=1.0)
+    command = Command(left=ArmCommand(follow=True), close_left=1.0)
     row = build_frame(
         sim.world,
         sim.controller,
@@ -148,7 +148,7 @@ def test_bulk_formatting_equals_one_frame_at_a_time() -> None:
 def test_no_device_reads_as_the_command_and_clears_an_earlier_device(sim: Simulation) -> None:
     """A frame captured without a device (None) formats exactly as one captured with
     input_from_command, even in a buffer row that held a VR device's values before."""
-    command = Command(right=ArmCommand(follow=True), gripper_left=0.25, gripper_right=1.0)
+    command = Command(right=ArmCommand(follow=True), close_left=0.25, close_right=1.0)
     capture = FrameCapture(sim.world, sim.controller, capacity=2)
     formatter = FrameFormatter()
     capture.capture(command, VR_INPUT, t_sim=0.0, step_wall_ms=1.0, t_wall=5.0)

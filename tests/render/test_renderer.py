@@ -13,6 +13,7 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.errors import RenderError
 from workcell.render import OffscreenRenderer, camera_names, overview_camera
+from workcell.render.quality import FAST, VisualQuality
 from workcell.sim.config import WorldConfig
 
 ROBOT_CAMERAS = ("head_cam", "wrist_l_cam", "wrist_r_cam")
@@ -130,3 +131,23 @@ def test_missing_gl_backend_says_how_to_fix_it() -> None:
     assert done.returncode == 0, done.stderr
     assert "MUJOCO_GL=egl" in done.stdout
     assert "libegl1 libegl-mesa0 libgl1-mesa-dri" in done.stdout
+
+
+def test_fast_quality_draws_nearly_the_same_picture_and_leaves_the_model_as_it_was(
+    sim: Simulation,
+) -> None:
+    model = sim.world.model
+    own = VisualQuality.of(model)
+    assert own != FAST  # the model asks for multisampling and fine curves
+    with (
+        OffscreenRenderer(model, 128, 128) as fine,
+        OffscreenRenderer(model, 128, 128, quality="fast") as fast,
+    ):
+        assert VisualQuality.of(model) == own
+        for camera in ROBOT_CAMERAS:
+            a = fine.render(sim.world.data, camera).astype(float)
+            b = fast.render(sim.world.data, camera).astype(float)
+            difference = np.abs(a - b).mean()
+            assert 0.0 < difference < 8.0, (camera, difference)  # edges and plane lighting
+    with pytest.raises(RenderError, match="quality 'ugly': must be one of fast, fine"):
+        OffscreenRenderer(model, 32, 32, quality="ugly")  # type: ignore[arg-type]

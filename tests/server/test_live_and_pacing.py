@@ -16,7 +16,7 @@ from workcell.server.live import LiveSession
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.task import events as ev
-from workcell.task.hud import Phase
+from workcell.task.hud import HudPhase
 from workcell.task.pacing import Pacer
 from workcell.task.runner import SessionRunner
 
@@ -107,7 +107,9 @@ def test_a_live_session_keeps_real_time_and_caps_states(tmp_path: Path) -> None:
     ]
     assert min(b - a for a, b in itertools.pairwise(sim_times)) >= 0.0249
     state = decode_server(listener.states[-1][1])
-    assert isinstance(state, m.State) and state.hud is not None and state.hud.phase is Phase.RUNNING
+    assert (
+        isinstance(state, m.State) and state.hud is not None and state.hud.phase is HudPhase.RUNNING
+    )
     kinds = [decode_server(t) for t in listener.messages]
     assert any(isinstance(k, ev.TrialStarted) for k in kinds)
     assert listener.end is not None and listener.end.reason == "operator_stop"
@@ -133,7 +135,8 @@ def test_a_failing_simulation_ends_the_session_and_leaves_the_trial_to_recovery(
     session = LiveSession(CONFIG, tmp_path / "s.sqlite", listener)
     session.start()
     assert listener.done.wait(10) and session.join(10)
-    assert listener.end is not None and listener.end.reason == "error: solver exploded"
+    assert listener.end is not None and listener.end.reason == "error"
+    assert listener.end.detail == "solver exploded"
     with Store.open(tmp_path / "s.sqlite", writer=True) as store:  # the next writer recovers
         (trial,) = store.trials()
     assert trial.interruption_reason == "crash_recovered"

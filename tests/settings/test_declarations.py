@@ -11,6 +11,7 @@ from pathlib import Path
 import pytest
 
 from workcell.errors import ConfigError
+from workcell.protocol.typescript import generate
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.session.readme import README, REGENERATE, main, updated
 from workcell.session.toml_io import from_mapping
@@ -115,11 +116,13 @@ def test_hints_follow_the_declarations() -> None:
     assert hints["task.time_limit_s"].low_open
 
 
-def test_the_setup_pages_hint_type_mirrors_the_python_one() -> None:
-    text = HINTS_TS.read_text(encoding="utf-8")
-    body = text.split("export interface SettingHint {")[1].split("}")[0]
+def test_the_setup_pages_hint_type_is_generated_from_the_python_one() -> None:
+    body = generate().split("export interface SettingHint {")[1].split("}")[0]
     ts_fields = re.findall(r"readonly (\w+):", body)
     assert ts_fields == [f.name for f in dataclasses.fields(SettingHint)]
+    page = HINTS_TS.read_text(encoding="utf-8")
+    assert 'import type { SettingHint, SettingHints } from "../protocol";' in page
+    assert "interface SettingHint" not in page
 
 
 def test_a_declaration_change_reaches_the_validation() -> None:

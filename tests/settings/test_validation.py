@@ -11,6 +11,7 @@ import pytest
 from workcell.audit.rows import recorded_rate
 from workcell.errors import ConfigError
 from workcell.session.config import RecordingConfig, SessionConfig, TaskConfig
+from workcell.settings import check_as, declared_default
 from workcell.sim.config import BoxConfig, FeederConfig, RobotConfig, TargetConfig
 
 
@@ -98,3 +99,18 @@ def test_the_audit_takes_the_rate_from_the_recording_declaration() -> None:
         f"recording.sampling_rate_hz = -5: must be a finite number > 0 Hz; "
         f"{default:g} Hz was assumed"
     )
+
+
+def test_a_flag_that_sets_a_setting_is_checked_by_its_declaration() -> None:
+    assert declared_default(TaskConfig, "time_limit_s") == TaskConfig().time_limit_s
+    assert check_as(TaskConfig, "time_limit_s", "--time-limit", 30.0) == []
+    assert check_as(TaskConfig, "time_limit_s", "--time-limit", 0.0) == [
+        "--time-limit = 0: must be > 0 and at most 3600 s"
+    ]
+    assert check_as(TaskConfig, "time_limit_s", "--time-limit", math.inf) == [
+        "--time-limit = inf: must be > 0 and at most 3600 s"
+    ]
+    with pytest.raises(TypeError, match="not declared"):
+        check_as(TaskConfig, "levels", "--levels", 1)
+    with pytest.raises(TypeError, match="not declared"):
+        declared_default(TaskConfig, "nothing")

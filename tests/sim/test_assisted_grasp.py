@@ -98,8 +98,8 @@ class Script:
             base=base if base is not None else BaseTwist(),
             left=ArmCommand((x, y + offset, z + lift), self.quats["l"], follow=True),
             right=ArmCommand((x, y - offset, z + lift), self.quats["r"], follow=True),
-            gripper_left=close,
-            gripper_right=close,
+            close_left=close,
+            close_right=close,
         )
 
 

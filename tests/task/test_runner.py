@@ -14,7 +14,7 @@ from workcell.session.config import SessionConfig, TaskConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
 from workcell.task.bus import EventBus
-from workcell.task.hud import Phase
+from workcell.task.hud import HudPhase
 from workcell.task.operator import Operator
 from workcell.task.runner import SessionRunner, trial_seed
 
@@ -119,7 +119,7 @@ def test_interruption_ends_the_trial_and_the_session() -> None:
     (result,) = runner.results
     assert (result.outcome, result.interruption_reason) == ("interrupted", "operator_stop")
     assert result.elapsed_s == pytest.approx(1.0)
-    assert runner.phase is Phase.FINISHED
+    assert runner.phase is HudPhase.FINISHED
     assert isinstance(seen[-1], ev.TrialEnded) and seen[-1].outcome == "interrupted"
     assert any(isinstance(e, ev.TrialInterrupted) and e.reason == "operator_stop" for e in seen)
 
@@ -145,7 +145,7 @@ def test_full_default_challenge_campaign_with_the_expert() -> None:
         assert r.boxes_delivered == r.spec.required_boxes or r.outcome == "timeout"
     changes = [e for e in seen if isinstance(e, ev.LevelChanged)]
     assert len(changes) == len(results) - 1
-    assert runner.phase is Phase.FINISHED and not runner.capped
+    assert runner.phase is HudPhase.FINISHED and not runner.capped
     assert runner.campaign_complete
 
 

@@ -71,7 +71,7 @@ def test_sticks_grip_and_trigger(operator: TeleopOperator) -> None:
     assert command.base.vx == pytest.approx(0.8)
     assert command.left.follow and command.left.position == pytest.approx(CURRENT[:3])
     assert not command.right.follow
-    assert command.gripper_left == pytest.approx(0.7) and command.gripper_right == 0.0
+    assert command.close_left == pytest.approx(0.7) and command.close_right == 0.0
     assert operator.applied_seq == 1
     moved = hand(pose=(0.2, 1.1, -0.4, 1.0, 0.0, 0.0, 0.0), grip=0.9, trigger=0.7)
     operator.submit(message(2, moved))
@@ -105,8 +105,47 @@ def test_stale_input_stops_the_base_and_freezes_the_arms(
     clock.now += 0.6  # beyond input_timeout_s = 0.5
     command = operator.act(WORLD)
     assert command.base.vx == 0.0
-    assert not command.left.follow and command.left.position == pytest.approx(CURRENT[:3])
-    assert command.gripper_left == 1.0  # a held box is not dropped
+    assert command.left.position == pytest.approx(CURRENT[:3])  # the arm waits
+    assert command.left.follow and operator.clutches["l"].engaged  # the grip is not lost
+    assert command.close_left == 1.0  # a held box is not dropped
+    assert not command.right.follow and not operator.clutches["r"].engaged  # never gripped
+
+
+MOVED = (0.35, 1.05, -0.42, 1.0, 0.0, 0.0, 0.0)
+"""Where the hand is when input returns: 15 cm right, 5 cm down, 12 cm forward."""
+
+
+def _target_after_gap(gap_s: float, grip_back: float = 1.0) -> tuple[float, ...]:
+    """The left arm's target once input returns after ``gap_s`` without input, the hand
+    having moved from its first pose to MOVED meanwhile."""
+    clock = Clock()
+    operator = TeleopOperator(TeleopConfig(), tcp_source=lambda world, side: CURRENT, clock=clock)
+    operator.submit(message(1, hand(grip=1.0)))
+    operator.act(WORLD)
+    steps = round(gap_s / 0.025)
+    for _ in range(steps):  # the control loop runs on at 40 Hz through the gap
+        clock.now += gap_s / steps
+        operator.act(WORLD)
+    operator.submit(message(2, hand(grip=grip_back, pose=MOVED)))
+    command = operator.act(WORLD)
+    return (*command.left.position, *command.left.quaternion, float(command.left.follow))
+
+
+def test_a_short_input_gap_loses_neither_the_clutch_nor_the_hands_motion() -> None:
+    without_gap = _target_after_gap(0.0)
+    assert without_gap[:3] != pytest.approx(CURRENT[:3])  # the hand's motion moved the target
+    assert _target_after_gap(0.6) == pytest.approx(without_gap)  # 0.6 s > input_timeout_s
+    assert _target_after_gap(2.9) == pytest.approx(without_gap)  # within clutch_hold_s = 3
+
+
+def test_a_long_gap_lets_go_and_the_arm_re_anchors_where_it_is() -> None:
+    target = _target_after_gap(3.5)  # beyond clutch_hold_s: the grip must be taken again
+    assert target[:3] == pytest.approx(CURRENT[:3]) and target[-1] == 1.0  # no jump
+
+
+def test_a_grip_released_during_the_gap_lets_go() -> None:
+    target = _target_after_gap(0.6, grip_back=0.0)
+    assert target[:3] == pytest.approx(CURRENT[:3]) and target[-1] == 0.0
 
 
 def test_operator_input_for_the_recorder(operator: TeleopOperator, clock: Clock) -> None:

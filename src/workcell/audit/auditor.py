@@ -11,9 +11,10 @@ from collections.abc import Sequence
 from workcell.audit.config import AuditConfig
 from workcell.audit.disposition import latest_decisions
 from workcell.audit.oscillation import OscillationCriteria
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.trial_audit import TrialAudit, audit_trial
 from workcell.metrics import FrameArrays
+from workcell.record.entries import AnnotationRecord
 
 
 class TrialAuditor:
@@ -22,7 +23,7 @@ class TrialAuditor:
     def __init__(
         self,
         sessions: Sequence[SessionRow],
-        annotations: Sequence[Annotation],
+        annotations: Sequence[AnnotationRecord],
         config: AuditConfig,
     ) -> None:
         self.config = config

@@ -5,7 +5,7 @@ from __future__ import annotations
 import inspect
 from dataclasses import asdict, dataclass, field
 from types import ModuleType
-from typing import Any
+from typing import Any, Literal
 
 from workcell.audit import crosscheck, disposition, nonfinite, oscillation, sampling, slowness
 from workcell.audit.crosscheck import CROSSCHECKED, Tolerance
@@ -15,6 +15,11 @@ from workcell.audit.sampling import SAMPLING_VERSION, SamplingParams
 from workcell.audit.slowness import SLOWNESS_VERSION, SlownessParams
 from workcell.errors import ConfigError
 from workcell.settings import declared_problems, setting
+
+CompareBy = Literal["operator", "condition"]
+"""What the audit's comparison groups trials by (:mod:`workcell.audit.comparison`)."""
+CompareChoice = Literal["none", "operator", "condition"]
+"""The setting ``compare_by``: a :data:`CompareBy`, or no comparison."""
 
 AUDIT_VERSION = "1"
 """Bumped whenever dispositions, statistics or the report's files change meaning."""
@@ -48,6 +53,10 @@ class AuditConfig:
     trajectories: int = setting(
         30, "successful trials the trajectory figure draws", unit="trials", low=1, high=1000
     )
+    compare_by: CompareChoice = setting(
+        "none",
+        "compare groups of trials by operator or by study condition (none: no comparison)",
+    )
 
     def __post_init__(self) -> None:
         problems = declared_problems(self, "")
@@ -66,5 +75,6 @@ class AuditConfig:
                 "slow": {"version": SLOWNESS_VERSION, **asdict(self.slowness)},
             },
             "trajectories": self.trajectories,
+            "compare_by": self.compare_by,
             "definitions": DEFINITIONS,
         }

@@ -17,7 +17,7 @@ from typing import Any, Literal
 import numpy as np
 
 from workcell.audit.errors import AuditError
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
@@ -26,6 +26,7 @@ from workcell.audit.source import (
 )
 from workcell.metrics import FrameArrays
 from workcell.record.csv_format import FILES, MANIFEST, parse_row
+from workcell.record.entries import AnnotationRecord
 
 Rows = list[tuple[str, ...]]
 
@@ -57,8 +58,8 @@ class CsvSource:
     def trials(self) -> list[TrialRow]:
         return [TrialRow.parse(row) for row in self._table("trials.csv")]
 
-    def annotations(self) -> list[Annotation]:
-        return [Annotation.parse(row) for row in self._table("annotations.csv")]
+    def annotations(self) -> list[AnnotationRecord]:
+        return [AnnotationRecord.from_row(row) for row in self._table("annotations.csv")]
 
     def frames(self) -> Iterator[tuple[str, FrameArrays]]:
         for trial_id, rows in self._frame_groups(FRAME_COLUMNS_READ, None):

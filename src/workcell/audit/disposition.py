@@ -18,7 +18,8 @@ from collections.abc import Iterable, Sequence
 from dataclasses import dataclass, replace
 
 from workcell.audit.flags import Flag
-from workcell.audit.rows import Annotation, TrialRow
+from workcell.audit.rows import TrialRow
+from workcell.record.entries import AnnotationRecord
 
 EXCLUDED_INCOMPLETE = "excluded_incomplete"
 EXCLUDED_LOW_QUALITY = "excluded_low_quality"
@@ -54,14 +55,14 @@ class Disposition:
     automatic_included: bool
     automatic_reason: str | None
     marked: bool
-    review: Annotation | None = None
+    review: AnnotationRecord | None = None
     overridden: bool = False
     refused: str | None = None
 
 
-def latest_decisions(annotations: Iterable[Annotation]) -> dict[str, Annotation]:
+def latest_decisions(annotations: Iterable[AnnotationRecord]) -> dict[str, AnnotationRecord]:
     """Each trial's latest include/exclude annotation (by time, then given order)."""
-    latest: dict[str, Annotation] = {}
+    latest: dict[str, AnnotationRecord] = {}
     for note in sorted(annotations, key=lambda a: a.at_wall):
         if note.kind in DECISIONS:
             latest[note.trial_id] = note
@@ -83,7 +84,7 @@ def _automatic(row: TrialRow, flags: Sequence[Flag]) -> tuple[str, str | None, s
     return VALID_TIMEOUT, None, None
 
 
-def decide(row: TrialRow, flags: Sequence[Flag], review: Annotation | None) -> Disposition:
+def decide(row: TrialRow, flags: Sequence[Flag], review: AnnotationRecord | None) -> Disposition:
     """The disposition of one trial given its flags and its latest reviewer decision."""
     stage, reason, cause = _automatic(row, flags)
     valid = stage in (VALID_SUCCESS, VALID_TIMEOUT)

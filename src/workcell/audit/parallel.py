@@ -18,9 +18,10 @@ from typing import TypeVar
 
 from workcell.audit.auditor import TrialAuditor
 from workcell.audit.config import AuditConfig
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit
+from workcell.record.entries import AnnotationRecord
 
 MIN_FRAMES_PER_WORKER = 100_000
 """Below this many frames per worker, starting processes costs more than it saves."""
@@ -37,7 +38,7 @@ class StoreJob:
     path: Path
     use_blocks: bool
     sessions: tuple[SessionRow, ...]
-    annotations: tuple[Annotation, ...]
+    annotations: tuple[AnnotationRecord, ...]
     config: AuditConfig
 
 

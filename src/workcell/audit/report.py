@@ -6,10 +6,12 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from workcell import __version__
+from workcell.audit.comparison import compare
 from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.figures import RenderedFigure
 from workcell.audit.html_parts import CSS, esc, image, number
+from workcell.audit.report_comparison import comparison_section
 from workcell.audit.report_sections import (
     counts_table,
     findings_table,
@@ -31,6 +33,14 @@ def _figure(fig: RenderedFigure) -> str:
         f'<figure id="{esc(fig.key)}">{image(fig.png, fig.title)}'
         f"<figcaption><b>{esc(fig.title)}.</b> {esc(fig.caption)}</figcaption></figure>"
     )
+
+
+def _comparison(result: AuditResult, figures: dict[str, str]) -> str:
+    by = result.config.compare_by
+    if by == "none":
+        return ""
+    section = comparison_section(compare(result.trials, by), figures)
+    return f"<h3>Comparison by {esc(by)}</h3>{section}"
 
 
 def build_report(result: AuditResult, figures: Sequence[RenderedFigure]) -> str:
@@ -80,6 +90,7 @@ Repeated trials of one operator are attempts, not independent people.</p>
 {fig["sampling"]}
 <h2>6. Groups</h2>
 {groups_section(grouped(trials))}
+{_comparison(result, fig)}
 <h2>7. Findings</h2>
 {findings_table(result.findings)}
 <h2>8. Trials in session order</h2>

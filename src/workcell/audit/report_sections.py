@@ -93,39 +93,43 @@ def percent_interval(rate: float, low: float, high: float) -> str:
 def groups_section(groups: dict[str, list[GroupStats]]) -> str:
     if not groups:
         return "<p>All trials share one session, mode, level and operator.</p>"
-    parts = []
-    for key, stats in groups.items():
-        rows = []
-        for g in stats:
-            r = g.rate
-            metric = dict(zip((m[0] for m in TABLE_I), _metric_rows(g.metrics), strict=True))
-            c = g.counts
-            rows.append(
-                (
-                    g.value,
-                    c.raw,
-                    c.incomplete,
-                    c.excluded_low_quality + c.excluded_by_reviewer,
-                    r.n,
-                    f"{r.successes}/{r.n}",
-                    percent_interval(r.rate, r.low, r.high),
-                    metric["completion_time_s"][2],
-                    metric["path_length_m"][2],
-                )
+    return "".join(
+        f"<h3>By {esc(key)}</h3>" + group_table(key, stats) for key, stats in groups.items()
+    )
+
+
+def group_table(key: str, stats: Sequence[GroupStats]) -> str:
+    """One row per group: dispositions, success rate with its interval, median metrics."""
+    rows = []
+    for g in stats:
+        r = g.rate
+        metric = dict(zip((m[0] for m in TABLE_I), _metric_rows(g.metrics), strict=True))
+        c = g.counts
+        rows.append(
+            (
+                g.value,
+                c.raw,
+                c.incomplete,
+                c.excluded_low_quality + c.excluded_by_reviewer,
+                r.n,
+                f"{r.successes}/{r.n}",
+                percent_interval(r.rate, r.low, r.high),
+                metric["completion_time_s"][2],
+                metric["path_length_m"][2],
             )
-        header = (
-            key,
-            "trials",
-            "incomplete",
-            "excluded",
-            "valid",
-            "successes",
-            "success rate [Wilson 95 %]",
-            "completion time (s)",
-            "TCP path (m)",
         )
-        parts.append(f"<h3>By {esc(key)}</h3>" + table(header, rows))
-    return "".join(parts)
+    header = (
+        key,
+        "trials",
+        "incomplete",
+        "excluded",
+        "valid",
+        "successes",
+        "success rate [Wilson 95 %]",
+        "completion time (s)",
+        "TCP path (m)",
+    )
+    return table(header, rows)
 
 
 def findings_table(findings: Sequence[Finding]) -> str:

@@ -8,13 +8,13 @@ audit recomputes the derived ones from frames and never writes them back.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass, fields
+from dataclasses import dataclass
 from typing import Any
 
 from workcell.errors import ConfigError
 from workcell.metrics import MetricThresholds
 from workcell.record.columns import TRIAL_COLUMNS
-from workcell.record.records import FLAG_SEPARATOR
+from workcell.record.entries import FLAG_SEPARATOR
 from workcell.session.config import RecordingConfig
 
 
@@ -45,6 +45,8 @@ class SessionRow:
     thresholds: MetricThresholds
     rate_hz: float
     notes: tuple[str, ...] = ()
+    condition: str = ""
+    """The session's study condition (setting ``condition``; empty: none)."""
 
     @classmethod
     def parse(
@@ -56,11 +58,8 @@ class SessionRow:
         """From a sessions row (``session_id``, ``created_wall``, ``mode``, ``operator_id``,
         ``metrics_version``) and its decoded ``parameters`` and ``thresholds`` JSON."""
         notes: list[str] = []
-        names = {f.name for f in fields(MetricThresholds)}
         try:
-            if set(thresholds) != names:
-                raise ValueError(f"keys {sorted(thresholds)} are not {sorted(names)}")
-            metric_thresholds = MetricThresholds(**thresholds)
+            metric_thresholds = MetricThresholds.from_stored(thresholds)
         except (ValueError, TypeError) as error:
             metric_thresholds = MetricThresholds()
             notes.append(f"thresholds not readable ({error}); the DESIGN defaults were used")
@@ -76,6 +75,7 @@ class SessionRow:
             thresholds=metric_thresholds,
             rate_hz=float(rate),
             notes=tuple(notes),
+            condition=str(parameters.get("condition") or ""),
         )
 
 
@@ -111,19 +111,3 @@ class TrialRow:
     def stored_flags(self) -> tuple[str, ...]:
         flags = self.stored["quality_flags"]
         return tuple(flags.split(FLAG_SEPARATOR)) if flags else ()
-
-
-@dataclass(frozen=True)
-class Annotation:
-    """A reviewer's decision on a trial: ``kind`` include, exclude or note."""
-
-    annotation_id: str
-    trial_id: str
-    kind: str
-    reason: str
-    by: str
-    at_wall: float
-
-    @classmethod
-    def parse(cls, row: Mapping[str, Any]) -> Annotation:
-        return cls(**{f.name: row[f.name] for f in fields(cls)})

@@ -19,11 +19,12 @@ from workcell.audit.parallel import (
     worker_count,
 )
 from workcell.audit.population import flag_slow
-from workcell.audit.rows import Annotation, SessionRow
+from workcell.audit.rows import SessionRow
 from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray
 from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import FrameArrays
+from workcell.record.entries import AnnotationRecord
 
 Progress = Callable[[int, int, int], None]
 """``progress(trials_done, trials_total, frames_read)``, called after each trial."""
@@ -40,7 +41,7 @@ class AuditResult:
     source_path: str
     sessions: tuple[SessionRow, ...]
     trials: tuple[TrialAudit, ...]
-    annotations: tuple[Annotation, ...]
+    annotations: tuple[AnnotationRecord, ...]
     findings: tuple[Finding, ...]
     trajectories: dict[str, FloatArray]
     frames_read: int

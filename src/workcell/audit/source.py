@@ -14,8 +14,9 @@ from typing import Any, Literal, Protocol
 import numpy as np
 import numpy.typing as npt
 
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import SessionRow, TrialRow
 from workcell.metrics import REQUIRED_COLUMNS, FrameArrays
+from workcell.record.entries import AnnotationRecord
 
 FloatArray = npt.NDArray[np.float64]
 
@@ -42,7 +43,7 @@ class AuditSource(Protocol):
 
     def trials(self) -> list[TrialRow]: ...
 
-    def annotations(self) -> list[Annotation]: ...
+    def annotations(self) -> list[AnnotationRecord]: ...
 
     def frames(self) -> Iterator[tuple[str, FrameArrays]]:
         """(trial_id, frames) for every trial with frames, one trial in memory at a time."""

@@ -19,7 +19,7 @@ from typing import Literal
 
 import numpy as np
 
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
@@ -28,6 +28,7 @@ from workcell.audit.source import (
 )
 from workcell.metrics import FrameArrays
 from workcell.record.connection import connect
+from workcell.record.entries import AnnotationRecord
 from workcell.record.frame_blocks import BLOCK_COLUMNS, has_blocks, read_block
 from workcell.record.rowio import select
 from workcell.record.schema import ANNOTATIONS, SESSIONS, TRIALS, column_list
@@ -72,9 +73,9 @@ class StoreSource:
     def trials(self) -> list[TrialRow]:
         return [TrialRow.parse(row) for row in select(self._conn, TRIALS, order=TRIAL_ORDER)]
 
-    def annotations(self) -> list[Annotation]:
+    def annotations(self) -> list[AnnotationRecord]:
         rows = select(self._conn, ANNOTATIONS, order="at_wall, annotation_id")
-        return [Annotation.parse(row) for row in rows]
+        return [AnnotationRecord.from_row(row) for row in rows]
 
     def frames(self) -> Iterator[tuple[str, FrameArrays]]:
         trials = self._conn.execute(f"SELECT trial_id FROM trials ORDER BY {TRIAL_ORDER}")

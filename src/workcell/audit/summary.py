@@ -13,6 +13,7 @@ from dataclasses import asdict
 from typing import Any
 
 from workcell import __version__
+from workcell.audit.comparison import CAVEAT, Comparison, compare
 from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.flags import FLAG_NAMES
@@ -21,6 +22,7 @@ from workcell.audit.run import AuditResult
 from workcell.audit.stats import (
     SAMPLING_METRICS,
     SUCCESS_METRICS,
+    GroupStats,
     SuccessRate,
     grouped,
     sampling_metrics,
@@ -48,6 +50,40 @@ def _rate(rate: SuccessRate) -> dict[str, Any]:
 
 def _described(stats: dict[str, Descriptive], units: dict[str, str]) -> dict[str, Any]:
     return {name: {"unit": units[name], **asdict(d)} for name, d in stats.items()}
+
+
+def _group(group: GroupStats) -> dict[str, Any]:
+    return {
+        "value": group.value,
+        "counts": asdict(group.counts),
+        "success_rate": _rate(group.rate),
+        **_described(group.metrics, SUCCESS_METRICS),
+    }
+
+
+def _comparison(comparison: Comparison) -> dict[str, Any]:
+    """``summary["comparison"]``: groups, tests between every two, learning curves."""
+    return {
+        "by": comparison.by,
+        "groups": [_group(g) for g in comparison.groups],
+        "pairs": [
+            {
+                "first": pair.first,
+                "second": pair.second,
+                "success": {"test": "fisher_exact_two_sided", **asdict(pair.success)},
+                "metrics": {
+                    rank.metric: {"test": "mann_whitney_u_two_sided", **asdict(rank)}
+                    for rank in pair.ranks
+                },
+            }
+            for pair in comparison.pairs
+        ],
+        "learning_curves": {
+            operator: [asdict(a) for a in attempts]
+            for operator, attempts in comparison.learning.items()
+        },
+        "caveat": CAVEAT,
+    }
 
 
 def parameters(result: AuditResult) -> dict[str, Any]:
@@ -103,19 +139,10 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
             "trials": sum(t.row.outcome is not None for t in trials),
             "trials_with_mismatch": sum(bool(t.mismatches) for t in trials),
         },
-        "groups": {
-            key: [
-                {
-                    "value": g.value,
-                    "counts": asdict(g.counts),
-                    "success_rate": _rate(g.rate),
-                    **_described(g.metrics, SUCCESS_METRICS),
-                }
-                for g in groups
-            ]
-            for key, groups in grouped(trials).items()
-        },
+        "groups": {key: [_group(g) for g in groups] for key, groups in grouped(trials).items()},
         "findings": [asdict(f) for f in result.findings],
     }
+    if result.config.compare_by != "none":
+        summary["comparison"] = _comparison(compare(trials, result.config.compare_by))
     cleaned: dict[str, Any] = clean(summary)
     return cleaned

@@ -10,9 +10,10 @@ from workcell.audit.disposition import Disposition, decide
 from workcell.audit.flags import Flag
 from workcell.audit.nonfinite import detect_nonfinite
 from workcell.audit.oscillation import OscillationCriteria, detect_oscillation
-from workcell.audit.rows import Annotation, SessionRow, TrialRow
+from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.sampling import detect_sampling
 from workcell.metrics import FrameArrays, TrialMetrics, compute_trial_metrics
+from workcell.record.entries import AnnotationRecord
 
 
 @dataclass(frozen=True)
@@ -68,7 +69,7 @@ def audit_trial(
     session: SessionRow,
     frames: FrameArrays,
     *,
-    review: Annotation | None,
+    review: AnnotationRecord | None,
     config: AuditConfig,
     criteria: OscillationCriteria | None,
 ) -> TrialAudit:

@@ -19,7 +19,7 @@ from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics.definitions import AUDIT_ONLY_METRICS, RECOMPUTED_COLUMNS
 from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.csv_format import format_row
-from workcell.record.records import FLAG_SEPARATOR
+from workcell.record.entries import FLAG_SEPARATOR
 
 AUDIT_COLUMNS: tuple[str, ...] = (
     *AUDIT_ONLY_METRICS,

@@ -15,7 +15,7 @@ from workcell.errors import ConfigError
 
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
-    from workcell.record.records import TrialRecord
+    from workcell.record.entries import TrialRecord
 
 MIN_PREFIX = 6
 

@@ -3,15 +3,18 @@
 from __future__ import annotations
 
 import argparse
+import math
 import sys
 import time
 from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
+    from collections.abc import Sequence
+
     from workcell.audit.counts import DispositionCounts
     from workcell.audit.run import AuditResult
-    from workcell.audit.stats import SuccessRate
+    from workcell.audit.stats import GroupStats, SuccessRate
     from workcell.cli.command import Subparsers
 
 PROGRESS_EVERY_S = 1.0
@@ -54,6 +57,13 @@ def register(subparsers: Subparsers) -> None:
         help="processes auditing a store's trials (default: one per core for large stores)",
     )
     parser.add_argument(
+        "--by",
+        choices=("operator", "condition"),
+        help="compare groups of trials by operator or by study condition: success (Fisher's "
+        "exact test), completion time and path (Mann-Whitney U), learning curves per "
+        "participant, in the report, summary.json and one line per pair",
+    )
+    parser.add_argument(
         "--from-rows",
         action="store_true",
         help="read a store's frames from the frame rows, not from the per-trial frame "
@@ -93,7 +103,7 @@ def run(args: argparse.Namespace) -> int:
     from workcell.audit.store_source import StoreSource  # noqa: PLC0415
     from workcell.audit.write import check_output, write_outputs  # noqa: PLC0415
 
-    config = AuditConfig(trajectories=args.trajectories)
+    config = AuditConfig(trajectories=args.trajectories, compare_by=args.by or "none")
     check_output(args.out, args.force)
     source: AuditSource = (
         StoreSource(args.store, use_blocks=not args.from_rows)
@@ -106,7 +116,7 @@ def run(args: argparse.Namespace) -> int:
         source.close()
     paths = write_outputs(result, args.out)
     print(_summary_line(result))
-    for line in _operator_lines(result):
+    for line in _operator_lines(result) + _comparison_lines(result):
         print(line)
     print(f"wrote {', '.join(str(p) for p in paths.values())}")
     return 0
@@ -137,14 +147,53 @@ def _operator_lines(result: AuditResult) -> list[str]:
     the demonstrations it learned from)."""
     from workcell.audit.stats import grouped  # noqa: PLC0415
 
+    return _group_lines("operator", grouped(result.trials).get("operator", []))
+
+
+def _group_lines(key: str, groups: Sequence[GroupStats]) -> list[str]:
     lines = []
-    for group in grouped(result.trials).get("operator", []):
+    for group in groups:
         c, rate = group.counts, _rate_text(group.rate)
         lines.append(
-            f"  operator {group.value}: {c.raw} trials, {c.valid} valid "
+            f"  {key} {group.value}: {c.raw} trials, {c.valid} valid "
             f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}, "
             f"{_marked_text(c)}"
         )
+    return lines
+
+
+def _comparison_lines(result: AuditResult) -> list[str]:
+    """With ``--by``: the groups (unless the operator lines showed them) and one line per
+    pair of groups with its tests."""
+    by = result.config.compare_by
+    if by == "none":
+        return []
+    from workcell.audit.comparison import RANKED_METRICS, compare  # noqa: PLC0415
+
+    comparison = compare(result.trials, by)
+    lines = [] if by == "operator" else _group_lines(by, comparison.groups)
+    for pair in comparison.pairs:
+        success = pair.success
+        parts = [f"  {pair.first} vs {pair.second}: success"]
+        if not math.isnan(success.p_value):
+            parts.append(
+                f" {100 * success.risk_difference:+.1f} points (Fisher p = {success.p_value:.3g})"
+            )
+        else:
+            parts.append(" not compared (a group has no valid trial)")
+        for rank in pair.ranks:
+            name, unit = RANKED_METRICS[rank.metric]
+            parts.append(
+                f"; {name} median {rank.median_first:.3g} vs {rank.median_second:.3g} {unit}"
+                + (
+                    f" (Mann-Whitney p = {rank.p_value:.3g}, r = {rank.rank_biserial:+.2f})"
+                    if not math.isnan(rank.p_value)
+                    else ""
+                )
+            )
+        lines.append("".join(parts))
+    if comparison.pairs:
+        lines.append("  (repeated trials of one person are not independent: see the report)")
     return lines
 
 

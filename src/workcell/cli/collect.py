@@ -59,6 +59,12 @@ def register(subparsers: Subparsers) -> None:
         "policy's type, run and weights hash)",
     )
     parser.add_argument(
+        "--condition",
+        metavar="NAME",
+        help="study condition stored with the session, compared by 'workcell audit --by "
+        "condition' (default: none)",
+    )
+    parser.add_argument(
         "--set",
         action="append",
         default=[],
@@ -97,6 +103,13 @@ def register(subparsers: Subparsers) -> None:
     )
     parser.add_argument(
         "--camera-size", default="128x128", metavar="WxH", help="camera image size (128x128)"
+    )
+    parser.add_argument(
+        "--camera-quality",
+        default="fast",
+        metavar="fast|fine",
+        help="fast (default: no multisampling, coarser curves, about twice as fast on a "
+        "software renderer) or fine (as the model asks)",
     )
     parser.add_argument(
         "--workers",
@@ -140,6 +153,7 @@ def run(args: argparse.Namespace) -> int:
 
     flags: dict[str, Any] = {"task.mode": args.mode, "seed": args.seed}
     flags["operator_id"] = args.operator_id
+    flags["condition"] = args.condition
     if args.mode == "collection" or (args.mode is None and args.trials is not None):
         flags["task.trials"] = args.trials
     try:
@@ -151,7 +165,7 @@ def run(args: argparse.Namespace) -> int:
         from workcell.recording.media import CameraOptions  # noqa: PLC0415
 
         try:
-            cameras = CameraOptions.parse(args.cameras, args.camera_size)
+            cameras = CameraOptions.parse(args.cameras, args.camera_size, args.camera_quality)
         except ConfigError as error:
             problems += error.problems
         if args.no_store:

@@ -10,13 +10,17 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 from workcell.errors import ConfigError
+from workcell.session.config import TaskConfig
+from workcell.settings import check_as, declared_default
+from workcell.sim.config import GRASP_MODES, WorldConfig
 
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
     from workcell.control.simulation import Simulation
 
 VIDEO_FPS = 30
-MAX_TIME_LIMIT_S = 3600.0
+TIME_LIMIT_S: float = declared_default(TaskConfig, "time_limit_s")
+GRASP: str = declared_default(WorldConfig, "grasp")
 
 
 def register(subparsers: Subparsers) -> None:
@@ -32,8 +36,8 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--seed", type=int, default=0, help="seed of world and expert (default: 0)")
     parser.add_argument(
         "--grasp",
-        choices=("assisted", "physical"),
-        default="assisted",
+        choices=GRASP_MODES,
+        default=GRASP,
         help="assisted (weld on closing) or physical (contact and friction only)",
     )
     parser.add_argument(
@@ -42,9 +46,9 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--time-limit",
         type=float,
-        default=120.0,
+        default=TIME_LIMIT_S,
         metavar="S",
-        help="give up after this many simulated seconds (default: 120)",
+        help=f"give up after this many simulated seconds (default: {TIME_LIMIT_S:g})",
     )
     parser.add_argument("--video", type=Path, help="write an MP4 of the run from a fixed camera")
     parser.add_argument(
@@ -72,10 +76,7 @@ def _check(args: argparse.Namespace) -> None:
     problems = []
     if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):
         problems.append(f"--skill = {args.skill:g}: must be between 0 and 1")
-    if not (math.isfinite(args.time_limit) and 0.0 < args.time_limit <= MAX_TIME_LIMIT_S):
-        problems.append(
-            f"--time-limit = {args.time_limit:g}: must be > 0 and at most {MAX_TIME_LIMIT_S:g} s"
-        )
+    problems += check_as(TaskConfig, "time_limit_s", "--time-limit", args.time_limit)
     if args.video is not None and Path(args.video).suffix.lower() != ".mp4":
         problems.append(f"--video = {str(args.video)!r}: must be a file name ending in .mp4")
     if problems:
@@ -106,7 +107,6 @@ def run(args: argparse.Namespace) -> int:
     from workcell.control.simulation import Simulation  # noqa: PLC0415
     from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
     from workcell.expert.episode import deliver_one_box  # noqa: PLC0415
-    from workcell.sim.config import WorldConfig  # noqa: PLC0415
 
     sim = Simulation(WorldConfig(grasp=args.grasp))
     sim.reset(args.seed)

@@ -26,6 +26,7 @@ from workcell.cli import (
     render,
     serve,
     snapshot,
+    study,
     train,
     verify,
 )
@@ -50,6 +51,7 @@ COMMANDS: tuple[CommandModule, ...] = (
     render,
     serve,
     snapshot,
+    study,
     train,
     verify,
 )

@@ -3,13 +3,13 @@
 from __future__ import annotations
 
 from pathlib import Path
-from types import TracebackType
 
+from workcell.closing import Closing
 from workcell.control.simulation import Simulation
 from workcell.render import OffscreenRenderer, VideoWriter, overview_camera
 
 
-class VideoRecorder:
+class VideoRecorder(Closing):
     """Call after each control step; writes a frame whenever the next frame time is due."""
 
     def __init__(self, sim: Simulation, path: Path, size: tuple[int, int], fps: int) -> None:
@@ -25,14 +25,7 @@ class VideoRecorder:
             self._writer.write(self._renderer.render(sim.world.data, self._camera))
             self._next += self._period
 
-    def __enter__(self) -> VideoRecorder:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
+    def close(self) -> None:
+        """Finish the MP4 and free the renderer."""
         self._writer.close()
         self._renderer.close()

@@ -62,19 +62,24 @@ class ArmCommand:
 
 @dataclass(frozen=True)
 class Command:
-    """Base twist, both arms, both grippers (0 open .. 1 closed) and the head (pan, tilt)."""
+    """Base twist, both arms, both grippers and the head (pan, tilt).
+
+    ``close_left`` / ``close_right`` say how far each gripper is commanded closed, 0 open ..
+    1 closed (the trigger); frames record them as ``gripper_cmd_l`` / ``gripper_cmd_r``.
+    The measured finger opening, ``gripper_l`` / ``gripper_r``, runs the other way: 1 open.
+    """
 
     base: BaseTwist = field(default_factory=BaseTwist)
     left: ArmCommand = field(default_factory=ArmCommand)
     right: ArmCommand = field(default_factory=ArmCommand)
-    gripper_left: float = 0.0
-    gripper_right: float = 0.0
+    close_left: float = 0.0
+    close_right: float = 0.0
     head: tuple[float, float] = (0.0, 0.3)
 
     def __post_init__(self) -> None:
         for name, value in (
-            ("gripper_left", self.gripper_left),
-            ("gripper_right", self.gripper_right),
+            ("close_left", self.close_left),
+            ("close_right", self.close_right),
         ):
             if not (math.isfinite(value) and 0.0 <= value <= 1.0):
                 raise CommandError(f"{name} = {value}: must be between 0 (open) and 1 (closed)")

@@ -61,5 +61,5 @@ class RobotController:
         joints = self.ik.step(dt)
         joints[_HEAD] = np.clip(command.head, self._head_range[:, 0], self._head_range[:, 1])
         world.data.ctrl[world.joint_ctrl] = joints
-        world.set_gripper("l", command.gripper_left)
-        world.set_gripper("r", command.gripper_right)
+        world.set_gripper("l", command.close_left)
+        world.set_gripper("r", command.close_right)

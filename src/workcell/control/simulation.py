@@ -43,4 +43,4 @@ class Simulation:
     def step(self, command: Command) -> list[WorldEvent]:
         """Apply ``command`` for one control period and return the world's events."""
         self.controller.apply(command)
-        return self.world.step(command.gripper_left, command.gripper_right)
+        return self.world.step(command.close_left, command.close_right)

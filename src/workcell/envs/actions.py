@@ -57,8 +57,8 @@ def command_from_action(action: NDArray[np.floating] | list[float]) -> Command:
         base=BaseTwist(vx, vy, wz),
         left=_arm(a, "l"),
         right=_arm(a, "r"),
-        gripper_left=float(np.clip(a[_GRIPPER["l"]], 0.0, 1.0)),
-        gripper_right=float(np.clip(a[_GRIPPER["r"]], 0.0, 1.0)),
+        close_left=float(np.clip(a[_GRIPPER["l"]], 0.0, 1.0)),
+        close_right=float(np.clip(a[_GRIPPER["r"]], 0.0, 1.0)),
         head=(pan, tilt),
     )
 
@@ -71,7 +71,7 @@ def action_from_command(command: Command) -> NDArray[np.float32]:
         a[_POSITION[side]] = arm.position
         a[_QUATERNION[side]] = arm.quaternion
         a[_FOLLOW[side]] = float(arm.follow)
-    a[_GRIPPER["l"]] = command.gripper_left
-    a[_GRIPPER["r"]] = command.gripper_right
+    a[_GRIPPER["l"]] = command.close_left
+    a[_GRIPPER["r"]] = command.close_right
     a[_HEAD] = command.head
     return a.astype(np.float32)

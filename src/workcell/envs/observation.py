@@ -30,6 +30,7 @@ from workcell.export.boxes import parse_boxes
 from workcell.export.features import STATE_NAMES
 from workcell.export.options import ImageSize
 from workcell.recording.frame_format import FrameReader
+from workcell.render.quality import CAMERA_QUALITY
 from workcell.render.renderer import OffscreenRenderer
 
 AGENT_POS = "agent_pos"
@@ -75,7 +76,9 @@ class ObservationBuilder:
     def _images(self) -> dict[str, NDArray[np.uint8]]:
         if self._renderer is None:
             model = self.sim.world.model
-            self._renderer = OffscreenRenderer(model, self.size.width, self.size.height)
+            self._renderer = OffscreenRenderer(
+                model, self.size.width, self.size.height, quality=CAMERA_QUALITY
+            )
         data = self.sim.world.data
         return {camera: self._renderer.render(data, camera) for camera in self.cameras}
 

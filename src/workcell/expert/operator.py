@@ -7,7 +7,6 @@ audited like anyone's.
 
 from __future__ import annotations
 
-import enum
 import math
 
 import numpy as np
@@ -15,6 +14,7 @@ from numpy.typing import NDArray
 
 from workcell.control.command import ArmCommand, BaseTwist, Command
 from workcell.expert.grasp_geometry import PalmTargets, palm_targets
+from workcell.expert.phase import ExpertPhase
 from workcell.expert.skill import ExpertConfig, SkillProfile
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.world import World
@@ -34,19 +34,6 @@ LIFT = 0.1
 PHASE_TIMEOUT_S = 12.0
 
 
-class Phase(enum.Enum):
-    WAIT = "wait"
-    APPROACH = "approach"
-    PREGRASP = "pregrasp"
-    GRASP = "grasp"
-    LIFT = "lift"
-    RETREAT = "retreat"
-    CARRY = "carry"
-    PLACE = "place"
-    RELEASE = "release"
-    BACKOFF = "backoff"
-
-
 def _wrap(angle: float) -> float:
     return (angle + math.pi) % (2 * math.pi) - math.pi
 
@@ -62,7 +49,7 @@ class ExpertOperator:
         """Forget the last trial and draw this trial's behaviour from ``trial_seed``."""
         self._rng = np.random.default_rng(trial_seed)
         self.profile = SkillProfile.draw(self.config.skill, self._rng)
-        self.phase = Phase.WAIT
+        self.phase = ExpertPhase.WAIT
         self.deliveries = 0
         self._box: BoxSlot | None = None
         self._phase_start = 0.0
@@ -82,16 +69,16 @@ class ExpertOperator:
         if t < self._pause_until:
             return self._command(world, BaseTwist())
         handler = {
-            Phase.WAIT: self._wait,
-            Phase.APPROACH: self._approach,
-            Phase.PREGRASP: self._pregrasp,
-            Phase.GRASP: self._grasp,
-            Phase.LIFT: self._lift,
-            Phase.RETREAT: self._retreat,
-            Phase.CARRY: self._carry,
-            Phase.PLACE: self._place,
-            Phase.RELEASE: self._release,
-            Phase.BACKOFF: self._backoff,
+            ExpertPhase.WAIT: self._wait,
+            ExpertPhase.APPROACH: self._approach,
+            ExpertPhase.PREGRASP: self._pregrasp,
+            ExpertPhase.GRASP: self._grasp,
+            ExpertPhase.LIFT: self._lift,
+            ExpertPhase.RETREAT: self._retreat,
+            ExpertPhase.CARRY: self._carry,
+            ExpertPhase.PLACE: self._place,
+            ExpertPhase.RELEASE: self._release,
+            ExpertPhase.BACKOFF: self._backoff,
         }[self.phase]
         return self._command(world, handler(world))
 
@@ -109,7 +96,7 @@ class ExpertOperator:
         elif world.time - self._noticed_at >= self.profile.reaction_s:
             self._box = box
             self._noticed_at = None
-            self._enter(world, Phase.APPROACH)
+            self._enter(world, ExpertPhase.APPROACH)
         return self._drive(world, standby)
 
     def _approach(self, world: World) -> BaseTwist:
@@ -124,14 +111,14 @@ class ExpertOperator:
         self._ready_arms(world)
         twist = self._drive(world, goal)
         if self._arrived(world, goal):
-            self._enter(world, Phase.PREGRASP)
+            self._enter(world, ExpertPhase.PREGRASP)
         return twist
 
     def _pregrasp(self, world: World) -> BaseTwist:
         self._palms = self._around_box(world, PREGRASP_GAP)
         self._close = 0.0
         if self._hands_at(world, self._palms) or self._timed_out(world):
-            self._enter(world, Phase.GRASP)
+            self._enter(world, ExpertPhase.GRASP)
         return BaseTwist()
 
     def _grasp(self, world: World) -> BaseTwist:
@@ -140,11 +127,13 @@ class ExpertOperator:
         if self._hands_at(world, self._palms, tolerance=0.03):
             self._close = 1.0
         if world.grasp.holding is box and world.time - self._phase_start > 0.4:
-            self._enter(world, Phase.LIFT)
+            self._enter(world, ExpertPhase.LIFT)
         elif self._timed_out(world, 4.0):
             self._grasp_attempts += 1
             self._close = 0.0
-            self._enter(world, Phase.PREGRASP if self._grasp_attempts < 3 else Phase.BACKOFF)
+            self._enter(
+                world, ExpertPhase.PREGRASP if self._grasp_attempts < 3 else ExpertPhase.BACKOFF
+            )
         return BaseTwist()
 
     def _lift(self, world: World) -> BaseTwist:
@@ -154,7 +143,7 @@ class ExpertOperator:
         if self._lost_box(world):
             return BaseTwist()
         if self._hands_at(world, self._palms, tolerance=0.03) or self._timed_out(world, 3.0):
-            self._enter(world, Phase.RETREAT)
+            self._enter(world, ExpertPhase.RETREAT)
         return BaseTwist()
 
     def _retreat(self, world: World) -> BaseTwist:
@@ -170,7 +159,7 @@ class ExpertOperator:
         twist = self._drive(world, goal, tolerance=0.05)
         if self._arrived(world, goal, tolerance=0.05):
             self._waypoints = self._carry_route(world)
-            self._enter(world, Phase.CARRY)
+            self._enter(world, ExpertPhase.CARRY)
         return twist
 
     def _carry(self, world: World) -> BaseTwist:
@@ -183,7 +172,7 @@ class ExpertOperator:
         if self._arrived(world, goal, tolerance=tolerance):
             self._waypoints.pop(0)
             if not self._waypoints:
-                self._enter(world, Phase.PLACE)
+                self._enter(world, ExpertPhase.PLACE)
         return twist
 
     def _place(self, world: World) -> BaseTwist:
@@ -192,7 +181,7 @@ class ExpertOperator:
         zone = world.zone
         if world.grasp.holding is not box:
             # Set down early (a pad slipped as the box met the table): let go right here.
-            self._enter(world, Phase.RELEASE)
+            self._enter(world, ExpertPhase.RELEASE)
             return BaseTwist()
         center = world.to_base_frame(np.array([*zone.center, zone.rest_z + 0.012]))
         held = world.to_base_frame(world.boxes.position(world.data, box))
@@ -206,7 +195,7 @@ class ExpertOperator:
         self._palms = self._palms.shifted(step)
         settled = float(np.linalg.norm(delta)) < 0.01
         if settled or self._timed_out(world, 8.0):
-            self._enter(world, Phase.RELEASE)
+            self._enter(world, ExpertPhase.RELEASE)
         return BaseTwist()
 
     def _release(self, world: World) -> BaseTwist:
@@ -217,7 +206,7 @@ class ExpertOperator:
             box = self._require_box()
             if box.state is BoxState.DELIVERED:
                 self.deliveries += 1
-            self._enter(world, Phase.BACKOFF)
+            self._enter(world, ExpertPhase.BACKOFF)
         return BaseTwist()
 
     def _backoff(self, world: World) -> BaseTwist:
@@ -236,19 +225,23 @@ class ExpertOperator:
             self._waypoints = []
             self._box = None
             self._grasp_attempts = 0
-            self._enter(world, Phase.WAIT)
+            self._enter(world, ExpertPhase.WAIT)
         return twist
 
     # --- helpers -----------------------------------------------------------------------------
 
-    def _enter(self, world: World, phase: Phase) -> None:
+    def _enter(self, world: World, phase: ExpertPhase) -> None:
         self.phase = phase
         self._phase_start = world.time
         p = self.profile
         if p.hesitation_probability > 0 and self._rng.random() < p.hesitation_probability:
             self._pause_until = world.time + float(self._rng.uniform(0.0, p.max_hesitation_s))
-        if phase is not Phase.RETREAT and phase is not Phase.CARRY and phase is not Phase.BACKOFF:
-            self._waypoints = [] if phase is not Phase.PLACE else self._waypoints
+        if (
+            phase is not ExpertPhase.RETREAT
+            and phase is not ExpertPhase.CARRY
+            and phase is not ExpertPhase.BACKOFF
+        ):
+            self._waypoints = [] if phase is not ExpertPhase.PLACE else self._waypoints
 
     def _timed_out(self, world: World, limit: float = PHASE_TIMEOUT_S) -> bool:
         return world.time - self._phase_start > limit
@@ -264,7 +257,7 @@ class ExpertOperator:
             return False
         self._close = 0.0
         self._waypoints = []
-        self._enter(world, Phase.BACKOFF)
+        self._enter(world, ExpertPhase.BACKOFF)
         return True
 
     def _resting_box(self, world: World) -> BoxSlot | None:
@@ -385,8 +378,8 @@ class ExpertOperator:
             right=ArmCommand(
                 tuple(palms.right_position + tremor), tuple(palms.right_quaternion), True
             ),
-            gripper_left=self._close,
-            gripper_right=self._close,
+            close_left=self._close,
+            close_right=self._close,
         )
 
     def _tremor(self, t: float) -> NDArray[np.float64]:

@@ -22,8 +22,8 @@ from typing import Any
 
 from workcell.errors import ConfigError, RenderError
 from workcell.export.options import ExportOptions, ImageSize
+from workcell.record.entries import EventRecord
 from workcell.record.media_paths import recorded_file_path
-from workcell.record.records import EventRecord
 from workcell.render.video import KEYFRAME_INTERVAL
 from workcell.render.video_concat import VideoEncoding, probe
 

@@ -21,7 +21,7 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
-from workcell.record.columns import COMMAND_COLUMNS, pose_columns
+from workcell.record.columns import BASE_COLUMNS, COMMAND_COLUMNS, GRIPPER_COLUMNS, pose_columns
 from workcell.record.quaternion_sign import continuous
 from workcell.sim.joints import JOINT_ORDER
 
@@ -31,17 +31,11 @@ ENVIRONMENT_KEY = "observation.environment_state"
 IMAGE_PREFIX = "observation.images."
 
 STATE_NAMES: tuple[str, ...] = (
-    "base_x",
-    "base_y",
-    "base_yaw",
-    "base_vx",
-    "base_vy",
-    "base_wz",
+    *BASE_COLUMNS,
     *pose_columns("tcp_l"),
     *pose_columns("tcp_r"),
     *(f"q_{joint}" for joint in JOINT_ORDER),
-    "gripper_l",
-    "gripper_r",
+    *GRIPPER_COLUMNS,
 )
 ACTION_NAMES: tuple[str, ...] = COMMAND_COLUMNS
 STATE_QUATERNIONS: tuple[tuple[int, int, int, int], ...] = tuple(

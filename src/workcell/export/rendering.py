@@ -19,7 +19,7 @@ from workcell.export.replay import ReplayErrors
 from workcell.export.replay_world import WorldPool
 from workcell.export.restore import RecordedStates
 from workcell.export.source import session_config
-from workcell.record.records import TrialRecord
+from workcell.record.entries import TrialRecord
 from workcell.record.store import Store
 from workcell.render.video import VideoWriter
 

@@ -9,15 +9,16 @@ the same world configuration: :class:`WorldPool`.
 from __future__ import annotations
 
 from collections.abc import Iterator, Sequence
-from types import TracebackType
 
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.closing import Closing
 from workcell.export.errors import ReplayMismatchError
 from workcell.export.options import ImageSize
 from workcell.export.replay import TCP_TOLERANCE_M, ReplayErrors, replay_errors
 from workcell.export.restore import RecordedStates, StateRestorer
+from workcell.render.quality import CAMERA_QUALITY
 from workcell.render.renderer import OffscreenRenderer
 from workcell.sim.config import WorldConfig
 from workcell.sim.world import World
@@ -65,7 +66,9 @@ class ReplayWorld:
     def _open_renderer(self) -> OffscreenRenderer:
         if self._renderer is None:
             size = self.size or ImageSize()
-            self._renderer = OffscreenRenderer(self.world.model, size.width, size.height)
+            self._renderer = OffscreenRenderer(
+                self.world.model, size.width, size.height, quality=CAMERA_QUALITY
+            )
         return self._renderer
 
     def close(self) -> None:
@@ -74,7 +77,7 @@ class ReplayWorld:
             self._renderer = None
 
 
-class WorldPool:
+class WorldPool(Closing):
     """One :class:`ReplayWorld` per world configuration, created when first needed."""
 
     def __init__(self, size: ImageSize | None = None) -> None:
@@ -90,14 +93,3 @@ class WorldPool:
         for world in self._worlds.values():
             world.close()
         self._worlds.clear()
-
-    def __enter__(self) -> WorldPool:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -34,7 +34,7 @@ from workcell.export.provenance import Provenance
 from workcell.export.rerun_layout import APPLICATION_ID, TrialRecording, blueprint, log_trial
 from workcell.export.selection import EpisodeSource
 from workcell.export.source import ExportSource, check_output, open_source
-from workcell.record.records import EventRecord
+from workcell.record.entries import EventRecord
 from workcell.record.store import Store
 
 PROVENANCE_NAME = "workcell_provenance.json"

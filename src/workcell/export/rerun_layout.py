@@ -48,7 +48,8 @@ from numpy.typing import NDArray
 
 from workcell.export.boxes import BOX_STATE_CODES, BoxTrack
 from workcell.export.provenance import Provenance
-from workcell.record.records import EventRecord
+from workcell.record.columns import HAND_COLUMNS
+from workcell.record.entries import EventRecord
 from workcell.sim.joints import JOINT_ORDER
 
 APPLICATION_ID = "workcell"
@@ -65,14 +66,6 @@ EVENTS_ENTITY = "events"
 JOINTS = "joints"
 HANDS = "hands"
 TCPS: tuple[str, ...] = ("tcp_l", "tcp_r")
-HAND_COLUMNS: tuple[str, ...] = (
-    "grip_l",
-    "grip_r",
-    "trigger_l",
-    "trigger_r",
-    "gripper_l",
-    "gripper_r",
-)
 WARNING_EVENTS = frozenset({"trial_timed_out", "trial_interrupted", "interruption", "recovery"})
 """Event kinds logged at level WARN (every other kind at INFO)."""
 

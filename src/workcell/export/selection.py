@@ -13,7 +13,7 @@ from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
 from workcell.export.options import TrialFilter
-from workcell.record.records import AnnotationRecord, SessionRecord, TrialRecord
+from workcell.record.entries import AnnotationRecord, SessionRecord, TrialRecord
 from workcell.record.store import Store
 
 DECISION_KINDS = ("include", "exclude")

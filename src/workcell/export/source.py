@@ -24,7 +24,7 @@ from workcell.export.errors import (
 )
 from workcell.export.options import TrialFilter
 from workcell.export.selection import EpisodeSource, Selection, select
-from workcell.record.records import SessionRecord
+from workcell.record.entries import SessionRecord
 from workcell.record.store import Store
 from workcell.record.verify import verify_store
 from workcell.session.config import SessionConfig

@@ -6,50 +6,84 @@ from ``frames.csv`` alone (DESIGN.md "Metrics"). Units: metres, seconds, radians
 
 from __future__ import annotations
 
-import math
-from dataclasses import dataclass
+from collections.abc import Mapping
+from dataclasses import dataclass, fields
+from typing import Any
 
-from workcell.checks import problem
 from workcell.errors import ConfigError
+from workcell.settings import declared_problems, setting
 
 METRICS_VERSION = "1"
 """Bumped whenever a definition below changes meaning."""
-
-
-def _positive(field: str, value: object, unit: str) -> list[str]:
-    if isinstance(value, bool) or not isinstance(value, int | float):
-        return [problem(field, value, "must be a number")]
-    if not math.isfinite(value) or value <= 0:
-        return [problem(field, value, f"must be a finite number > 0 {unit}")]
-    return []
 
 
 @dataclass(frozen=True)
 class MetricThresholds:
     """Thresholds that decide when a grip is active and when the robot moves.
 
-    ``grip_threshold`` is a grip button value (0-1, active when the value is >= it);
-    ``base_linear_mps`` m/s, ``base_yaw_radps`` rad/s and ``joint_rate_radps`` rad/s are
-    speeds that must be strictly exceeded to count as motion.
+    A grip is active when its value is at or above ``grip_threshold``; a speed counts as
+    motion when it strictly exceeds its threshold. Declared here once; the session's
+    ``recording`` settings take them over (:func:`workcell.settings.same_as`), and every
+    session row stores them under these names.
     """
 
-    grip_threshold: float = 0.5
-    base_linear_mps: float = 0.02
-    base_yaw_radps: float = 0.05
-    joint_rate_radps: float = 0.05
+    grip_threshold: float = setting(
+        0.5,
+        "a grip value at or above this engages arm following",
+        unit="1",
+        low=0.0,
+        low_open=True,
+        high=1.0,
+    )
+    base_linear_threshold: float = setting(
+        0.02,
+        "base speed above which the base counts as moving",
+        unit="m/s",
+        low=0.0,
+        low_open=True,
+        high=1.0,
+    )
+    base_yaw_threshold: float = setting(
+        0.05,
+        "base turn rate above which the base counts as moving",
+        unit="rad/s",
+        low=0.0,
+        low_open=True,
+        high=1.0,
+    )
+    joint_rate_threshold: float = setting(
+        0.05,
+        "arm joint speed above which an arm counts as moving",
+        unit="rad/s",
+        low=0.0,
+        low_open=True,
+        high=1.0,
+    )
 
     def __post_init__(self) -> None:
-        problems: list[str] = []
-        grip = self.grip_threshold
-        if isinstance(grip, bool) or not isinstance(grip, int | float):
-            problems.append(problem("grip_threshold", grip, "must be a number"))
-        elif not (math.isfinite(grip) and 0 < grip <= 1):
-            problems.append(problem("grip_threshold", grip, "must be between 0 and 1 (0 excluded)"))
-        problems += _positive("base_linear_mps", self.base_linear_mps, "m/s")
-        problems += _positive("base_yaw_radps", self.base_yaw_radps, "rad/s")
-        problems += _positive("joint_rate_radps", self.joint_rate_radps, "rad/s")
+        problems = declared_problems(self, "")
         if problems:
             raise ConfigError(problems)
+
+    @classmethod
+    def from_stored(cls, stored: Mapping[str, Any]) -> MetricThresholds:
+        """The thresholds of a session row's ``thresholds_json``. Older stores name three
+        of them as :data:`LEGACY_THRESHOLD_NAMES` lists; they are read under their current
+        names. Raises ValueError unless exactly the four thresholds are present."""
+        renamed = {LEGACY_THRESHOLD_NAMES.get(key, key): value for key, value in stored.items()}
+        expected = {f.name for f in fields(cls)}
+        if len(renamed) != len(stored) or set(renamed) != expected:
+            raise ValueError(f"keys {sorted(stored)} are not {sorted(expected)}")
+        return cls(**renamed)
+
+
+LEGACY_THRESHOLD_NAMES: dict[str, str] = {
+    "base_linear_mps": "base_linear_threshold",
+    "base_yaw_radps": "base_yaw_threshold",
+    "joint_rate_radps": "joint_rate_threshold",
+}
+"""Threshold names in stores recorded before they matched the session settings
+(``recording.base_linear_threshold`` and so on), and the names they have now."""
 
 
 METRIC_DEFINITIONS: dict[str, str] = {
@@ -73,8 +107,8 @@ METRIC_DEFINITIONS: dict[str, str] = {
     ),
     "active_ratio": (
         "Share (0-1) of frames in which the base moves (sqrt(base_vx^2 + base_vy^2) > "
-        "base_linear_mps or |base_wz| > base_yaw_radps) or an arm moves under grip "
-        "(|dq_j| > joint_rate_radps for some arm joint j whose arm's grip is active in that "
+        "base_linear_threshold or |base_wz| > base_yaw_threshold) or an arm moves under grip "
+        "(|dq_j| > joint_rate_threshold for some arm joint j whose arm's grip is active in that "
         "frame). Non-finite speeds and grips count as not moving and not active. NaN for a "
         "trial with no frames."
     ),

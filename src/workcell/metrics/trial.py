@@ -79,9 +79,9 @@ def _active_ratio(
     if n == 0:
         return math.nan
     vx, vy, wz = frames.base_v[:, 0], frames.base_v[:, 1], frames.base_v[:, 2]
-    moving = np.hypot(vx, vy) > thresholds.base_linear_mps
-    moving |= np.abs(wz) > thresholds.base_yaw_radps
-    rate = thresholds.joint_rate_radps
+    moving = np.hypot(vx, vy) > thresholds.base_linear_threshold
+    moving |= np.abs(wz) > thresholds.base_yaw_threshold
+    rate = thresholds.joint_rate_threshold
     moving |= active_l & (np.abs(frames.dq_l) > rate).any(axis=1)
     moving |= active_r & (np.abs(frames.dq_r) > rate).any(axis=1)
     return int(np.count_nonzero(moving)) / n

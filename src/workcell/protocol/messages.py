@@ -20,7 +20,7 @@ from dataclasses import dataclass
 from typing import Literal
 
 from workcell.session.config import Mode
-from workcell.task.events import TASK_EVENTS, TaskEvent
+from workcell.task.events import TASK_EVENTS, SessionEndReason, TaskEvent
 from workcell.task.hud import Hud
 
 PROTOCOL_VERSION = 1
@@ -209,10 +209,12 @@ class SessionEnded:
     """The session is over (completed, stopped, or its operator was lost)."""
 
     session_id: str
-    reason: str
+    reason: SessionEndReason
     trials: int
     successes: int
     total_score: int
+    detail: str = ""
+    """What went wrong, when ``reason`` is ``"error"``."""
     type: Literal["session_ended"] = "session_ended"
 
 

@@ -1,8 +1,7 @@
 """The four-layer record: sessions, trials, events and frames in one SQLite store per file,
 crash-safe, verifiable, and exported to CSV with the interchange contract's columns."""
 
-from workcell.record.errors import ExportError, RecordError, StorageError, StoreError
-from workcell.record.records import (
+from workcell.record.entries import (
     AnnotationRecord,
     EventRecord,
     SessionInfo,
@@ -13,6 +12,7 @@ from workcell.record.records import (
     TrialRecord,
     TrialStart,
 )
+from workcell.record.errors import ExportError, RecordError, StorageError, StoreError
 from workcell.record.store import Store
 
 __all__ = [

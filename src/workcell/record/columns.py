@@ -20,28 +20,25 @@ def pose_columns(prefix: str) -> tuple[str, ...]:
     return tuple(f"{prefix}_{s}" for s in POSE_SUFFIXES)
 
 
+BASE_COLUMNS: tuple[str, ...] = ("base_x", "base_y", "base_yaw", "base_vx", "base_vy", "base_wz")
+"""The base's pose (x, y, yaw) and velocity (vx, vy, wz) in the world frame."""
+GRIPPER_COLUMNS: tuple[str, ...] = ("gripper_l", "gripper_r")
+"""The measured finger openings, 0 closed .. 1 open."""
+HAND_COLUMNS: tuple[str, ...] = ("grip_l", "grip_r", "trigger_l", "trigger_r", *GRIPPER_COLUMNS)
+"""Per hand: the operator's grip and trigger (0-1) and the gripper's measured opening."""
+
 FRAME_CONTRACT_COLUMNS: tuple[str, ...] = (
     "session_id",
     "trial_id",
     "frame_index",
     "t_sim",
     "t_wall",
-    "base_x",
-    "base_y",
-    "base_yaw",
-    "base_vx",
-    "base_vy",
-    "base_wz",
+    *BASE_COLUMNS,
     *pose_columns("tcp_l"),
     *pose_columns("tcp_r"),
     *(f"q_{j}" for j in JOINT_ORDER),
     *(f"dq_{j}" for j in JOINT_ORDER),
-    "grip_l",
-    "grip_r",
-    "trigger_l",
-    "trigger_r",
-    "gripper_l",
-    "gripper_r",
+    *HAND_COLUMNS,
 )
 """frames.csv's contract columns. Units SI, radians, world frame z-up; ``t_sim`` is 0 at the
 trial start, ``t_wall`` Unix seconds; grip and trigger are the operator's input values
@@ -64,9 +61,7 @@ COMMAND_COLUMNS: tuple[str, ...] = (
 """The command the operator gave (the action): base twist, both TCP targets (base frame),
 follow flags, gripper closes, head pan and tilt."""
 
-FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
-    *COMMAND_COLUMNS,
-    # raw device state; NULL (empty in CSV) for operators without that device
+_DEVICE_STATE_COLUMNS: tuple[str, ...] = (
     *pose_columns("ctrl_l"),
     *pose_columns("ctrl_r"),
     *pose_columns("headset"),
@@ -76,6 +71,12 @@ FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
     "stick_r_y",
     "buttons_l",
     "buttons_r",
+)
+
+FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
+    *COMMAND_COLUMNS,
+    # raw device state; NULL (empty in CSV) for operators without that device
+    *_DEVICE_STATE_COLUMNS,
     # grasp signals: box index, or -1 for none
     "contact_l",
     "contact_r",
@@ -122,18 +123,7 @@ result as much as a metric, stands beside ``elapsed_s``)."""
 OUTCOMES: tuple[str, ...] = get_args(Outcome)
 INTERRUPTION_REASONS: tuple[str, ...] = get_args(InterruptionReason)
 
-FRAME_DEVICE_COLUMNS: tuple[str, ...] = (
-    *pose_columns("ctrl_l"),
-    *pose_columns("ctrl_r"),
-    *pose_columns("headset"),
-    "stick_l_x",
-    "stick_l_y",
-    "stick_r_x",
-    "stick_r_y",
-    "buttons_l",
-    "buttons_r",
-    "input_age_s",
-)
+FRAME_DEVICE_COLUMNS: tuple[str, ...] = (*_DEVICE_STATE_COLUMNS, "input_age_s")
 """Raw device state and its age: the only frame columns that may be NULL (empty in CSV),
 for operators without that device (the scripted expert, replay)."""
 

@@ -9,10 +9,10 @@ from pathlib import Path
 from typing import Any
 
 from workcell.record.csv_format import FILES, MANIFEST, file_sha256
-from workcell.record.findings import Finding
+from workcell.record.findings import IntegrityFinding
 
 
-def verify_export(out_dir: str | os.PathLike[str]) -> list[Finding]:
+def verify_export(out_dir: str | os.PathLike[str]) -> list[IntegrityFinding]:
     """Every problem found in the export at ``out_dir`` (empty when it verifies): a file
     missing, unlisted or changed since export (its sha256 differs from the manifest's),
     a header that is not the contract's columns, a row count that differs."""
@@ -22,11 +22,13 @@ def verify_export(out_dir: str | os.PathLike[str]) -> list[Finding]:
         manifest = json.loads((out / MANIFEST).read_text())
         files: dict[str, Any] = manifest["files"]
     except (OSError, ValueError, KeyError, TypeError) as error:
-        return [Finding(where, MANIFEST, "", f"cannot be read ({error}); re-export the store")]
+        return [
+            IntegrityFinding(where, MANIFEST, "", f"cannot be read ({error}); re-export the store")
+        ]
     findings = []
 
     def add(name: str, problem: str) -> None:
-        findings.append(Finding(where, name, "", problem))
+        findings.append(IntegrityFinding(where, name, "", problem))
 
     for name in FILES:
         if name not in files:

@@ -38,8 +38,8 @@ from workcell.record.csv_format import (
     format_row,
     parse_row,
 )
+from workcell.record.entries import SessionRecord
 from workcell.record.errors import ExportError
-from workcell.record.records import SessionRecord
 from workcell.record.rowio import FETCH_ROWS, select
 from workcell.record.schema import SCHEMA_VERSION, SESSIONS, column_list, quote
 from workcell.sim.joints import JOINT_ORDER

@@ -1,4 +1,5 @@
-"""What verification reports: one :class:`Finding` per problem, naming where it is."""
+"""What verification reports: one :class:`IntegrityFinding` per problem in a store or an
+export, naming where it is (the audit's quality findings are :mod:`workcell.audit.findings`)."""
 
 from __future__ import annotations
 
@@ -10,7 +11,7 @@ SHOWN_ROWS = 5
 
 
 @dataclass(frozen=True)
-class Finding:
+class IntegrityFinding:
     """One problem: in which store (or export directory), table (or file) and row."""
 
     store: str

@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from workcell.record import chain, rowio
 from workcell.record.chain import ChainKey
 from workcell.record.checksum import aggregate_checksum
-from workcell.record.records import to_json
+from workcell.record.entries import to_json
 from workcell.record.schema import EVENTS, SESSIONS, TRIALS
 
 INTERRUPTION_EVENT = "interruption"

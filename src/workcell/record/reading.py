@@ -11,7 +11,7 @@ from numpy.typing import NDArray
 
 from workcell.record import chain, rowio
 from workcell.record.batch import RowBatch
-from workcell.record.records import (
+from workcell.record.entries import (
     AnnotationRecord,
     EventRecord,
     SessionRecord,

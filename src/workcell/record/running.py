@@ -12,8 +12,8 @@ from numpy.typing import NDArray
 
 from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.batch import RowBatch
+from workcell.record.entries import FLAG_SEPARATOR, StoredMetrics, TrialEnd
 from workcell.record.errors import RecordError
-from workcell.record.records import FLAG_SEPARATOR, StoredMetrics, TrialEnd
 from workcell.record.schema import FRAMES
 
 

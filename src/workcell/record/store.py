@@ -29,27 +29,28 @@ import sqlite3
 import time
 from collections.abc import Mapping
 from pathlib import Path
-from types import TracebackType
 from typing import Self
 
+from workcell.closing import Closing
 from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
 from workcell.record import chain, lifecycle, rowio
+from workcell.record.annotations import annotation_row
 from workcell.record.batch import RowBatch
 from workcell.record.chain import ChainKey
-from workcell.record.columns import ANNOTATION_KINDS, INTERRUPTION_REASONS
+from workcell.record.columns import INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
-from workcell.record.errors import RecordError, StoreError
-from workcell.record.failure import close_after_failure
-from workcell.record.frame_blocks import BLOCK_REALS, write_block
-from workcell.record.ids import new_id
-from workcell.record.reading import StoreReading
-from workcell.record.records import (
+from workcell.record.entries import (
     SessionInfo,
     StoredMetrics,
     TrialEnd,
     TrialStart,
     to_json,
 )
+from workcell.record.errors import RecordError, StoreError
+from workcell.record.failure import close_after_failure
+from workcell.record.frame_blocks import BLOCK_REALS, write_block
+from workcell.record.ids import new_id
+from workcell.record.reading import StoreReading
 from workcell.record.recovery import KnownEnd, recover_with_headroom
 from workcell.record.reserve import Reserve
 from workcell.record.running import Running, end_columns, frame_batch
@@ -59,7 +60,7 @@ from workcell.record.writes import WriteGuard
 CLOSING_STATUSES = ("completed", "interrupted")
 
 
-class Store(StoreReading):
+class Store(StoreReading, Closing):
     """A store file opened for reading or for writing; use :meth:`open`."""
 
     def __init__(
@@ -136,17 +137,6 @@ class Store(StoreReading):
         if self._lock is not None:
             self._lock.release()
             self._lock = None
-
-    def __enter__(self) -> Self:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
 
     # ------------------------------------------------------------------ writing
 
@@ -305,27 +295,13 @@ class Store(StoreReading):
     def annotate(self, trial_id: str, kind: str, reason: str, by: str) -> str:
         """Record a reviewer's decision on a trial (who, when, why); returns its id. Raw
         rows are never rewritten."""
-        if kind not in ANNOTATION_KINDS:
-            raise RecordError(f"annotation kind {kind!r}: must be one of {ANNOTATION_KINDS}")
-        for name, value in (("reason", reason), ("by", by)):
-            if not value:
-                raise RecordError(f"annotation {name}: must be a non-empty text")
-        annotation_id = new_id()
-        row = {
-            "annotation_id": annotation_id,
-            "trial_id": trial_id,
-            "kind": kind,
-            "reason": reason,
-            "by": by,
-            "at_wall": time.time(),
-        }
-        batch = RowBatch.from_mappings(ANNOTATIONS, [row])
+        row = annotation_row(trial_id, kind, reason, by)
         with self._write(durable=True) as conn:
             if conn.execute("SELECT 1 FROM trials WHERE trial_id = ?", (trial_id,)).fetchone():
-                rowio.insert(conn, batch)
+                rowio.insert(conn, RowBatch.from_mappings(ANNOTATIONS, [row]))
             else:
                 raise RecordError(f"no trial {trial_id} in store {self.path}")
-        return annotation_id
+        return str(row["annotation_id"])
 
     def try_mark_interrupted(self, trial_id: str, reason: str = "storage_error") -> bool:
         """:meth:`try_interrupt_session` for the session of a running trial; False when

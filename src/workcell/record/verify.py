@@ -5,7 +5,7 @@ outcomes and statuses, every row's content checksum and every closed trial's and
 session's aggregate checksum, frame counts against trial rows, frame indices without gaps,
 monotonic timestamps and finite values (NULL only where it is legitimate), and every
 session's hash chain (:mod:`workcell.record.chain_check`), with a key its signatures, with
-an export's manifest the heads it pinned. Each problem is one :class:`Finding` naming the
+an export's manifest the heads it pinned. Each problem is one :class:`IntegrityFinding` naming the
 store, the table and the row. A store a recorder is writing can be verified: its running
 trial is not a problem then.
 """
@@ -31,7 +31,7 @@ from workcell.record.columns import (
 )
 from workcell.record.connection import connect, writer_active
 from workcell.record.export_check import verify_export
-from workcell.record.findings import Finding
+from workcell.record.findings import IntegrityFinding
 from workcell.record.frame_check import check_trial_frames
 from workcell.record.schema import (
     ANNOTATIONS,
@@ -46,7 +46,7 @@ from workcell.record.schema import (
 )
 from workcell.sim.joints import JOINT_ORDER
 
-__all__ = ["ChainStats", "Finding", "verify_export", "verify_store", "verify_store_report"]
+__all__ = ["ChainStats", "IntegrityFinding", "verify_export", "verify_store", "verify_store_report"]
 
 RECOVER_HINT = "run 'workcell verify --recover --store PATH' to close it as crash_recovered"
 
@@ -56,7 +56,7 @@ def verify_store(
     *,
     key: ChainKey | None = None,
     manifest: Mapping[str, Any] | None = None,
-) -> list[Finding]:
+) -> list[IntegrityFinding]:
     """Every problem found in the store at ``path`` (empty when it verifies); with
     ``key``, every chain link must carry its signature; with an export's ``manifest``,
     every session it lists must still have the chain head it had then.
@@ -72,7 +72,7 @@ def verify_store_report(
     *,
     key: ChainKey | None = None,
     manifest: Mapping[str, Any] | None = None,
-) -> tuple[list[Finding], ChainStats]:
+) -> tuple[list[IntegrityFinding], ChainStats]:
     """:func:`verify_store`, and what the store's chains hold."""
     path = Path(path)
     conn = connect(path, writer=False)
@@ -93,12 +93,12 @@ class _Verifier:
         self.path = path
         self.conn = conn
         self.live = writer_active(path)
-        self.findings: list[Finding] = []
+        self.findings: list[IntegrityFinding] = []
 
     def add(self, table: str, row: str, problem: str) -> None:
-        self.findings.append(Finding(str(self.path), table, row, problem))
+        self.findings.append(IntegrityFinding(str(self.path), table, row, problem))
 
-    def run(self) -> list[Finding]:
+    def run(self) -> list[IntegrityFinding]:
         if not self.check_schema():
             return self.findings  # rows of an unknown shape cannot be read reliably
         self.check_database()

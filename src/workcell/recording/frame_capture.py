@@ -63,7 +63,7 @@ def input_from_command(command: Command) -> OperatorInput:
     flag and trigger the gripper command, so grip-gated metrics mean the same for all."""
     return OperatorInput(
         grip=(float(command.left.follow), float(command.right.follow)),
-        trigger=(command.gripper_left, command.gripper_right),
+        trigger=(command.close_left, command.close_right),
     )
 
 
@@ -272,8 +272,8 @@ class FrameCapture:
             *left.quaternion,
             *right.position,
             *right.quaternion,
-            command.gripper_left,
-            command.gripper_right,
+            command.close_left,
+            command.close_right,
             *command.head,
             step_wall_ms,
             left.follow,

@@ -1,7 +1,8 @@
 """Camera videos recorded with the frames: one MP4 per trial and camera, frame for frame.
 
 The robot's cameras (``head_cam``, ``wrist_l_cam``, ``wrist_r_cam``) are rendered offscreen
-(shadows off) at every recorded frame, so video frame i is frame i of the trial. Files live
+(shadows off, ``fast`` quality unless asked: :mod:`workcell.render.quality`) at every
+recorded frame, so video frame i is frame i of the trial. Files live
 in a media folder beside the store (``<store>.media/<trial_id>/<camera>.mp4``); the trial's
 ``media`` event names each file with its frame count and sha256. They are encoded as the
 exports encode their videos (:class:`workcell.render.VideoWriter`'s defaults: a keyframe
@@ -14,12 +15,18 @@ import hashlib
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
-from typing import Any
+from typing import Any, cast
 
 import mujoco
 
 from workcell.errors import ConfigError
-from workcell.render import OffscreenRenderer, VideoWriter
+from workcell.render import (
+    CAMERA_QUALITY,
+    RENDER_QUALITIES,
+    OffscreenRenderer,
+    RenderQuality,
+    VideoWriter,
+)
 
 CAMERAS: tuple[str, ...] = ("head_cam", "wrist_l_cam", "wrist_r_cam")
 
@@ -29,6 +36,7 @@ class CameraOptions:
     cameras: tuple[str, ...]
     width: int = 128
     height: int = 128
+    quality: RenderQuality = CAMERA_QUALITY
 
     def __post_init__(self) -> None:
         problems = [
@@ -41,17 +49,20 @@ class CameraOptions:
         for name, value in (("width", self.width), ("height", self.height)):
             if not (16 <= value <= 1920 and value % 2 == 0):
                 problems.append(f"--camera-size {name} = {value}: must be even, 16 to 1920")
+        if self.quality not in RENDER_QUALITIES:
+            allowed = ", ".join(RENDER_QUALITIES)
+            problems.append(f"--camera-quality = {self.quality!r}: must be one of {allowed}")
         if problems:
             raise ConfigError(problems)
 
     @staticmethod
-    def parse(cameras: str, size: str) -> CameraOptions:
+    def parse(cameras: str, size: str, quality: str = CAMERA_QUALITY) -> CameraOptions:
         try:
             width, height = (int(v) for v in size.lower().split("x"))
         except ValueError:
             raise ConfigError([f"--camera-size = {size!r}: must be WIDTHxHEIGHT"]) from None
         names = tuple(c.strip() for c in cameras.split(",") if c.strip())
-        return CameraOptions(names, width, height)
+        return CameraOptions(names, width, height, cast(RenderQuality, quality))
 
 
 class MediaRecorder:
@@ -63,7 +74,9 @@ class MediaRecorder:
         self.options = options
         self.fps = Fraction(fps).limit_denominator(1000)
         self.media_dir = media_dir
-        self._renderer = OffscreenRenderer(model, options.width, options.height, shadows=False)
+        self._renderer = OffscreenRenderer(
+            model, options.width, options.height, shadows=False, quality=options.quality
+        )
         self._writers: dict[str, VideoWriter] = {}
         self._folder: Path | None = None
 
@@ -96,7 +109,13 @@ class MediaRecorder:
                 }
             )
         self._writers = {}
-        return {"files": files, "width": self.options.width, "height": self.options.height}
+        options = self.options
+        return {
+            "files": files,
+            "width": options.width,
+            "height": options.height,
+            "quality": options.quality,
+        }
 
     def close(self) -> None:
         for writer in self._writers.values():

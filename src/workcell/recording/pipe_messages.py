@@ -1,5 +1,6 @@
 """Messages between a recording process and its store writer process: length-prefixed
-pickles over a private pipe (both ends are this program; nothing else can write to it)."""
+pickles over a private pipe (both ends are this program; nothing else can write to it),
+how the writer is started, and how its failures are raised again on this side."""
 
 from __future__ import annotations
 
@@ -7,9 +8,46 @@ import os
 import pickle
 import select
 import struct
+import subprocess
+import sys
+from pathlib import Path
 from typing import IO, Any
 
+from workcell.record.errors import RecordError, StorageError, StoreError
+
 _LENGTH = struct.Struct("<I")
+
+WRITER_MODULE = "workcell.recording.store_worker"
+_ERRORS: dict[str, type[Exception]] = {
+    "RecordError": RecordError,
+    "StoreError": StoreError,
+    "StorageError": StorageError,
+}
+
+
+def start_writer(
+    path: Path, poll_s: float | None, key_file: Path | None
+) -> subprocess.Popen[bytes]:
+    """The writer process on the store at ``path``, its stdin and stdout the two pipes."""
+    return subprocess.Popen(
+        [
+            sys.executable,
+            "-m",
+            WRITER_MODULE,
+            str(path),
+            *(() if poll_s is None else ("--poll", repr(poll_s))),
+            *(() if key_file is None else ("--key", str(key_file))),
+        ],
+        stdin=subprocess.PIPE,
+        stdout=subprocess.PIPE,
+        start_new_session=True,  # a terminal's Ctrl-C goes to the recording process only
+    )
+
+
+def raised_error(kind: str, text: str) -> Exception:
+    """The exception a failed call raised in the writer (sent as its class name and
+    message), raised again in the recording process; an unknown class is a StorageError."""
+    return _ERRORS.get(kind, StorageError)(text)
 
 
 def send(stream: IO[bytes], message: Any) -> None:

@@ -143,7 +143,7 @@ class RecordedSession:
         should_stop: StopReason | None = None,
         after_step: Callable[[], None] | None = None,
         on_trial: Callable[[TrialResult], None] | None = None,
-    ) -> str:
+    ) -> ev.SessionEndReason:
         """Run the session to its end and close it in the store. ``should_stop`` is asked
         before each control period (after the recorder's failure and :attr:`stop`),
         ``after_step`` called after each, ``on_trial`` with each trial's result as it
@@ -154,7 +154,7 @@ class RecordedSession:
         if real_time is not None:
             pacer = Pacer(self.sim.control_dt, real_time.max_catch_up_s)
             self.pacing = pacer.stats
-        ended = "completed"
+        ended: ev.SessionEndReason = "completed"
 
         def stop_reason() -> ev.InterruptionReason | None:
             nonlocal ended

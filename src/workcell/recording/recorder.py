@@ -25,8 +25,8 @@ from workcell.metrics import (
     METRICS_VERSION,
     MetricThresholds,
 )
+from workcell.record.entries import SessionInfo, TrialEnd, TrialStart
 from workcell.record.errors import StorageError
-from workcell.record.records import SessionInfo, TrialEnd, TrialStart
 from workcell.recording.frame_capture import (
     CapturedFrames,
     FrameCapture,
@@ -79,12 +79,9 @@ class RecordingStore(Protocol):
 
 
 def metric_thresholds(config: SessionConfig) -> MetricThresholds:
-    r = config.recording
+    recording = config.recording
     return MetricThresholds(
-        grip_threshold=r.grip_threshold,
-        base_linear_mps=r.base_linear_threshold,
-        base_yaw_radps=r.base_yaw_threshold,
-        joint_rate_radps=r.joint_rate_threshold,
+        **{f.name: getattr(recording, f.name) for f in dataclasses.fields(MetricThresholds)}
     )
 
 

@@ -35,23 +35,22 @@ import math
 import os
 import queue
 import subprocess
-import sys
 import threading
 import time
 from collections.abc import Mapping
 from pathlib import Path
-from types import TracebackType
 from typing import IO, Any
 
+from workcell.closing import Closing
 from workcell.metrics import MetricThresholds
 from workcell.record.chain import ChainKey
+from workcell.record.entries import SessionInfo, TrialEnd, TrialStart
 from workcell.record.errors import RecordError, StorageError, StoreError
 from workcell.record.ids import new_id
-from workcell.record.records import SessionInfo, TrialEnd, TrialStart
 from workcell.record.recovery import KnownEnd
 from workcell.recording.frame_capture import CapturedFrames, FrameLayout
 from workcell.recording.frame_ring import FrameRing
-from workcell.recording.pipe_messages import receive, send
+from workcell.recording.pipe_messages import raised_error, receive, send, start_writer
 from workcell.recording.writer_death import close_for_dead_writer, death_error
 
 ANSWER_TIMEOUT_S = 60.0
@@ -61,16 +60,10 @@ RING_CAPACITY = 512
 CLOSE_TIMEOUT_S = 60.0
 """How long :meth:`StoreProcess.close` waits for the writer to finish what it was sent."""
 
-_ERRORS: dict[str, type[Exception]] = {
-    "RecordError": RecordError,
-    "StoreError": StoreError,
-    "StorageError": StorageError,
-}
-
 Call = tuple[int | None, str, tuple[Any, ...], dict[str, Any]]
 
 
-class StoreProcess:
+class StoreProcess(Closing):
     """A store opened for writing in a writer process; use :meth:`open`."""
 
     def __init__(
@@ -119,20 +112,8 @@ class StoreProcess:
         if key_file is not None:
             key_file = Path(key_file).resolve()
             ChainKey.from_file(key_file)  # a bad key file is refused here, in one line
-        process = subprocess.Popen(
-            [
-                sys.executable,
-                "-m",
-                "workcell.recording.store_worker",
-                str(path),
-                *(() if poll_s is None else ("--poll", repr(poll_s))),
-                *(() if key_file is None else ("--key", str(key_file))),
-            ],
-            stdin=subprocess.PIPE,
-            stdout=subprocess.PIPE,
-            start_new_session=True,  # a terminal's Ctrl-C goes to the recording process only
-        )
-        store = cls(path, process, None if key_file is None else Path(key_file))
+        process = start_writer(path, poll_s, key_file)
+        store = cls(path, process, key_file)
         try:
             answer = receive(store._answers)
         except (EOFError, OSError):
@@ -140,7 +121,7 @@ class StoreProcess:
             raise store._died() from None
         if answer[0] == "error":
             store._reap()
-            raise _error(answer[2], answer[3])
+            raise raised_error(answer[2], answer[3])
         store.recovered = tuple(answer[1])
         store._reader = threading.Thread(
             target=store._read_answers, name="store-writer-answers", daemon=True
@@ -274,17 +255,6 @@ class StoreProcess:
             self._ring.close()
             self._ring = None
 
-    def __enter__(self) -> StoreProcess:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
-
     # ------------------------------------------------------------------ internals
 
     def _queue(
@@ -313,7 +283,7 @@ class StoreProcess:
         if answer is None:
             raise self._died()
         if answer[0] == "error":
-            raise _error(answer[2], answer[3])
+            raise raised_error(answer[2], answer[3])
         if self._failure is not None and not after_failure:
             raise self._failure  # an earlier call, run before this one, failed
         return answer[2]
@@ -384,7 +354,7 @@ class StoreProcess:
                 return
             if answer[1] is None:  # a call sent without waiting failed
                 if self._failure is None:
-                    self._failure = _error(answer[2], answer[3])
+                    self._failure = raised_error(answer[2], answer[3])
             else:
                 self._replies.put(answer)
 
@@ -410,7 +380,3 @@ class StoreProcess:
             self._reader.join(timeout=CLOSE_TIMEOUT_S)
         with contextlib.suppress(OSError, ValueError):
             self._answers.close()
-
-
-def _error(kind: str, text: str) -> Exception:
-    return _ERRORS.get(kind, StorageError)(text)

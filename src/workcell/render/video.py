@@ -12,12 +12,12 @@ from __future__ import annotations
 from collections.abc import Generator
 from fractions import Fraction
 from pathlib import Path
-from types import TracebackType
 
 import av
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.closing import Closing
 from workcell.errors import RenderError
 
 MAX_FPS = 240
@@ -35,7 +35,7 @@ def read_frames(path: str | Path) -> Generator[NDArray[np.uint8], None, None]:
         raise RenderError(f"cannot read video {path}: {error}") from error
 
 
-class VideoWriter:
+class VideoWriter(Closing):
     """Writes uint8 RGB frames of one fixed size to an MP4 file at a constant rate.
 
     H.264 in yuv420p halves the chroma resolution, so width and height must be even.
@@ -131,14 +131,3 @@ class VideoWriter:
             container.mux(self._stream.encode(None))
         finally:
             container.close()
-
-    def __enter__(self) -> VideoWriter:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()

@@ -17,11 +17,11 @@ import tempfile
 from dataclasses import dataclass
 from fractions import Fraction
 from pathlib import Path
-from types import TracebackType
 
 import av
 import numpy as np
 
+from workcell.closing import Closing
 from workcell.errors import RenderError
 from workcell.render.video import KEYFRAME_INTERVAL, VideoWriter
 
@@ -107,7 +107,7 @@ def writer_encoding(
         return probe(path).encoding
 
 
-class VideoConcatenation:
+class VideoConcatenation(Closing):
     """An MP4 file of whole video files appended one after another, without re-encoding.
 
     Every appended file must have the encoding of the first (see :class:`VideoEncoding`).
@@ -181,14 +181,3 @@ class VideoConcatenation:
         if self._container is not None:
             container, self._container = self._container, None
             container.close()
-
-    def __enter__(self) -> VideoConcatenation:
-        return self
-
-    def __exit__(
-        self,
-        exc_type: type[BaseException] | None,
-        exc: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()

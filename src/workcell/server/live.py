@@ -22,7 +22,7 @@ from workcell.protocol.messages import Scene, SessionEnded
 from workcell.recording.drivers import TeleopDriver
 from workcell.recording.recorded_session import RealTime, RecordedSession, RecordedSessionConfig
 from workcell.server.scene import describe
-from workcell.server.snapshot import StateBuilder, event_message
+from workcell.server.state_message import StateBuilder, event_message
 from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
@@ -128,18 +128,20 @@ class LiveSession:
         session.start()
         self.scene = describe(world.model, world.data)
         self._ready.set()
-        reason = "error: the simulation thread failed"
+        reason: ev.SessionEndReason = "error"
+        detail = "the simulation thread failed"
         try:
             reason = session.run(after_step=self._state_sender(session))
+            detail = ""
             if reason == "storage_error":
                 logger.warning("session %s stopped: %s", session.session_id, session.failure)
         except WorkcellError as error:  # e.g. non-finite physics
-            reason = f"error: {error}"
+            detail = str(error)
             # the trial stays open in the store: the next writer closes it as
             # interrupted (crash_recovered) with every committed frame intact
         except Exception as error:  # a bug must not take the server down with it
             logger.exception("the simulation thread failed")
-            reason = f"error: {error}"
+            detail = str(error)
         finally:
             results = session.runner.results
             self.listener.ended(
@@ -149,6 +151,7 @@ class LiveSession:
                     trials=len(results),
                     successes=sum(r.outcome == "success" for r in results),
                     total_score=sum(r.score for r in results),
+                    detail=detail,
                 )
             )
 

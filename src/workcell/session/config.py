@@ -13,7 +13,8 @@ from typing import Literal, get_args
 
 from workcell import checks
 from workcell.errors import ConfigError
-from workcell.settings import declared_problems, divides, section, setting, steps_per
+from workcell.metrics.definitions import MetricThresholds
+from workcell.settings import declared_problems, divides, same_as, section, setting, steps_per
 from workcell.sim.config import WorldConfig
 
 Mode = Literal["practice", "collection", "challenge"]
@@ -103,38 +104,10 @@ class RecordingConfig:
         low_open=True,
         constraint="must divide the physics rate 1/world.timestep evenly",
     )
-    grip_threshold: float = setting(
-        0.5,
-        "a grip value at or above this engages arm following",
-        unit="1",
-        low=0.0,
-        low_open=True,
-        high=1.0,
-    )
-    base_linear_threshold: float = setting(
-        0.02,
-        "base speed above which the base counts as moving",
-        unit="m/s",
-        low=0.0,
-        low_open=True,
-        high=1.0,
-    )
-    base_yaw_threshold: float = setting(
-        0.05,
-        "base turn rate above which the base counts as moving",
-        unit="rad/s",
-        low=0.0,
-        low_open=True,
-        high=1.0,
-    )
-    joint_rate_threshold: float = setting(
-        0.05,
-        "arm joint speed above which an arm counts as moving",
-        unit="rad/s",
-        low=0.0,
-        low_open=True,
-        high=1.0,
-    )
+    grip_threshold: float = same_as(MetricThresholds, "grip_threshold")
+    base_linear_threshold: float = same_as(MetricThresholds, "base_linear_threshold")
+    base_yaw_threshold: float = same_as(MetricThresholds, "base_yaw_threshold")
+    joint_rate_threshold: float = same_as(MetricThresholds, "joint_rate_threshold")
 
     def __post_init__(self) -> None:
         _raise_if(declared_problems(self, "recording"))
@@ -142,7 +115,7 @@ class RecordingConfig:
 
 @dataclass(frozen=True)
 class SessionConfig:
-    """One operator sitting: task, recording, world, seed and operator."""
+    """One operator sitting: task, recording, world, seed, operator and study condition."""
 
     task: TaskConfig = section(TaskConfig, "the task mode, levels, limits and scoring")
     recording: RecordingConfig = section(RecordingConfig, "sampling and activity thresholds")
@@ -159,6 +132,13 @@ class SessionConfig:
         "who operates",
         pattern=r"[\w.-]{1,64}",
         pattern_doc="1 to 64 letters, digits, '.', '_' or '-'",
+    )
+    condition: str = setting(
+        "",
+        "the study condition the session belongs to (empty: none); "
+        "workcell audit --by condition compares conditions",
+        pattern=r"[\w.-]{0,64}",
+        pattern_doc="up to 64 letters, digits, '.', '_' or '-'",
     )
 
     def __post_init__(self) -> None:

@@ -94,6 +94,14 @@ def same_as(cls: type, name: str, doc: str = "") -> Any:
     return dataclasses.field(default=fields[name].default, metadata={SPEC: spec, DOC: spec.doc})
 
 
+def declared_default(cls: type, name: str) -> Any:
+    """The default of the setting ``name`` of the configuration dataclass ``cls``."""
+    fields = {f.name: f for f in dataclasses.fields(cls)}
+    if name not in fields or spec_of(fields[name]) is None:
+        raise TypeError(f"{cls.__name__}.{name} is not declared with setting()")
+    return fields[name].default
+
+
 def section(factory: Callable[[], T], doc: str) -> T:
     """A nested configuration dataclass and its documentation."""
     field: T = dataclasses.field(default_factory=factory, metadata={DOC: doc})

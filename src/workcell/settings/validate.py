@@ -138,6 +138,15 @@ def _declared_fields(cls: type) -> tuple[tuple[str, Spec, Any], ...]:
     return found
 
 
+def check_as(cls: type, name: str, key: str, value: object) -> list[str]:
+    """``value`` checked against the declaration of the setting ``name`` of ``cls``, its
+    problems naming ``key`` (e.g. the command-line flag that sets it)."""
+    for declared, spec, hint in _declared_fields(cls):
+        if declared == name:
+            return check_value(key, value, spec, hint)
+    raise TypeError(f"{cls.__name__}.{name} is not declared with setting()")
+
+
 def declared_problems(config: object, prefix: str) -> list[str]:
     """Every declared setting of the dataclass ``config`` checked against its declaration;
     problems name a setting ``prefix.name`` (``prefix`` is the section the class fills,

@@ -13,12 +13,16 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Literal, get_args
 
+from workcell.session.config import Mode
 from workcell.sim import events as world
 
 Outcome = Literal["success", "timeout", "interrupted"]
 InterruptionReason = Literal[
     "operator_stop", "application_quit", "client_lost", "crash_recovered", "storage_error"
 ]
+SessionEndReason = Literal["completed", "error", InterruptionReason]
+"""Why a session ended: its campaign completed, it was interrupted (the reason its last
+trial was interrupted with), or an ``error`` stopped it."""
 
 _WIRE_ONLY = ("t_sim", "kind", "type")
 """Fields that are not part of an event's stored payload (the store has columns for
@@ -42,7 +46,7 @@ class TrialStarted:
 
     trial_index: int
     t_sim: float
-    mode: str
+    mode: Mode
     round: int | None
     level: int | None
     required_boxes: int

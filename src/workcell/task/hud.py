@@ -13,7 +13,7 @@ from dataclasses import dataclass
 from workcell.session.config import Mode
 
 
-class Phase(enum.Enum):
+class HudPhase(enum.Enum):
     """Where the session's current trial is (``finished`` once the session is over)."""
 
     COUNTDOWN = "countdown"
@@ -25,7 +25,7 @@ class Phase(enum.Enum):
 class Hud:
     """What the operator sees: mode, progress, clock and score."""
 
-    phase: Phase
+    phase: HudPhase
     mode: Mode
     trial_index: int
     round: int | None

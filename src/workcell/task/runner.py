@@ -23,7 +23,7 @@ from workcell.session.config import SessionConfig
 from workcell.sim import events as world_events
 from workcell.task import events as ev
 from workcell.task.bus import EventBus
-from workcell.task.hud import Hud, Phase
+from workcell.task.hud import Hud, HudPhase
 from workcell.task.operator import Operator
 from workcell.task.schedule import Schedule, TrialSpec
 from workcell.task.scoring import trial_score
@@ -76,7 +76,7 @@ class SessionRunner:
         self._conditions: dict[str, object] = {}
         self._start_step = 0
         self._delivered = 0
-        self.phase = Phase.FINISHED
+        self.phase = HudPhase.FINISHED
 
     # --- driving ----------------------------------------------------------------------------
 
@@ -94,7 +94,7 @@ class SessionRunner:
         (it may also wait, to pace the loop); ``after_step`` follows each period."""
         if not self.started:
             self.start()
-        while self.phase is not Phase.FINISHED:
+        while self.phase is not HudPhase.FINISHED:
             reason = should_stop() if should_stop is not None else None
             if reason is not None:
                 self.interrupt(reason)
@@ -106,9 +106,9 @@ class SessionRunner:
 
     def step(self) -> None:
         """One control period."""
-        if self.phase is Phase.FINISHED:
+        if self.phase is HudPhase.FINISHED:
             return
-        running = self.phase is Phase.RUNNING
+        running = self.phase is HudPhase.RUNNING
         started = time.perf_counter()
         command = self.operator.act(self.sim.world) if running else Command()
         self.last_command = command
@@ -116,15 +116,15 @@ class SessionRunner:
         self.last_step_wall_s = time.perf_counter() - started
         for event in world_events_now:
             self._publish_world_event(event)
-        if self.phase is Phase.COUNTDOWN and self.sim.world.physics_steps >= self._start_step:
+        if self.phase is HudPhase.COUNTDOWN and self.sim.world.physics_steps >= self._start_step:
             self._go()
         elif running:
             self._check_end()
 
     def interrupt(self, reason: ev.InterruptionReason) -> None:
         """End the current trial as interrupted and finish the session."""
-        if self.phase is Phase.FINISHED or self._spec is None:
-            self.phase = Phase.FINISHED
+        if self.phase is HudPhase.FINISHED or self._spec is None:
+            self.phase = HudPhase.FINISHED
             return
         t = self.trial_time
         self.bus.publish(ev.TrialInterrupted(self._spec.trial_index, t, reason))
@@ -152,7 +152,7 @@ class SessionRunner:
 
     @property
     def current(self) -> TrialSpec | None:
-        return self._spec if self.phase is not Phase.FINISHED else None
+        return self._spec if self.phase is not HudPhase.FINISHED else None
 
     @property
     def trial_start_step(self) -> int:
@@ -173,10 +173,10 @@ class SessionRunner:
             level=spec.level if spec else None,
             boxes_delivered=boxes,
             required_boxes=spec.required_boxes if spec else 0,
-            countdown_s=max(0.0, -t) if self.phase is Phase.COUNTDOWN else 0.0,
+            countdown_s=max(0.0, -t) if self.phase is HudPhase.COUNTDOWN else 0.0,
             remaining_s=max(0.0, limit - max(t, 0.0)),
             score=trial_score(self.config.task.box_score, boxes, limit, max(t, 0.0))
-            if self.phase is Phase.RUNNING
+            if self.phase is HudPhase.RUNNING
             else 0,
         )
 
@@ -190,7 +190,7 @@ class SessionRunner:
         self.operator.start_trial(self._seed)
         self._start_step = self._countdown_steps * self.sim.world.substeps
         if self._countdown_steps:
-            self.phase = Phase.COUNTDOWN
+            self.phase = HudPhase.COUNTDOWN
             self.bus.publish(
                 ev.CountdownStarted(spec.trial_index, self.trial_time, self.config.task.countdown_s)
             )
@@ -200,7 +200,7 @@ class SessionRunner:
     def _go(self) -> None:
         spec = self._spec
         assert spec is not None
-        self.phase = Phase.RUNNING
+        self.phase = HudPhase.RUNNING
         self.bus.publish(
             ev.TrialStarted(
                 trial_index=spec.trial_index,
@@ -259,7 +259,7 @@ class SessionRunner:
             self.capped = True
             following = None
         if following is None:
-            self.phase = Phase.FINISHED
+            self.phase = HudPhase.FINISHED
             return
         if following.level is not None and following.round is not None:
             repeat = (following.round, following.level) == (spec.round, spec.level)
@@ -272,7 +272,7 @@ class SessionRunner:
         spec = self._spec
         assert spec is not None
         if isinstance(event, world_events.BoxDelivered):
-            if self.phase is not Phase.RUNNING:
+            if self.phase is not HudPhase.RUNNING:
                 return
             self._delivered += 1
         self.bus.publish(ev.stamped(event, spec.trial_index, self.trial_time, self._delivered))

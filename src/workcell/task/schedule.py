@@ -10,7 +10,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from workcell.session.config import TaskConfig
+from workcell.session.config import Mode, TaskConfig
 from workcell.task.events import Outcome
 
 
@@ -19,7 +19,7 @@ class TrialSpec:
     """What one trial asks for. ``round`` and ``level`` (1-based) are None outside challenge."""
 
     trial_index: int
-    mode: str
+    mode: Mode
     round: int | None
     level: int | None
     required_boxes: int

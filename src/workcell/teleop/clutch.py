@@ -83,6 +83,13 @@ class ArmClutch:
         turned = normalize(multiply(xr_to_base_rotation(relative_xr), anchor.target_quat))
         return (x, y, z, *turned)
 
+    def hold(self) -> ArmCommand:
+        """Input stalled with the grip held: stay engaged (the anchor is kept, so the arm
+        follows on from it when input returns) and wait at the current target."""
+        if self.anchor is None or self.target is None:
+            return self.release()
+        return ArmCommand(position=self.target[:3], quaternion=self.target[3:], follow=True)
+
     def release(self) -> ArmCommand:
         """Let go (or stay let go): the target stays where it is and is not followed."""
         self.anchor = None

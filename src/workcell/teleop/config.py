@@ -66,6 +66,15 @@ class TeleopConfig:
         low_open=True,
         high=10.0,
     )
+    clutch_hold_s: float = setting(
+        3.0,
+        "a grip held when the input stalls stays engaged for this long: the arm waits at "
+        "its target, then follows the hand on from the same anchor, so no hand motion is "
+        "lost; a longer gap lets go (the grip must be pressed again)",
+        unit="s",
+        low=0.0,
+        high=60.0,
+    )
 
     def __post_init__(self) -> None:
         problems = declared_problems(self, "teleop")

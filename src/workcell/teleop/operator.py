@@ -87,16 +87,22 @@ class TeleopOperator:
     def act(self, world: World) -> Command:
         with self._lock:
             latest, arrived = self._latest, self._arrived
-        fresh = latest is not None and self._clock() - arrived <= self.config.input_timeout_s
-        if latest is None or not fresh:
-            # No or stale input: stop the base, freeze the arms, keep the grippers.
-            left, right = self.clutches["l"].release(), self.clutches["r"].release()
+        age = self._clock() - arrived
+        if latest is None or age > self.config.input_timeout_s:
+            # No or stale input: stop the base, freeze the arms, keep the grippers; a held
+            # grip stays engaged through a short gap (clutch_hold_s), so none of the hand's
+            # motion during the gap is lost when input returns.
+            hold = latest is not None and age <= self.config.clutch_hold_s
+            arms = {
+                side: clutch.hold() if hold else clutch.release()
+                for side, clutch in self.clutches.items()
+            }
             head = self.config.default_head if latest is None else self._head(latest)
             return Command(
-                left=left,
-                right=right,
-                gripper_left=self._grippers[0],
-                gripper_right=self._grippers[1],
+                left=arms["l"],
+                right=arms["r"],
+                close_left=self._grippers[0],
+                close_right=self._grippers[1],
                 head=head,
             )
         self.applied_seq = latest.seq
@@ -112,8 +118,8 @@ class TeleopOperator:
             base=base_twist(latest.left.stick, latest.right.stick, self.config),
             left=arms["l"],
             right=arms["r"],
-            gripper_left=self._grippers[0],
-            gripper_right=self._grippers[1],
+            close_left=self._grippers[0],
+            close_right=self._grippers[1],
             head=self._head(latest),
         )
 

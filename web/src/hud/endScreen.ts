@@ -3,7 +3,7 @@
 
 import type { App } from "../app";
 import { el } from "../util/dom";
-import { trialEndSummary } from "./hudText";
+import { sessionEndSummary, trialEndSummary } from "./hudText";
 import type { HudLine } from "./hudText";
 
 export function linesToDom(lines: readonly HudLine[], className: string): HTMLElement {
@@ -36,15 +36,7 @@ export function renderEndScreen(overlay: HTMLElement, app: App): void {
     overlay.className = "overlay campaign-end";
     overlay.append(
       el("h2", { textContent: ended.trials > 1 ? "Campaign complete" : "Session complete" }),
-      linesToDom(
-        [
-          { label: "Trials", value: String(ended.trials) },
-          { label: "Successes", value: String(ended.successes) },
-          { label: "Total score", value: String(ended.total_score) },
-          { label: "Ended by", value: ended.reason },
-        ],
-        "summary",
-      ),
+      linesToDom(sessionEndSummary(ended), "summary"),
     );
     if (trialEnd !== null) {
       overlay.append(

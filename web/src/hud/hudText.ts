@@ -1,6 +1,6 @@
 // The HUD's content, one function for both the desktop overlay and the XR panel.
 
-import type { Hud, TrialEnded } from "../protocol";
+import type { Hud, SessionEnded, TrialEnded } from "../protocol";
 
 export interface HudLine {
   label: string;
@@ -45,4 +45,16 @@ export function trialEndSummary(ended: TrialEnded): HudLine[] {
   lines.push({ label: "Time", value: `${ended.elapsed_s.toFixed(1)} s` });
   lines.push({ label: "Score", value: String(ended.score) });
   return lines;
+}
+
+/** The end-of-session screen's summary from a session_ended message; an error names what
+ * went wrong. */
+export function sessionEndSummary(ended: SessionEnded): HudLine[] {
+  const by = ended.detail !== "" ? `${ended.reason}: ${ended.detail}` : ended.reason;
+  return [
+    { label: "Trials", value: String(ended.trials) },
+    { label: "Successes", value: String(ended.successes) },
+    { label: "Total score", value: String(ended.total_score) },
+    { label: "Ended by", value: by, alert: ended.reason === "error" },
+  ];
 }

@@ -6,22 +6,8 @@
 import { serverUrl } from "../util/env";
 import { readValue } from "./settingsForm";
 import type { FieldControl } from "./settingsForm";
+import type { SettingHint, SettingHints } from "../protocol";
 
-/** One setting's hint; mirrors workcell.settings.hints.SettingHint (a test compares them). */
-export interface SettingHint {
-  readonly key: string;
-  readonly unit: string;
-  readonly allowed: string;
-  readonly low: number | null;
-  readonly high: number | null;
-  readonly low_open: boolean;
-  readonly whole: boolean;
-}
-
-/** GET /api/settings/hints; mirrors workcell.settings.hints.SettingHints. */
-export interface SettingHints {
-  readonly hints: readonly SettingHint[];
-}
 
 export async function fetchSettingHints(): Promise<SettingHints> {
   const response = await fetch(serverUrl("api/settings/hints"), { headers: { Accept: "application/json" } });

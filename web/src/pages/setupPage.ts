@@ -12,6 +12,7 @@ import { el } from "../util/dom";
 
 const MODE_KEY = "task.mode";
 const OPERATOR_KEY = "operator_id";
+const CONDITION_KEY = "condition";
 const MODE_HELP: Record<string, string> = {
   practice: "one trial, one box, ends at delivery",
   collection: "repeated one-box trials with automatic reset",
@@ -65,6 +66,7 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
     // The operator's first choices: mode (as large buttons) and who they are.
     const mode = controls.get(MODE_KEY);
     const operator = controls.get(OPERATOR_KEY);
+    const condition = controls.get(CONDITION_KEY);
     const top = el("fieldset", { className: "top-choices" });
     top.append(el("legend", { textContent: "Mode and operator" }));
     if (mode !== undefined) {
@@ -96,13 +98,14 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
       top.append(picker, mode.row);
     }
     if (operator !== undefined) top.append(operator.row);
+    if (condition !== undefined) top.append(condition.row);
     form.append(top);
 
     // Every other setting, grouped by its section, in declaration order.
     const docs = new Map(defaults.sections.map((s) => [s.key, s.doc]));
     const groups = new Map<string, HTMLElement>();
     for (const control of controls.values()) {
-      if (control === mode || control === operator) continue;
+      if (control === mode || control === operator || control === condition) continue;
       const section = sectionOf(control.info, defaults);
       let group = groups.get(section);
       if (group === undefined) {

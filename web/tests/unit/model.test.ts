@@ -80,7 +80,7 @@ describe("ClientModel.apply", () => {
     expect(model.sessionActive).toBe(true);
     expect(model.events).toHaveLength(0);
     expect(model.state).toBeNull();
-    model.apply({ type: "session_ended", session_id: "s1", reason: "operator_stop", trials: 1, successes: 1, total_score: 190 });
+    model.apply({ type: "session_ended", session_id: "s1", reason: "operator_stop", trials: 1, successes: 1, total_score: 190, detail: "" });
     expect(model.sessionActive).toBe(false);
     expect(model.ended?.total_score).toBe(190);
   });

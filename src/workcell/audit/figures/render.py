@@ -2,8 +2,10 @@
 
 from __future__ import annotations
 
+from workcell.audit.comparison import compare, success_values
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.figures.canvas import RenderedFigure
+from workcell.audit.figures.comparison import draw_comparison, draw_learning
 from workcell.audit.figures.distributions import draw_distributions
 from workcell.audit.figures.flow import draw_flow
 from workcell.audit.figures.outcomes import draw_outcomes
@@ -14,6 +16,36 @@ from workcell.audit.stats import SuccessRate
 
 
 def render_figures(result: AuditResult) -> list[RenderedFigure]:
+    """Every figure in report order; the comparison's when the audit compares groups."""
+    return [*_common_figures(result), *_comparison_figures(result)]
+
+
+def _comparison_figures(result: AuditResult) -> list[RenderedFigure]:
+    by = result.config.compare_by
+    if by == "none":
+        return []
+    comparison = compare(result.trials, by)
+    return [
+        RenderedFigure(
+            "comparison",
+            f"Groups by {by}",
+            f"Per {by}: success rate of the valid trials with its Wilson 95 % interval "
+            "(successes/valid below), and the completion time and TCP-midpoint path of the "
+            "valid successes (boxes: median and IQR; points: trials).",
+            draw_comparison(comparison, success_values(result.trials, by)),
+        ),
+        RenderedFigure(
+            "learning",
+            "Learning curves",
+            "Per participant (operator id), their trials in the order they ran: completion "
+            "time of each success (crosses along the top: trials that did not succeed) and "
+            "the success rate so far.",
+            draw_learning(comparison),
+        ),
+    ]
+
+
+def _common_figures(result: AuditResult) -> list[RenderedFigure]:
     trials = result.trials
     gap_periods = result.config.sampling.gap_periods
     return [

@@ -265,6 +265,8 @@ class EventRecord:
 
 @dataclass(frozen=True)
 class AnnotationRecord:
+    """A reviewer's decision on a trial: ``kind`` include, exclude or note."""
+
     annotation_id: str
     trial_id: str
     kind: str

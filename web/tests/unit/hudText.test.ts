@@ -1,0 +1,32 @@
+// The end screens' text (src/hud/hudText.ts): a session ended by an error says what went wrong.
+
+import { describe, expect, it } from "vitest";
+import { sessionEndSummary } from "../../src/hud/hudText";
+import type { SessionEnded } from "../../src/protocol";
+
+function ended(overrides: Partial<SessionEnded>): SessionEnded {
+  return {
+    type: "session_ended",
+    session_id: "s1",
+    reason: "completed",
+    trials: 3,
+    successes: 2,
+    total_score: 190,
+    detail: "",
+    ...overrides,
+  };
+}
+
+describe("sessionEndSummary", () => {
+  it("names the typed reason a session ended by", () => {
+    const lines = sessionEndSummary(ended({ reason: "operator_stop" }));
+    expect(lines.map((line) => line.label)).toEqual(["Trials", "Successes", "Total score", "Ended by"]);
+    expect(lines[3]).toEqual({ label: "Ended by", value: "operator_stop", alert: false });
+    expect(lines[1]?.value).toBe("2");
+  });
+
+  it("adds the detail of an error and makes it stand out", () => {
+    const lines = sessionEndSummary(ended({ reason: "error", detail: "solver exploded" }));
+    expect(lines[3]).toEqual({ label: "Ended by", value: "error: solver exploded", alert: true });
+  });
+});
