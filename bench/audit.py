@@ -13,6 +13,9 @@ measured in one run, in frames per second:
   worker process per core (wall seconds), and its ratio to the plain read. Target:
   1,000,000 frames/s end to end. The parallel audit must conclude exactly what the
   one-process audit does.
+- task stages: the extra pass that reads how far each trial without a delivery got
+  (contacts, grasp and the held box's pose from the ``boxes`` JSON), and its share of the
+  end-to-end time (the synthetic trials hold box 0 for 40 % of their frames).
 Then the seconds to write report.html, summary.json and trials.csv. Each figure is the
 best of ``--repeats`` runs.
 
@@ -86,11 +89,23 @@ def synthetic_frames(rng: np.random.Generator, n: int, oscillate: bool) -> dict[
     cols["base_vx"] = 0.4 * np.sin(np.pi * s)
     for c in FRAME_DEVICE_COLUMNS:
         cols[c] = np.full(n, np.nan)
+    held = (s > 0.35) & (s < 0.75)  # box 0 between the grippers, from the belt to the table
     for c in ("contact_l", "contact_r", "attached"):
-        cols[c] = np.full(n, -1)
+        cols[c] = np.where(held, 0, -1)
     for c in ("follow_l", "follow_r"):
         cols[c] = np.ones(n, dtype=np.int64)
-    cols["boxes"] = np.array(["[]"] * n, dtype=object)
+    x = (cols["tcp_l_x"] + cols["tcp_r_x"]) / 2
+    y = (cols["tcp_l_y"] + cols["tcp_r_y"]) / 2
+    z = np.where(held, cols["tcp_l_z"], 0.9)
+    parked = "".join(f',[{k},"parked",-0.1,-2.0,-1.0,1.0,0.0,0.0,0.0]' for k in (2, 3))
+    cols["boxes"] = np.array(
+        [
+            f'[[0,"active",{x[i]:.6f},{y[i]:.6f},{z[i]:.6f},0.998966,0.000132,-3.2e-05,0.045461],'
+            f'[1,"active",-0.745404,0.006212,0.899892,0.998808,0.0,0.0,0.048803]{parked}]'
+            for i in range(n)
+        ],
+        dtype=object,
+    )
     return cols
 
 
@@ -220,6 +235,20 @@ def audit_end_to_end(path: Path, workers: int = 1) -> Any:
         source.close()
 
 
+def task_stages(path: Path) -> tuple[int, int]:
+    """The extra pass of the task stages: the frames of the trials that delivered nothing
+    (the others are ``delivered`` by definition); returns (trials, frames) read."""
+    source = StoreSource(path)
+    try:
+        rows = [r for r in source.trials() if not r.stored["boxes_delivered"]]
+        read = source.stage_frames([r.trial_id for r in rows])
+        source.trial_conditions()
+        assert len(read) == len(rows)
+        return len(rows), sum(int(r.stored["n_frames"] or 0) for r in rows)
+    finally:
+        source.close()
+
+
 def wall_best_of(repeats: int, work: Any) -> tuple[float, Any]:
     """The shortest wall time of ``repeats`` runs (for work spread over processes)."""
     runs = []
@@ -260,6 +289,7 @@ def main() -> None:
     t_blocks, _ = best_of(best, lambda: needed_read(path, use_blocks=True))
     t_compute, n_compute = min(recompute_only(path, limit=300) for _ in range(best))
     t_audit, result = best_of(best, lambda: audit_end_to_end(path))
+    t_stages, (n_unfinished, n_stage_frames) = best_of(best, lambda: task_stages(path))
     assert result.frames_read == n
     os.sched_setaffinity(0, cores)
     workers = len(cores)
@@ -282,6 +312,11 @@ def main() -> None:
     print(f"{target}     : {n / t_audit / 1e6:12.2f} one process")
     print(f"{target}     : {n / t_parallel / 1e6:12.2f} {workers} processes")
     print(f"share of one-process time spent reading    : {t_blocks / t_audit:12.0%}")
+    print(
+        f"task stages, {n_unfinished} trials without a delivery: "
+        f"{rate(n_stage_frames, t_stages)} of their frames, "
+        f"{t_stages / t_audit:.0%} of the one-process audit"
+    )
     print(f"report files (html + 5 figures, json, csv) : {t_report:12.2f} s")
     flagged = sum(bool(t.flags) for t in result.trials)
     print(f"trials flagged / audited                   : {flagged} / {len(result.trials)}")

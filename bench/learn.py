@@ -68,6 +68,8 @@ class Evaluation:
     """Wall time of the evaluation's collect, start-up included."""
     sim_s: float
     """Sim time over all rollouts."""
+    stages: dict[str, int]
+    """How many rollouts ended at each task stage (``workcell audit``'s ``task_stages``)."""
 
     @property
     def rate(self) -> float:
@@ -84,7 +86,14 @@ class Evaluation:
             f"{self.name:28s}{used}{trained}  success {self.successes:3d}/{self.n}"
             f" = {100 * self.rate:5.1f} % [Wilson 95 % {100 * low:5.1f}, {100 * high:5.1f}]"
             f"  rollouts {self.sim_s / max(self.seconds, 1e-9):5.1f}x real time"
+            f"  got to: {self.stages_text()}"
         )
+
+    def stages_text(self) -> str:
+        """``18 delivered, 2 over_zone``: furthest stage first, stages no rollout ended at
+        left out."""
+        parts = [f"{n} {stage}" for stage, n in reversed(list(self.stages.items())) if n]
+        return ", ".join(parts) or "-"
 
 
 def workcell(*args: str, log: Path) -> subprocess.CompletedProcess[str]:
@@ -155,8 +164,16 @@ def evaluate(settings: Settings, name: str, operator: str) -> Evaluation:
         }
         result.write_text(json.dumps(summary))
     summary = json.loads(result.read_text())
+    audited = audit(settings, store, settings.work / f"eval-{name}-audit")
+    stages = audited["task_stages"]
+    assert isinstance(stages, dict)
     return Evaluation(
-        name, summary["successes"], summary["n"], summary["seconds"], summary["sim_s"]
+        name,
+        summary["successes"],
+        summary["n"],
+        summary["seconds"],
+        summary["sim_s"],
+        dict(stages["ended_at"]),
     )
 
 

@@ -53,6 +53,7 @@ def test_audit_writes_the_report_and_refuses_a_non_empty_folder(
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].startswith("audited 4 trials (")
     assert "3 valid (2 successes, 1 timeouts)" in lines[0]
+    assert lines[1] == "  task stages (how far each trial got): 2 delivered, 2 none"
     assert sorted(p.name for p in out.iterdir()) == ["report.html", "summary.json", "trials.csv"]
     message = _one_line_error(["audit", "--store", str(path), "--out", str(out)])
     assert message.startswith(f"output folder {out} is not empty;") and "--force" in message
@@ -103,8 +104,9 @@ def test_workers_and_frame_rows_change_nothing_in_the_report(
     assert _run(["audit", "--store", str(path), "--out", str(tmp_path / "a")]) == 0
     argv = ["audit", "--store", str(path), "--out", str(tmp_path / "b"), "--workers", "2"]
     assert _run([*argv, "--from-rows"]) == 0
-    first, second = capsys.readouterr().out.splitlines()[0::2]
-    assert first == second
+    lines = [line for line in capsys.readouterr().out.splitlines() if not line.startswith("wrote")]
+    first, second = lines[: len(lines) // 2], lines[len(lines) // 2 :]
+    assert first[0].startswith("audited") and first == second
     for name in ("summary.json", "trials.csv"):
         assert (tmp_path / "a" / name).read_text() == (tmp_path / "b" / name).read_text()
 

@@ -27,8 +27,7 @@ from dataclasses import dataclass
 from typing import get_args
 
 from workcell.audit.config import CompareBy
-from workcell.audit.counts import DispositionCounts
-from workcell.audit.stats import GroupStats, SuccessRate, metric_values, success_metrics
+from workcell.audit.stats import GroupStats, SuccessRate, metric_values
 from workcell.audit.trial_audit import TrialAudit
 
 COMPARE_KEYS: tuple[str, ...] = get_args(CompareBy)
@@ -191,15 +190,7 @@ def compare(trials: Sequence[TrialAudit], by: CompareBy) -> Comparison:
     compared, and the participants' learning curves."""
     values = list(dict.fromkeys(group_of(t, by) for t in trials))
     members = {value: [t for t in trials if group_of(t, by) == value] for value in values}
-    groups = tuple(
-        GroupStats(
-            value,
-            DispositionCounts.of(members[value]),
-            SuccessRate.of(members[value]),
-            success_metrics(members[value]),
-        )
-        for value in values
-    )
+    groups = tuple(GroupStats.of(value, members[value]) for value in values)
     values_of = success_values(trials, by)
     pairs = []
     for first, second in itertools.combinations(groups, 2):

@@ -24,6 +24,7 @@ from workcell.audit.source import (
     FloatArray,
     midpoint_xy,
 )
+from workcell.audit.task_stages import STAGE_COLUMNS, StageFrames, stage_frames, started_conditions
 from workcell.metrics import FrameArrays
 from workcell.record.csv_format import FILES, MANIFEST, parse_row
 from workcell.record.entries import AnnotationRecord
@@ -71,6 +72,19 @@ class CsvSource:
             trial_id: midpoint_xy(_floats(rows, self.path, trial_id))
             for trial_id, rows in self._frame_groups(MIDPOINT_COLUMNS, wanted)
         }
+
+    def stage_frames(self, trial_ids: Collection[str]) -> dict[str, StageFrames]:
+        return {
+            trial_id: stage_frames(rows)
+            for trial_id, rows in self._frame_groups(STAGE_COLUMNS, set(trial_ids))
+        }
+
+    def trial_conditions(self) -> dict[str, dict[str, object]]:
+        out: dict[str, dict[str, object]] = {}
+        for row in self._table("events.csv"):
+            if row["kind"] == "trial_started" and row["trial_id"]:
+                out[row["trial_id"]] = started_conditions(row["payload_json"] or "")
+        return out
 
     def close(self) -> None:
         pass

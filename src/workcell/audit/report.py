@@ -22,6 +22,7 @@ from workcell.audit.report_sections import (
     table_one,
     trials_table,
 )
+from workcell.audit.report_stages import stages_section
 from workcell.audit.run import AuditResult
 from workcell.audit.stats import SuccessRate, grouped
 from workcell.audit.summary import parameters
@@ -80,6 +81,7 @@ were not changed.</p>
 {esc(percent_interval(rate.rate, rate.low, rate.high))} (Wilson 95 % confidence interval).
 Repeated trials of one operator are attempts, not independent people.</p>
 {fig["outcomes"]}
+{stages_section(trials, grouped(trials).get("operator", []))}
 <h2>3. Successful demonstrations (Table I)</h2>
 {table_one(trials)}
 {fig["distributions"]}

@@ -8,9 +8,10 @@ audit recomputes the derived ones from frames and never writes them back.
 from __future__ import annotations
 
 from collections.abc import Mapping
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Any
 
+from workcell.audit.task_stages import Zone, session_zone
 from workcell.errors import ConfigError
 from workcell.metrics import MetricThresholds
 from workcell.record.columns import TRIAL_COLUMNS
@@ -47,6 +48,8 @@ class SessionRow:
     notes: tuple[str, ...] = ()
     condition: str = ""
     """The session's study condition (setting ``condition``; empty: none)."""
+    zone: Zone = field(default_factory=lambda: session_zone({}))
+    """The delivery zone the session's world configures (trials may move its centre)."""
 
     @classmethod
     def parse(
@@ -76,6 +79,7 @@ class SessionRow:
             rate_hz=float(rate),
             notes=tuple(notes),
             condition=str(parameters.get("condition") or ""),
+            zone=session_zone(parameters),
         )
 
 

@@ -15,6 +15,7 @@ import numpy as np
 import numpy.typing as npt
 
 from workcell.audit.rows import SessionRow, TrialRow
+from workcell.audit.task_stages import StageFrames
 from workcell.metrics import REQUIRED_COLUMNS, FrameArrays
 from workcell.record.entries import AnnotationRecord
 
@@ -51,6 +52,14 @@ class AuditSource(Protocol):
 
     def midpoints(self, trial_ids: Collection[str]) -> dict[str, FloatArray]:
         """The (n, 2) floor-plane TCP midpoints (x, y in metres) of the given trials."""
+        ...
+
+    def stage_frames(self, trial_ids: Collection[str]) -> dict[str, StageFrames]:
+        """The touches and holds of the given trials (:mod:`workcell.audit.task_stages`)."""
+        ...
+
+    def trial_conditions(self) -> dict[str, dict[str, object]]:
+        """Each trial's recorded conditions (its trial_started event's)."""
         ...
 
     def close(self) -> None: ...

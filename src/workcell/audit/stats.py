@@ -15,6 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from workcell.audit.counts import DispositionCounts
+from workcell.audit.task_stages import TaskStage, stage_counts
 from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import Descriptive, describe, wilson_interval
 
@@ -75,6 +76,23 @@ class GroupStats:
     counts: DispositionCounts
     rate: SuccessRate
     metrics: dict[str, Descriptive]
+    task_stages: dict[TaskStage, int]
+    """How many of the group's trials got to each stage and no further (all trials)."""
+
+    @classmethod
+    def of(cls, value: str, members: Sequence[TrialAudit]) -> GroupStats:
+        return cls(
+            value,
+            DispositionCounts.of(members),
+            SuccessRate.of(members),
+            success_metrics(members),
+            task_stages_of(members),
+        )
+
+
+def task_stages_of(trials: Sequence[TrialAudit]) -> dict[TaskStage, int]:
+    """How many trials got to each stage and no further (trials not read count nowhere)."""
+    return stage_counts(t.task_stage for t in trials if t.task_stage is not None)
 
 
 GROUP_KEYS: dict[str, Callable[[TrialAudit], str]] = {
@@ -93,14 +111,5 @@ def grouped(trials: Sequence[TrialAudit]) -> dict[str, list[GroupStats]]:
         values = list(dict.fromkeys(of(t) for t in trials))
         if len(values) < 2:
             continue
-        out[key] = [
-            GroupStats(
-                value,
-                DispositionCounts.of(members),
-                SuccessRate.of(members),
-                success_metrics(members),
-            )
-            for value in values
-            for members in [[t for t in trials if of(t) == value]]
-        ]
+        out[key] = [GroupStats.of(value, [t for t in trials if of(t) == value]) for value in values]
     return out

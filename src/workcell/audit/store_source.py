@@ -14,6 +14,7 @@ from __future__ import annotations
 import json
 import sqlite3
 from collections.abc import Collection, Iterator
+from functools import partial
 from pathlib import Path
 from typing import Literal
 
@@ -25,6 +26,15 @@ from workcell.audit.source import (
     MIDPOINT_COLUMNS,
     FloatArray,
     midpoint_xy,
+)
+from workcell.audit.task_stages import (
+    HOLDS_SQL,
+    SIGNALS_SQL,
+    STAGE_COLUMNS,
+    StageFrames,
+    holds_from_sql,
+    stage_frames,
+    started_conditions,
 )
 from workcell.metrics import FrameArrays
 from workcell.record.connection import connect
@@ -102,6 +112,32 @@ class StoreSource:
             else:
                 out[trial_id] = midpoint_xy(self._matrix(sql, trial_id, len(MIDPOINT_COLUMNS)))
         return out
+
+    def stage_frames(self, trial_ids: Collection[str]) -> dict[str, StageFrames]:
+        out = {}
+        for trial_id in trial_ids:
+            signals = self._conn.execute(SIGNALS_SQL, (trial_id,)).fetchone()
+            try:
+                holds = self._conn.execute(HOLDS_SQL, (trial_id,)).fetchall()
+            except sqlite3.OperationalError:  # a boxes cell that is not JSON
+                rows = self._conn.execute(_frames_sql(STAGE_COLUMNS), (trial_id,))
+                out[trial_id] = stage_frames(rows)
+                continue
+            out[trial_id] = holds_from_sql(signals, holds, partial(self._boxes, trial_id))
+        return out
+
+    def _boxes(self, trial_id: str, frame_index: int) -> str | None:
+        row = self._conn.execute(
+            "SELECT boxes FROM frames WHERE trial_id = ? AND frame_index = ?",
+            (trial_id, frame_index),
+        ).fetchone()
+        return row[0] if row is not None and isinstance(row[0], str) else None
+
+    def trial_conditions(self) -> dict[str, dict[str, object]]:
+        rows = self._conn.execute(
+            "SELECT trial_id, payload_json FROM events WHERE kind = 'trial_started'"
+        )
+        return {trial_id: started_conditions(payload) for trial_id, payload in rows if trial_id}
 
     def _frame_counts(self) -> dict[str, int | None]:
         """Each trial's n_frames as its row says (None while it runs)."""

@@ -27,7 +27,9 @@ from workcell.audit.stats import (
     grouped,
     sampling_metrics,
     success_metrics,
+    task_stages_of,
 )
+from workcell.audit.task_stages import TASK_STAGES_VERSION, TaskStage, at_least
 from workcell.metrics import METRIC_DEFINITIONS, METRICS_VERSION, Descriptive
 
 FORMAT = "workcell-audit-summary"
@@ -58,7 +60,13 @@ def _group(group: GroupStats) -> dict[str, Any]:
         "counts": asdict(group.counts),
         "success_rate": _rate(group.rate),
         **_described(group.metrics, SUCCESS_METRICS),
+        "task_stages": _stages(group.task_stages),
     }
+
+
+def _stages(counts: dict[TaskStage, int]) -> dict[str, Any]:
+    """Trials per stage they got to and no further, and per stage they got to or beyond."""
+    return {"ended_at": counts, "reached": at_least(counts)}
 
 
 def _comparison(comparison: Comparison) -> dict[str, Any]:
@@ -130,6 +138,10 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
         "sampling": {
             **_described(sampling_metrics(trials), SAMPLING_METRICS),
             "largest_gap_s": max(gaps) if gaps else None,
+        },
+        "task_stages": {
+            "definition_version": TASK_STAGES_VERSION,
+            **_stages(task_stages_of(trials)),
         },
         "flags": {
             name: {"trials": flagged[name], "valid_trials": flagged_valid[name]}

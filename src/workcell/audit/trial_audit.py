@@ -12,6 +12,7 @@ from workcell.audit.nonfinite import detect_nonfinite
 from workcell.audit.oscillation import OscillationCriteria, detect_oscillation
 from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.sampling import detect_sampling
+from workcell.audit.task_stages import TaskStage
 from workcell.metrics import FrameArrays, TrialMetrics, compute_trial_metrics
 from workcell.record.entries import AnnotationRecord
 
@@ -27,6 +28,9 @@ class TrialAudit:
     flags: tuple[Flag, ...]
     mismatches: tuple[Mismatch, ...]
     disposition: Disposition
+    task_stage: TaskStage | None = None
+    """How far the trial got (:mod:`workcell.audit.task_stages`); None until read from the
+    frames, after every trial is audited."""
 
     @property
     def trial_id(self) -> str:

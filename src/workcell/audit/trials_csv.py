@@ -37,6 +37,7 @@ AUDIT_COLUMNS: tuple[str, ...] = (
     "stored_quality_flags",
     "stored_included",
     "metric_mismatches",
+    "stage_reached",
 )
 """Columns after the contract's: flags 0/1, ``disposition`` one of STAGES, review fields
 from the deciding annotation, what the trial row stored, and mismatching metrics."""
@@ -79,6 +80,7 @@ def trial_row(trial: TrialAudit) -> list[Any]:
         "stored_quality_flags": trial.row.stored["quality_flags"],
         "stored_included": trial.row.stored["included"],
         "metric_mismatches": FLAG_SEPARATOR.join(m.metric for m in trial.mismatches) or None,
+        "stage_reached": trial.task_stage,
     }
     return [_cell(values[name]) for name in COLUMNS]
 
