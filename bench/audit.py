@@ -242,7 +242,7 @@ def task_stages(path: Path) -> tuple[int, int]:
     try:
         rows = [r for r in source.trials() if not r.stored["boxes_delivered"]]
         read = source.stage_frames([r.trial_id for r in rows])
-        source.trial_conditions()
+        source.trial_conditions([r.trial_id for r in rows])
         assert len(read) == len(rows)
         return len(rows), sum(int(r.stored["n_frames"] or 0) for r in rows)
     finally:

@@ -229,8 +229,9 @@ def test_a_recorded_session_reads_its_trials_zone(
     so an expert that carried the box to a moved target was over the zone."""
     source = StoreSource(expert_stores.skilled)
     try:
-        conditions = source.trial_conditions()
-        frames = source.stage_frames(list(conditions))
+        ids = [row.trial_id for row in source.trials()]
+        conditions = source.trial_conditions(ids)
+        frames = source.stage_frames(ids)
         sessions = source.sessions()
     finally:
         source.close()

@@ -79,10 +79,11 @@ class CsvSource:
             for trial_id, rows in self._frame_groups(STAGE_COLUMNS, set(trial_ids))
         }
 
-    def trial_conditions(self) -> dict[str, dict[str, object]]:
+    def trial_conditions(self, trial_ids: Collection[str]) -> dict[str, dict[str, object]]:
+        wanted = set(trial_ids)
         out: dict[str, dict[str, object]] = {}
         for row in self._table("events.csv"):
-            if row["kind"] == "trial_started" and row["trial_id"]:
+            if row["kind"] == "trial_started" and row["trial_id"] in wanted:
                 out[row["trial_id"]] = started_conditions(row["payload_json"] or "")
         return out
 

@@ -19,6 +19,7 @@ from typing import TypeVar
 from workcell.audit.auditor import TrialAuditor
 from workcell.audit.config import AuditConfig
 from workcell.audit.rows import SessionRow, TrialRow
+from workcell.audit.stage_pass import with_stages
 from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit
 from workcell.record.entries import AnnotationRecord
@@ -94,9 +95,11 @@ def _audit_share(rows: list[TrialRow]) -> list[tuple[TrialAudit, int]]:
     by_id = {row.trial_id: row for row in rows}
     source = StoreSource(job.path, use_blocks=job.use_blocks)
     try:
-        return [
+        done = [
             (auditor.audit(by_id[trial_id], frames), len(frames))
             for trial_id, frames in source.frames_of(list(by_id))
         ]
+        staged = with_stages(source, [audit for audit, _ in done])  # in the worker, too
+        return [(audit, n) for audit, (_, n) in zip(staged, done, strict=True)]
     finally:
         source.close()

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 from collections.abc import Callable, Sequence
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -21,8 +21,8 @@ from workcell.audit.parallel import (
 from workcell.audit.population import flag_slow
 from workcell.audit.rows import SessionRow
 from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray
+from workcell.audit.stage_pass import with_stages
 from workcell.audit.store_source import StoreSource
-from workcell.audit.task_stages import NO_STAGE_FRAMES, stage_reached, trial_zone
 from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import FrameArrays
 from workcell.record.entries import AnnotationRecord
@@ -127,7 +127,7 @@ def run_audit(
     position = {s.session_id: i for i, s in enumerate(sessions)}
     trials = sorted(done.values(), key=lambda t: (position[t.row.session_id], t.row.trial_index))
     trials = flag_slow(trials, config.slowness)  # against the whole set: after every trial
-    trials = _with_stages(source, trials)
+    trials = with_stages(source, trials)  # those the workers did not read
     for session in sessions:
         for text in session.notes:
             findings.append(Finding(SESSION, "defaults", text, session_id=session.session_id))
@@ -148,30 +148,6 @@ def run_audit(
         trajectories=_trajectories(source, trials, config.trajectories),
         frames_read=frames_read,
     )
-
-
-def _with_stages(source: AuditSource, trials: Sequence[TrialAudit]) -> list[TrialAudit]:
-    """Each trial with the stage it reached. A trial that delivered a box is ``delivered``
-    by definition; only the others are read from their frames, in one more pass."""
-    unfinished = [t.trial_id for t in trials if not _delivered(t)]
-    frames = source.stage_frames(unfinished) if unfinished else {}
-    conditions = source.trial_conditions() if unfinished else {}
-    return [
-        replace(
-            trial,
-            task_stage=stage_reached(
-                frames.get(trial.trial_id, NO_STAGE_FRAMES),
-                trial_zone(trial.session.zone, conditions.get(trial.trial_id)),
-                trial.row.stored.get("boxes_delivered"),
-            ),
-        )
-        for trial in trials
-    ]
-
-
-def _delivered(trial: TrialAudit) -> bool:
-    delivered = trial.row.stored.get("boxes_delivered")
-    return delivered is not None and delivered >= 1
 
 
 def _trajectories(

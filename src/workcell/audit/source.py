@@ -58,8 +58,8 @@ class AuditSource(Protocol):
         """The touches and holds of the given trials (:mod:`workcell.audit.task_stages`)."""
         ...
 
-    def trial_conditions(self) -> dict[str, dict[str, object]]:
-        """Each trial's recorded conditions (its trial_started event's)."""
+    def trial_conditions(self, trial_ids: Collection[str]) -> dict[str, dict[str, object]]:
+        """The given trials' recorded conditions (their trial_started events')."""
         ...
 
     def close(self) -> None: ...

@@ -116,13 +116,14 @@ class StoreSource:
     def stage_frames(self, trial_ids: Collection[str]) -> dict[str, StageFrames]:
         out = {}
         for trial_id in trial_ids:
-            signals = self._conn.execute(SIGNALS_SQL, (trial_id,)).fetchone()
             try:
                 holds = self._conn.execute(HOLDS_SQL, (trial_id,)).fetchall()
             except sqlite3.OperationalError:  # a boxes cell that is not JSON
                 rows = self._conn.execute(_frames_sql(STAGE_COLUMNS), (trial_id,))
                 out[trial_id] = stage_frames(rows)
                 continue
+            # a hold is a touch and a grasp: only a trial without one needs the signals
+            signals = (1, 1) if holds else self._conn.execute(SIGNALS_SQL, (trial_id,)).fetchone()
             out[trial_id] = holds_from_sql(signals, holds, partial(self._boxes, trial_id))
         return out
 
@@ -133,11 +134,14 @@ class StoreSource:
         ).fetchone()
         return row[0] if row is not None and isinstance(row[0], str) else None
 
-    def trial_conditions(self) -> dict[str, dict[str, object]]:
-        rows = self._conn.execute(
-            "SELECT trial_id, payload_json FROM events WHERE kind = 'trial_started'"
-        )
-        return {trial_id: started_conditions(payload) for trial_id, payload in rows if trial_id}
+    def trial_conditions(self, trial_ids: Collection[str]) -> dict[str, dict[str, object]]:
+        sql = "SELECT payload_json FROM events WHERE trial_id = ? AND kind = 'trial_started'"
+        out = {}
+        for trial_id in trial_ids:
+            row = self._conn.execute(sql, (trial_id,)).fetchone()
+            if row is not None:
+                out[trial_id] = started_conditions(row[0])
+        return out
 
     def _frame_counts(self) -> dict[str, int | None]:
         """Each trial's n_frames as its row says (None while it runs)."""
