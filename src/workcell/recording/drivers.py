@@ -64,6 +64,7 @@ class TeleopDriver:
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
         from workcell.teleop.config import TeleopConfig  # noqa: PLC0415
         from workcell.teleop.operator import TeleopOperator  # noqa: PLC0415
+        from workcell.teleop.soft_stop import SoftStop  # noqa: PLC0415
 
         ik = sim.controller.ik
 
@@ -73,7 +74,11 @@ class TeleopDriver:
             qw, qx, qy, qz, x, y, z = (float(v) for v in ik.tcp_pose(side).wxyz_xyz)
             return (x, y, z, qw, qx, qy, qz)
 
-        operator = TeleopOperator(TeleopConfig.for_session(config), tcp_source=tcp_target)
+        operator = TeleopOperator(
+            TeleopConfig.for_session(config),
+            tcp_source=tcp_target,
+            soft_stop=SoftStop(sim.world.model, config.world.robot),
+        )
         return Driving(operator, operator.operator_input)
 
 

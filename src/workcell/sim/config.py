@@ -145,6 +145,14 @@ class RobotConfig:
         (1.4, 0.0, math.pi), "x, y and yaw of the base at every reset", unit="m, m, rad", length=3
     )
     start_spine: float = setting(0.1, "spine height at reset", unit="m", low=0.0, high=0.35)
+    human_clearance: float = setting(
+        0.05,
+        "a base driven by a person's sticks slows early enough to stop this far from the "
+        "conveyor, the table and the walls (0: off); the expert and policies are not slowed",
+        unit="m",
+        low=0.0,
+        high=1.0,
+    )
     max_grasp_span: float = setting(
         0.55, "widest box the two palms can close around", unit="m", low=0.2, high=0.7
     )

@@ -22,6 +22,7 @@ from workcell.teleop.clutch import ArmClutch, Pose
 from workcell.teleop.config import TeleopConfig
 from workcell.teleop.mapping import base_twist, head_angles
 from workcell.teleop.rotation import conjugate, multiply
+from workcell.teleop.soft_stop import SoftStop
 
 TcpSource = Callable[[World, str], Pose]
 """Where an arm's TCP target is now (base frame), read when its grip engages."""
@@ -45,8 +46,11 @@ class TeleopOperator:
         config: TeleopConfig,
         tcp_source: TcpSource = measured_tcp,
         clock: Callable[[], float] = time.monotonic,
+        soft_stop: SoftStop | None = None,
     ) -> None:
         self.config = config
+        self.soft_stop = soft_stop
+        """Slows the base before fixed obstacles (None: the sticks' twist as it is)."""
         self._tcp_source = tcp_source
         self._clock = clock
         self._lock = threading.Lock()
@@ -114,8 +118,11 @@ class TeleopOperator:
             for side, hand in (("l", latest.left), ("r", latest.right))
         }
         self._grippers = (_unit(latest.left.trigger), _unit(latest.right.trigger))
+        base = base_twist(latest.left.stick, latest.right.stick, self.config)
+        if self.soft_stop is not None:
+            base = self.soft_stop.limit(base, world.model, world.data, float(world.base_pose[2]))
         return Command(
-            base=base_twist(latest.left.stick, latest.right.stick, self.config),
+            base=base,
             left=arms["l"],
             right=arms["r"],
             close_left=self._grippers[0],
