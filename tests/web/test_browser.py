@@ -255,6 +255,8 @@ def test_vr_delivery_with_emulated_quest(server: Server) -> None:
     frames = check_successful_trial(server.store, result["session_id"], "e2e-xr")
     check_operator_inputs(frames)
     assert result["wall_s"] < 90
+    assert result["hud_off_axis_deg"] > 45  # the HUD never sits in front of the work area
+    assert result["vignette_peak"] > 0.3  # driving in first person narrowed the view
 
 
 def test_desktop_delivery_with_keyboard_and_mouse(server: Server) -> None:

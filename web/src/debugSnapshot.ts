@@ -26,6 +26,16 @@ export interface TeleopDebug {
   grips_latched: boolean;
   triggers_latched: boolean;
   overlay: string;
+  /** The headset HUD: its mode, where it is this frame, and how far off the robot's
+   * forward view (degrees) it sits. */
+  hud: {
+    mode: "wrist" | "hidden";
+    where: "wrist" | "parked" | "hidden" | null;
+    visible: boolean;
+    off_axis_deg: number | null;
+  };
+  /** The tunnel vignette's strength now and its peak so far (0..0.75), and the base speed it follows (m/s). */
+  comfort: { vignette: number; vignette_peak: number; base_speed: number };
 }
 
 /** What the replay page adds (`replay`). */

@@ -13,6 +13,10 @@ import { DesktopInput, KEY_MAP } from "../input/desktop";
 import { BUTTON, InputSequencer } from "../input/hands";
 import type { DeviceFrame } from "../input/hands";
 import { HudPanel } from "../hud/hudPanel";
+import { BaseMotionMeter, hudPlacement, offAxisDegrees, vignetteStrength } from "../xr/comfort";
+import type { HudMode, HudPlacement } from "../xr/comfort";
+import { Vignette } from "../xr/vignette";
+import { yawOf } from "../scene/frames";
 import { hudLines, trialEndSummary } from "../hud/hudText";
 import { linesToDom, renderEndScreen } from "../hud/endScreen";
 import { exposeCapture, exposeExtra } from "../debug";
@@ -25,6 +29,8 @@ export interface TeleopShared {
 }
 
 const HUD_REFRESH_MS = 100;
+/** The robot's default base limits, for the vignette's scale (m/s, rad/s). */
+const BASE_LIMITS = { linear: 0.8, yaw: 1.2 };
 
 function controllerMarker(colour: number): THREE.Mesh {
   const mesh = new THREE.Mesh(
@@ -71,12 +77,19 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   viewer.rig.add(hudPanel.mesh);
   const markers = [controllerMarker(0x4fa3ff), controllerMarker(0xff7a4f)];
   for (const m of markers) viewer.rig.add(m);
+  const vignette = new Vignette();
+  viewer.camera.add(vignette.mesh);
+  const baseMotion = new BaseMotionMeter();
+  let hudMode: HudMode = "wrist";
+  let hudPlaced: HudPlacement | null = null;
+  let vignettePeak = 0;
 
   let builtScene: Scene | null = null;
   let appliedState: State | null = null;
   let lastTime: number | null = null;
   let lastHud = 0;
   let lastButtons = 0;
+  let lastLeftButtons = 0;
   let lastFrame: DeviceFrame | null = null;
   let xrFrames = 0;
   let sent = 0;
@@ -172,6 +185,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       viewer.world.applyPoses(state.poses);
       viewer.world.applyTargets(state.tcp_targets, state.following);
       appliedState = state;
+      const base = viewer.world.bodyPose("base");
+      if (base !== null) baseMotion.update(state.t_sim, base[0], base[1], yawOf(base));
     }
 
     let reading: DeviceFrame;
@@ -188,6 +203,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (buttons & BUTTON.secondary && !(lastButtons & BUTTON.secondary)) {
         setView(viewer.viewMode === "first" ? "third" : "first");
       }
+      // The left thumbstick press shows or hides the HUD.
+      const leftStick = xrReading.left.buttons & BUTTON.stick;
+      if (leftStick && !(lastLeftButtons & BUTTON.stick)) hudMode = hudMode === "wrist" ? "hidden" : "wrist";
+      lastLeftButtons = xrReading.left.buttons;
       lastButtons = buttons;
       [xrReading.left, xrReading.right].forEach((hand, i) => {
         const marker = markers[i];
@@ -199,9 +218,18 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
           (marker.material as THREE.MeshStandardMaterial).emissive.setHex(hand.grip >= 0.5 ? 0x333333 : 0);
         }
       });
-      hudPanel.mesh.position.set(headsetLocal.x + 0.25, headsetLocal.y - 0.3, headsetLocal.z - 0.75);
+      const placed = hudPlacement(hudMode, xrReading.left.pose, [headsetLocal.x, headsetLocal.y, headsetLocal.z]);
+      hudPlaced = placed;
+      hudPanel.mesh.visible = placed.visible;
+      hudPanel.mesh.position.set(...placed.position);
+      hudPanel.mesh.scale.setScalar(placed.where === "wrist" ? 0.5 : 1);
       hudPanel.mesh.lookAt(viewer.rig.localToWorld(headsetLocal.clone()));
+      const strength =
+        viewer.viewMode === "first" ? vignetteStrength(baseMotion.speed, baseMotion.yawRate, BASE_LIMITS) : 0;
+      vignette.set(strength);
+      vignettePeak = Math.max(vignettePeak, strength);
     } else {
+      vignette.set(0);
       reading = desktop.read(dt);
       if (desktop.viewToggleRequested) {
         desktop.viewToggleRequested = false;
@@ -238,6 +266,14 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     grips_latched: desktop.gripsLatched,
     triggers_latched: desktop.triggersLatched,
     overlay: overlay.className,
+    hud: {
+      mode: hudMode,
+      where: hudPlaced?.where ?? null,
+      visible: hudPanel.mesh.visible,
+      off_axis_deg:
+        hudPlaced === null ? null : offAxisDegrees([headsetLocal.x, headsetLocal.y, headsetLocal.z], hudPlaced.position),
+    },
+    comfort: { vignette: vignette.strength, vignette_peak: vignettePeak, base_speed: baseMotion.speed },
   }));
 
   const removeCapture = exposeCapture("hud_panel", () => hudPanel.canvas.toDataURL("image/png"));
@@ -249,6 +285,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     unsubscribe();
     desktop.dispose();
     viewer.rig.remove(hudPanel.mesh);
+    viewer.camera.remove(vignette.mesh);
     for (const m of markers) viewer.rig.remove(m);
     xr.onChange = null;
     void xr.exit();

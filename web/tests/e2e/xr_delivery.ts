@@ -95,6 +95,20 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   await waitFor(page, (s) => s.teleop?.view === "first", { what: "B to switch back to first person" });
   await page.evaluate(applyAndObserve, { hands: { right: { buttons: { "b-button": 0 } } } });
 
+  // The HUD panel is parked off the forward view while the hands rest or work; a left
+  // thumbstick press hides it and another brings it back.
+  s = await waitFor(page, (s) => s.teleop?.hud.where === "parked", { what: "the HUD parked off the view" });
+  const hudAngle = s.teleop?.hud.off_axis_deg ?? 0;
+  log(`XR HUD parked ${hudAngle.toFixed(1)} degrees off the robot's forward view`);
+  check(hudAngle > 45 && s.teleop?.hud.visible === true, `the XR HUD is ${hudAngle.toFixed(1)} degrees off the view (wanted > 45)`);
+  for (const mode of ["hidden", "wrist"] as const) {
+    await page.evaluate(applyAndObserve, { hands: { left: { buttons: { thumbstick: 1 } } } });
+    await waitFor(page, (s) => s.teleop?.hud.mode === mode, { what: `the left thumbstick press to make the HUD ${mode}` });
+    await page.evaluate(applyAndObserve, { hands: { left: { buttons: { thumbstick: 0 } } } });
+  }
+  s = await waitFor(page, (s) => s.teleop?.hud.visible === true, { what: "the HUD to show again" });
+  check(s.teleop?.comfort.vignette === 0, "the vignette is on while the base stands still");
+
   // The trial clock runs once the countdown is over; the HUD panel in the headset shows it.
   s = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
   await sleep(300);
@@ -158,6 +172,11 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
     },
   });
   await checkDrawn(page, path.join(artifacts, "xr-end.png"));
+  // Driving in first person narrowed the view; standing still it is clear again.
+  const still = await waitFor(page, (s) => s.teleop?.comfort.vignette === 0, { what: "the vignette to clear", timeout: 5000 });
+  const peak = still.teleop?.comfort.vignette_peak ?? 0;
+  log(`tunnel vignette: peak ${peak.toFixed(2)} while driving, ${still.teleop?.comfort.vignette} standing still`);
+  check(peak > 0.3, `the tunnel vignette peaked at ${peak.toFixed(2)} while the base drove (wanted > 0.3)`);
 
   // Leave VR: the desktop end-of-campaign screen and the HUD are drawn.
   await page.evaluate(() => document.querySelector<HTMLButtonElement>("#enter-vr")?.click());
@@ -171,6 +190,8 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
     xr_inputs_with_pose: inputsWithPose,
     input_seq_applied: start?.input_seq ?? null,
     stale_states_dropped: run.end.stats.stale,
+    hud_off_axis_deg: hudAngle,
+    vignette_peak: peak,
   };
   console.log(`RESULT ${JSON.stringify(result)}`);
   checkDelivered(run, "thumbstick");
