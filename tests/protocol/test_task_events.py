@@ -24,6 +24,7 @@ EXAMPLES: tuple[ev.TaskEvent, ...] = (
     ev.LevelChanged(0, 9.5, 1, 2, False),
     ev.TrialTimedOut(1, 90.0),
     ev.TrialInterrupted(1, 3.0, "client_lost"),
+    ev.OperatorActed(1, 2.5, "restart_trial", "xr_menu"),
     ev.TrialEnded(1, 3.0, "interrupted", "client_lost", 3.0, 0, 0),
 )
 

@@ -290,6 +290,33 @@ def test_toolbar_stays_on_top_after_leaving_vr(server: Server) -> None:
     assert (trial["outcome"], trial["interruption_reason"]) == ("interrupted", "operator_stop")
 
 
+def test_in_vr_menu_recenters_switches_view_restarts_and_stops(server: Server) -> None:
+    """The in-VR menu (X, thumbstick, A) in the emulated Quest: every choice is recorded as
+    an event of the trial it was made in, and the restart began a new trial."""
+    result = run_script("xr_menu", server)
+    assert result["reason"] == "operator_stop"
+    assert abs(result["recenter_yaw"] - math.pi / 3) < 0.02
+    first, second = _rows(
+        server.store,
+        "SELECT * FROM trials WHERE session_id = ? ORDER BY trial_index",
+        result["session_id"],
+    )
+    assert (first["outcome"], first["interruption_reason"]) == ("interrupted", "operator_restart")
+    assert (second["outcome"], second["interruption_reason"]) == ("interrupted", "operator_stop")
+    events = _rows(
+        server.store,
+        "SELECT trial_id, payload_json FROM events WHERE session_id = ? AND kind = ? ORDER BY seq",
+        result["session_id"],
+        "operator_action",
+    )
+    recorded = [(e["trial_id"], json.loads(e["payload_json"])) for e in events]
+    assert [(t, p["action"], p["source"]) for t, p in recorded] == [
+        (first["trial_id"], "recenter_view", "xr_menu"),
+        (first["trial_id"], "view_third", "xr_menu"),
+        (first["trial_id"], "restart_trial", "xr_menu"),
+    ]
+
+
 def test_a_page_of_another_origin_cannot_drive(tmp_path: Path, one_browser_at_a_time: None) -> None:
     """A page of another local origin opens the WebSocket in Chromium: refused before it
     can say hello; an origin given with --allow-origin is let in."""

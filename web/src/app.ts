@@ -2,7 +2,7 @@
 // session and what happened in it. Pages read it and subscribe to changes; the server
 // stays the authority and this is only its latest word.
 
-import type { Role } from "./protocol";
+import type { Act, Role } from "./protocol";
 import { Connection } from "./net/connection";
 import { ClientModel } from "./net/model";
 import type { AppEvent } from "./net/model";
@@ -49,6 +49,11 @@ export class App extends ClientModel {
 
   stopSession(): boolean {
     return this.connection.send({ type: "stop" });
+  }
+
+  /** An operator action besides driving (recorded by the server as an event). */
+  act(action: Act["action"], source: Act["source"]): boolean {
+    return this.connection.send({ type: "act", action, source });
   }
 
   private emit(event: AppEvent): void {

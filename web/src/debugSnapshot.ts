@@ -36,6 +36,12 @@ export interface TeleopDebug {
   };
   /** The tunnel vignette's strength now and its peak so far (0..0.75), and the base speed it follows (m/s). */
   comfort: { vignette: number; vignette_peak: number; base_speed: number };
+  /** The in-VR menu: open, and the highlighted item's index. */
+  menu: { open: boolean; index: number };
+  /** The headset heading that recentering made forward (radians; 0: never recentered). */
+  recenter_yaw: number;
+  /** Every operator action this page sent, as `action:source`. */
+  actions: string[];
 }
 
 /** What the replay page adds (`replay`). */

@@ -12,8 +12,8 @@ export type InputSource = "xr" | "desktop" | "gamepad";
 export type HudPhase = "countdown" | "running" | "finished";
 export type Mode = "practice" | "collection" | "challenge";
 export type Outcome = "success" | "timeout" | "interrupted";
-export type InterruptionReason = "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error";
-export type SessionEndReason = "completed" | "error" | "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error";
+export type InterruptionReason = "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart";
+export type SessionEndReason = "completed" | "error" | "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart";
 export type ErrorCode = "malformed" | "too_large" | "invalid_value" | "not_allowed" | "rate_limited" | "protocol";
 export type SettingKind = "int" | "float" | "text" | "choice" | "int_list" | "float_list" | "bool";
 
@@ -117,6 +117,16 @@ export interface TrialInterrupted {
   readonly type: "event";
 }
 
+/** The operator used a control of the application (``action``, from ``source``). */
+export interface OperatorActed {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third";
+  readonly source: "xr_menu" | "xr_button" | "desktop";
+  readonly kind: "operator_action";
+  readonly type: "event";
+}
+
 /** A trial is over: its outcome, time, deliveries and score. */
 export interface TrialEnded {
   readonly trial_index: number;
@@ -180,6 +190,18 @@ export interface Input {
 /** The operator ends the session (the running trial ends interrupted: operator_stop). */
 export interface Stop {
   readonly type: "stop";
+}
+
+/**
+ * The operator used a control of the application besides driving (the in-VR menu or
+ * its desktop counterpart); recorded as an ``operator_action`` event of the trial under
+ * way. ``restart_trial`` also ends the running trial (interrupted: operator_restart) and
+ * begins a new one of the same kind.
+ */
+export interface Act {
+  readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third";
+  readonly source: "xr_menu" | "xr_button" | "desktop";
+  readonly type: "act";
 }
 
 /** Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged. */
@@ -459,7 +481,8 @@ export type TaskEvent =
   | LevelChanged
   | TrialTimedOut
   | TrialInterrupted
-  | TrialEnded;
+  | TrialEnded
+  | OperatorActed;
 
 /** What a client may send. */
 export type ClientMessage =
@@ -467,6 +490,7 @@ export type ClientMessage =
   | StartSession
   | Input
   | Stop
+  | Act
   | Ping;
 
 /** What the server sends. */

@@ -20,7 +20,13 @@ from dataclasses import dataclass
 from typing import Literal
 
 from workcell.session.config import Mode
-from workcell.task.events import TASK_EVENTS, SessionEndReason, TaskEvent
+from workcell.task.events import (
+    TASK_EVENTS,
+    ActionSource,
+    OperatorAction,
+    SessionEndReason,
+    TaskEvent,
+)
 from workcell.task.hud import Hud
 
 PROTOCOL_VERSION = 1
@@ -93,6 +99,18 @@ class Stop:
 
 
 @dataclass(frozen=True)
+class Act:
+    """The operator used a control of the application besides driving (the in-VR menu or
+    its desktop counterpart); recorded as an ``operator_action`` event of the trial under
+    way. ``restart_trial`` also ends the running trial (interrupted: operator_restart) and
+    begins a new one of the same kind."""
+
+    action: OperatorAction
+    source: ActionSource
+    type: Literal["act"] = "act"
+
+
+@dataclass(frozen=True)
 class Ping:
     """Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged."""
 
@@ -100,7 +118,7 @@ class Ping:
     type: Literal["ping"] = "ping"
 
 
-ClientMessage = Hello | StartSession | Input | Stop | Ping
+ClientMessage = Hello | StartSession | Input | Stop | Act | Ping
 
 
 # --- server -> client -------------------------------------------------------------------------
@@ -253,7 +271,7 @@ ServerMessage = (
     | Pong
 )
 
-CLIENT_MESSAGES: tuple[type, ...] = (Hello, StartSession, Input, Stop, Ping)
+CLIENT_MESSAGES: tuple[type, ...] = (Hello, StartSession, Input, Stop, Act, Ping)
 SERVER_MESSAGES: tuple[type, ...] = (
     Welcome,
     Scene,

@@ -166,6 +166,14 @@ class Conductor:
         if not self.session.operator.submit(message):
             client.refuse("protocol", f"input.seq = {message.seq}: older than the last input")
 
+    def act(self, client: Client, message: m.Act) -> None:
+        if client is not self.operator:
+            client.refuse("not_allowed", f"act: only the operator acts ({message.action})")
+        elif self.session is None:
+            client.refuse("not_allowed", f"act: no session is running ({message.action})")
+        else:
+            self.session.request_action(message.action, message.source)
+
     def stop(self, client: Client) -> None:
         if client is not self.operator:
             client.refuse("not_allowed", "stop: only the operator stops the session")

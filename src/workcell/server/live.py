@@ -9,6 +9,7 @@ and hear from it through a :class:`SessionListener` (called on the simulation th
 
 from __future__ import annotations
 
+import collections
 import contextlib
 import logging
 import threading
@@ -73,6 +74,9 @@ class LiveSession:
         self.scene: Scene | None = None
         self._session: RecordedSession | None = None
         self._stop = StopRequest()
+        self._actions: collections.deque[tuple[ev.OperatorAction, ev.ActionSource]] = (
+            collections.deque()
+        )
         self._ready = threading.Event()
         self._startup_error: BaseException | None = None
         self._thread = threading.Thread(target=self._main, name="workcell-sim", daemon=True)
@@ -84,6 +88,11 @@ class LiveSession:
         if self._startup_error is not None:
             self._thread.join()
             raise self._startup_error
+
+    def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
+        """Have the runner act on an operator's action at its next control period (from
+        any thread)."""
+        self._actions.append((action, source))
 
     def request_stop(self, reason: ev.InterruptionReason) -> None:
         """End the running trial as interrupted with ``reason`` (from any thread)."""
@@ -174,6 +183,8 @@ class LiveSession:
 
         def send() -> None:
             nonlocal next_state
+            while self._actions:  # deque.popleft is atomic: the socket thread appends
+                session.runner.act_on(*self._actions.popleft())
             now = session.pacing.steps * dt
             if now >= next_state - dt / 2:
                 next_state = max(next_state + self.state_period, now)

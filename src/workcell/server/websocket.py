@@ -83,3 +83,5 @@ async def _handle(client: Client, conductor: Conductor, raw: str | bytes | None)
         await conductor.start_session(client, message)
     elif isinstance(message, m.Stop):
         conductor.stop(client)
+    elif isinstance(message, m.Act):
+        conductor.act(client, message)

@@ -18,7 +18,12 @@ from workcell.sim import events as world
 
 Outcome = Literal["success", "timeout", "interrupted"]
 InterruptionReason = Literal[
-    "operator_stop", "application_quit", "client_lost", "crash_recovered", "storage_error"
+    "operator_stop",
+    "application_quit",
+    "client_lost",
+    "crash_recovered",
+    "storage_error",
+    "operator_restart",
 ]
 SessionEndReason = Literal["completed", "error", InterruptionReason]
 """Why a session ended: its campaign completed, it was interrupted (the reason its last
@@ -121,6 +126,27 @@ class TrialInterrupted:
     type: Literal["event"] = "event"
 
 
+OperatorAction = Literal["restart_trial", "recenter_view", "view_first", "view_third"]
+"""What an operator can do from the in-VR menu (or its desktop counterpart) besides driving:
+start the trial over (the attempt ends interrupted, ``operator_restart``, and a new trial
+of the same kind begins), recenter the headset view, switch to first or third person."""
+ActionSource = Literal["xr_menu", "xr_button", "desktop"]
+"""Where an action came from: the in-VR menu, a controller button (B/Y switches the view),
+or the desktop page (toolbar, keys)."""
+
+
+@dataclass(frozen=True)
+class OperatorActed:
+    """The operator used a control of the application (``action``, from ``source``)."""
+
+    trial_index: int
+    t_sim: float
+    action: OperatorAction
+    source: ActionSource
+    kind: Literal["operator_action"] = "operator_action"
+    type: Literal["event"] = "event"
+
+
 @dataclass(frozen=True)
 class TrialEnded:
     """A trial is over: its outcome, time, deliveries and score."""
@@ -146,6 +172,7 @@ TaskEvent = (
     | TrialTimedOut
     | TrialInterrupted
     | TrialEnded
+    | OperatorActed
 )
 TASK_EVENTS: tuple[type[TaskEvent], ...] = get_args(TaskEvent)
 

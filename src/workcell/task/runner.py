@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import time
 from collections.abc import Callable
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
@@ -130,6 +130,21 @@ class SessionRunner:
         self.bus.publish(ev.TrialInterrupted(self._spec.trial_index, t, reason))
         self._end("interrupted", reason, max(t, 0.0))
 
+    def act_on(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
+        """Record an operator's action; ``restart_trial`` ends a running trial as
+        interrupted, ``operator_restart``, and begins a new trial of the same kind (the next
+        trial index, its own seed). During a countdown nothing is under way to restart."""
+        if self.phase is HudPhase.FINISHED or self._spec is None:
+            return
+        spec = self._spec
+        t = self.trial_time
+        self.bus.publish(ev.OperatorActed(spec.trial_index, t, action, source))
+        if action != "restart_trial" or self.phase is not HudPhase.RUNNING:
+            return
+        self.bus.publish(ev.TrialInterrupted(spec.trial_index, t, "operator_restart"))
+        self._finish("interrupted", "operator_restart", max(t, 0.0))
+        self._begin(replace(spec, trial_index=spec.trial_index + 1))
+
     # --- state ------------------------------------------------------------------------------
 
     @property
@@ -230,6 +245,26 @@ class SessionRunner:
             self._end("timeout", None, t)
 
     def _end(self, outcome: ev.Outcome, reason: ev.InterruptionReason | None, t: float) -> None:
+        spec = self._finish(outcome, reason, t)
+        following = self.schedule.next(spec, outcome)
+        capped = self.max_trials is not None and len(self.results) >= self.max_trials
+        if following is not None and capped:
+            self.capped = True
+            following = None
+        if following is None:
+            self.phase = HudPhase.FINISHED
+            return
+        if following.level is not None and following.round is not None:
+            repeat = (following.round, following.level) == (spec.round, spec.level)
+            self.bus.publish(
+                ev.LevelChanged(spec.trial_index, t, following.round, following.level, repeat)
+            )
+        self._begin(following)
+
+    def _finish(
+        self, outcome: ev.Outcome, reason: ev.InterruptionReason | None, t: float
+    ) -> TrialSpec:
+        """Score the trial under way, keep its result and announce its end."""
         spec = self._spec
         assert spec is not None
         box_score = self.config.task.box_score
@@ -253,20 +288,7 @@ class SessionRunner:
         self.bus.publish(
             ev.TrialEnded(spec.trial_index, t, outcome, reason, t, self._delivered, score)
         )
-        following = self.schedule.next(spec, outcome)
-        capped = self.max_trials is not None and len(self.results) >= self.max_trials
-        if following is not None and capped:
-            self.capped = True
-            following = None
-        if following is None:
-            self.phase = HudPhase.FINISHED
-            return
-        if following.level is not None and following.round is not None:
-            repeat = (following.round, following.level) == (spec.round, spec.level)
-            self.bus.publish(
-                ev.LevelChanged(spec.trial_index, t, following.round, following.level, repeat)
-            )
-        self._begin(following)
+        return spec
 
     def _publish_world_event(self, event: world_events.WorldEvent) -> None:
         spec = self._spec

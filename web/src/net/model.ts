@@ -123,6 +123,7 @@ export class ClientModel {
       case "level_changed":
       case "trial_timed_out":
       case "trial_interrupted":
+      case "operator_action":
         break;
       default:
         unhandled(event);

@@ -4,7 +4,7 @@
 
 import * as THREE from "three";
 import type { App } from "../app";
-import type { Scene, State } from "../protocol";
+import type { Pose, Scene, State } from "../protocol";
 import type { Viewer } from "../scene/viewer";
 import type { XrController } from "../xr/xrSession";
 import { xrAvailability } from "../xr/xrSession";
@@ -16,6 +16,10 @@ import { HudPanel } from "../hud/hudPanel";
 import { BaseMotionMeter, hudPlacement, offAxisDegrees, vignetteStrength } from "../xr/comfort";
 import type { HudMode, HudPlacement } from "../xr/comfort";
 import { Vignette } from "../xr/vignette";
+import { VrMenu } from "../xr/vrMenu";
+import type { MenuItem } from "../xr/vrMenu";
+import { applyRecenter, headingOf, NO_RECENTER, recenterOn, recenterPoint, undo } from "../xr/recenter";
+import type { Recenter } from "../xr/recenter";
 import { yawOf } from "../scene/frames";
 import { hudLines, trialEndSummary } from "../hud/hudText";
 import { linesToDom, renderEndScreen } from "../hud/endScreen";
@@ -51,9 +55,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const linkBadge = el("span", { className: "link-badge" });
   const vrButton = el("button", { id: "enter-vr", textContent: "Enter VR", disabled: true });
   const viewButton = el("button", { id: "toggle-view", textContent: "View: third person" });
+  const restartButton = el("button", { id: "restart-trial", textContent: "Restart trial" });
   const stopButton = el("button", { id: "stop-session", textContent: "Stop session" });
   const keysButton = el("button", { textContent: "Keys" });
-  bar.append(linkBadge, vrButton, viewButton, stopButton, keysButton);
+  bar.append(linkBadge, vrButton, viewButton, restartButton, stopButton, keysButton);
   const keymap = el("div", { className: "keymap", id: "keymap" });
   keymap.append(el("h2", { textContent: "Desktop controls" }));
   const keyTable = el("table");
@@ -83,6 +88,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   let hudMode: HudMode = "wrist";
   let hudPlaced: HudPlacement | null = null;
   let vignettePeak = 0;
+  const menu = new VrMenu();
+  viewer.rig.add(menu.mesh);
+  let recenter: Recenter = NO_RECENTER;
+  const actions: string[] = [];
 
   let builtScene: Scene | null = null;
   let appliedState: State | null = null;
@@ -99,7 +108,18 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     viewer.viewMode = mode;
     viewButton.textContent = `View: ${mode} person`;
   };
-  viewButton.addEventListener("click", () => setView(viewer.viewMode === "first" ? "third" : "first"));
+  /** Switch the view and have the server record it. */
+  const toggleView = (source: "xr_menu" | "xr_button" | "desktop"): void => {
+    const next = viewer.viewMode === "first" ? "third" : "first";
+    setView(next);
+    act(next === "first" ? "view_first" : "view_third", source);
+  };
+  const act = (action: "restart_trial" | "recenter_view" | "view_first" | "view_third", source: "xr_menu" | "xr_button" | "desktop"): void => {
+    actions.push(`${action}:${source}`);
+    if (app.sessionActive && app.isOperator) app.act(action, source);
+  };
+  viewButton.addEventListener("click", () => toggleView("desktop"));
+  restartButton.addEventListener("click", () => act("restart_trial", "desktop"));
   keysButton.addEventListener("click", () => keymap.classList.toggle("hidden"));
   stopButton.addEventListener("click", () => app.stopSession());
   vrButton.addEventListener("click", () => {
@@ -143,6 +163,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
             : "● connecting…";
     linkBadge.className = `link-badge ${info.status}`;
     stopButton.disabled = !app.sessionActive || role !== "operator";
+    restartButton.disabled = stopButton.disabled;
     const h = app.ended === null ? app.hud : null; // after the end, the end screen says it
     hud.replaceChildren();
     if (h !== null) {
@@ -172,6 +193,16 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     }
   };
 
+  /** Carry out what the operator chose in the in-VR menu. */
+  const choose = (item: MenuItem, headset: Pose | null): void => {
+    if (item === "restart_trial") act("restart_trial", "xr_menu");
+    else if (item === "recenter_view") {
+      if (headset !== null) recenter = recenterOn(headset);
+      act("recenter_view", "xr_menu");
+    } else if (item === "toggle_view") toggleView("xr_menu");
+    else if (item === "stop_session") app.stopSession();
+  };
+
   const onFrame = (time: number, frame: XRFrame | undefined): void => {
     const dt = lastTime === null ? 0 : Math.min(0.1, (time - lastTime) / 1000);
     lastTime = time;
@@ -193,22 +224,39 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     const space = xr.referenceSpace;
     if (viewer.presenting && frame !== undefined && space !== null) {
       xrFrames += 1;
-      const xrReading = readXrFrame(frame, space);
+      const raw = readXrFrame(frame, space);
+      const recentered = (pose: Pose | null): Pose | null => (pose === null ? null : applyRecenter(pose, recenter));
+      const xrReading = {
+        ...raw,
+        headset: recentered(raw.headset),
+        left: { ...raw.left, pose: recentered(raw.left.pose) },
+        right: { ...raw.right, pose: recentered(raw.right.pose) },
+      };
       reading = xrReading;
-      if (xrReading.headsetPosition !== null) {
-        const p = xrReading.headsetPosition;
-        headsetLocal.set(p.x, p.y, p.z);
+      if (xrReading.headset !== null) headsetLocal.set(xrReading.headset[0], xrReading.headset[1], xrReading.headset[2]);
+      // The in-VR menu: X opens it; while open the sticks do not drive and B closes it.
+      const wasOpen = menu.state.open;
+      const chosen = menu.state.update({
+        open: (raw.left.buttons & BUTTON.primary) !== 0,
+        choose: (raw.right.buttons & BUTTON.primary) !== 0,
+        back: (raw.right.buttons & BUTTON.secondary) !== 0,
+        stickY: raw.right.stick[1],
+      });
+      if (chosen !== null) choose(chosen, raw.headset);
+      const menuOpen = menu.state.open;
+      if (menuOpen || chosen !== null) {
+        reading = { ...xrReading, left: { ...xrReading.left, stick: [0, 0] }, right: { ...xrReading.right, stick: [0, 0] } };
       }
       const buttons = xrReading.left.buttons | xrReading.right.buttons;
-      if (buttons & BUTTON.secondary && !(lastButtons & BUTTON.secondary)) {
-        setView(viewer.viewMode === "first" ? "third" : "first");
+      if (!wasOpen && !menuOpen && buttons & BUTTON.secondary && !(lastButtons & BUTTON.secondary)) {
+        toggleView("xr_button");
       }
       // The left thumbstick press shows or hides the HUD.
       const leftStick = xrReading.left.buttons & BUTTON.stick;
       if (leftStick && !(lastLeftButtons & BUTTON.stick)) hudMode = hudMode === "wrist" ? "hidden" : "wrist";
       lastLeftButtons = xrReading.left.buttons;
       lastButtons = buttons;
-      [xrReading.left, xrReading.right].forEach((hand, i) => {
+      [raw.left, raw.right].forEach((hand, i) => {
         const marker = markers[i];
         if (marker === undefined) return;
         marker.visible = hand.pose !== null;
@@ -220,10 +268,20 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       });
       const placed = hudPlacement(hudMode, xrReading.left.pose, [headsetLocal.x, headsetLocal.y, headsetLocal.z]);
       hudPlaced = placed;
-      hudPanel.mesh.visible = placed.visible;
-      hudPanel.mesh.position.set(...placed.position);
+      const rawEyes = raw.headsetPosition ?? { x: 0, y: 1.6, z: 0 };
+      const eyesInRig = (): THREE.Vector3 => viewer.rig.localToWorld(new THREE.Vector3(rawEyes.x, rawEyes.y, rawEyes.z));
+      hudPanel.mesh.visible = placed.visible && !menuOpen;
+      hudPanel.mesh.position.set(...recenterPoint(placed.position, undo(recenter)));
       hudPanel.mesh.scale.setScalar(placed.where === "wrist" ? 0.5 : 1);
-      hudPanel.mesh.lookAt(viewer.rig.localToWorld(headsetLocal.clone()));
+      hudPanel.mesh.lookAt(eyesInRig());
+      menu.mesh.visible = menuOpen;
+      if (menuOpen) {
+        menu.draw(viewer.viewMode === "first" ? "Third person" : "First person");
+        // in front of where the operator looks now (raw local-floor, as the rig's children)
+        const gaze = raw.headset === null ? 0 : headingOf(raw.headset);
+        menu.mesh.position.set(rawEyes.x - 0.6 * Math.sin(gaze), rawEyes.y - 0.1, rawEyes.z - 0.6 * Math.cos(gaze));
+        menu.mesh.lookAt(eyesInRig());
+      }
       const strength =
         viewer.viewMode === "first" ? vignetteStrength(baseMotion.speed, baseMotion.yawRate, BASE_LIMITS) : 0;
       vignette.set(strength);
@@ -233,14 +291,14 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       reading = desktop.read(dt);
       if (desktop.viewToggleRequested) {
         desktop.viewToggleRequested = false;
-        setView(viewer.viewMode === "first" ? "third" : "first");
+        toggleView("desktop");
       }
     }
     lastFrame = reading;
     if (app.sessionActive && app.isOperator && app.connection.isOpen) {
       if (app.connection.send(sequencer.next(reading))) sent += 1;
     }
-    viewer.placeRig(viewer.presenting ? headsetLocal : null);
+    viewer.placeRig(viewer.presenting ? headsetLocal : null, recenter);
     if (time - lastHud > HUD_REFRESH_MS) {
       lastHud = time;
       renderHud();
@@ -274,6 +332,9 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
         hudPlaced === null ? null : offAxisDegrees([headsetLocal.x, headsetLocal.y, headsetLocal.z], hudPlaced.position),
     },
     comfort: { vignette: vignette.strength, vignette_peak: vignettePeak, base_speed: baseMotion.speed },
+    menu: { open: menu.state.open, index: menu.state.index },
+    recenter_yaw: recenter.yaw,
+    actions: [...actions],
   }));
 
   const removeCapture = exposeCapture("hud_panel", () => hudPanel.canvas.toDataURL("image/png"));
@@ -286,6 +347,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     desktop.dispose();
     viewer.rig.remove(hudPanel.mesh);
     viewer.camera.remove(vignette.mesh);
+    viewer.rig.remove(menu.mesh);
     for (const m of markers) viewer.rig.remove(m);
     xr.onChange = null;
     void xr.exit();

@@ -8,6 +8,8 @@ import * as THREE from "three";
 import { rigYawForHeading, yawOf } from "./frames";
 import { WorldModel } from "./worldModel";
 import { lowQuality } from "../util/env";
+import { NO_RECENTER } from "../xr/recenter";
+import type { Recenter } from "../xr/recenter";
 
 export type ViewMode = "first" | "third";
 export type FrameCallback = (time: number, frame: XRFrame | undefined) => void;
@@ -92,7 +94,7 @@ export class Viewer {
    * Place the rig for this frame. `headsetLocal` is the headset position in local-floor
    * (XR only): the rig is offset so the operator's eyes sit at the robot's head camera.
    */
-  placeRig(headsetLocal: THREE.Vector3 | null): void {
+  placeRig(headsetLocal: THREE.Vector3 | null, recenter: Recenter = NO_RECENTER): void {
     const base = this.world.bodyPose("base");
     if (base === null) return;
     const yaw = yawOf(base);
@@ -111,6 +113,18 @@ export class Viewer {
       } else {
         this.rig.position.copy(basePosition.addScaledVector(forward, -XR_CHASE_DISTANCE));
         this.rig.position.y = 0;
+      }
+      if (recenter.yaw !== 0) {
+        // The headset poses were recentered (turned by -yaw about the pivot); the camera
+        // and the controllers in the rig are raw, so the rig turns them the same way:
+        // rig = placement * T, T(p) = c + R (p - c).
+        const turn = new THREE.Quaternion().setFromAxisAngle(UP, -recenter.yaw);
+        const pivot = new THREE.Vector3(recenter.x, 0, recenter.z);
+        const placed = this.rig.quaternion.clone();
+        this.rig.quaternion.multiply(turn);
+        this.rig.position
+          .add(pivot.clone().applyQuaternion(placed))
+          .sub(pivot.applyQuaternion(this.rig.quaternion));
       }
       this.camera.position.set(0, 0, 0);
       this.camera.quaternion.identity();
