@@ -35,6 +35,8 @@ export interface TeleopShared {
 const HUD_REFRESH_MS = 100;
 /** The robot's default base limits, for the vignette's scale (m/s, rad/s). */
 const BASE_LIMITS = { linear: 0.8, yaw: 1.2 };
+/** A State older than this (ms) no longer tells how the base moves. */
+const STATE_FRESH_MS = 300;
 
 function controllerMarker(colour: number): THREE.Mesh {
   const mesh = new THREE.Mesh(
@@ -88,6 +90,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   let hudMode: HudMode = "wrist";
   let hudPlaced: HudPlacement | null = null;
   let vignettePeak = 0;
+  let lastStateAt = -Infinity;
   const menu = new VrMenu();
   viewer.rig.add(menu.mesh);
   let recenter: Recenter = NO_RECENTER;
@@ -218,6 +221,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       appliedState = state;
       const base = viewer.world.bodyPose("base");
       if (base !== null) baseMotion.update(state.t_sim, base[0], base[1], yawOf(base));
+      lastStateAt = time;
     }
 
     let reading: DeviceFrame;
@@ -282,8 +286,11 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
         menu.mesh.position.set(rawEyes.x - 0.6 * Math.sin(gaze), rawEyes.y - 0.1, rawEyes.z - 0.6 * Math.cos(gaze));
         menu.mesh.lookAt(eyesInRig());
       }
+      // Only while states arrive: after the session's end (or a stalled link) the last
+      // measured motion is not what the base does.
+      const moving = app.sessionActive && time - lastStateAt < STATE_FRESH_MS;
       const strength =
-        viewer.viewMode === "first" ? vignetteStrength(baseMotion.speed, baseMotion.yawRate, BASE_LIMITS) : 0;
+        viewer.viewMode === "first" && moving ? vignetteStrength(baseMotion.speed, baseMotion.yawRate, BASE_LIMITS) : 0;
       vignette.set(strength);
       vignettePeak = Math.max(vignettePeak, strength);
     } else {
