@@ -14,7 +14,7 @@ from numpy.typing import NDArray
 
 from tests.audit import builders as b
 from tests.audit.conftest import ExpertStores, expert_trials
-from workcell.audit.run import run_audit
+from workcell.audit.run import AuditResult, run_audit
 from workcell.audit.store_source import StoreSource
 from workcell.audit.task_stages import (
     LIFT_M,
@@ -151,6 +151,14 @@ def test_counts_name_every_stage_and_reached_includes_the_later_ones() -> None:
     }
 
 
+def _audited(path: Path) -> AuditResult:
+    source = StoreSource(path)
+    try:
+        return run_audit(source)
+    finally:
+        source.close()
+
+
 def _first(mask: NDArray[np.bool_]) -> int:
     hits = np.flatnonzero(mask)
     assert len(hits), "the expert trial never reaches this step"
@@ -201,11 +209,7 @@ def test_an_expert_trial_cut_short_at_each_step_reads_as_that_stage(
                 store, session_id, trial, outcome, interruption_reason=reason
             )
         store.end_session(session_id)
-    source = StoreSource(path)
-    try:
-        result = run_audit(source)
-    finally:
-        source.close()
+    result = _audited(path)
     assert {t.trial_id: t.task_stage for t in result.trials} == {
         trial_id: stage for stage, trial_id in ids.items()
     }
@@ -260,10 +264,5 @@ def test_a_boxes_cell_that_is_not_json_is_read_without_sqlite(
         session_id = store.create_session(b.session_info(session))
         trial_id = b.write_trial(store, session_id, frames, "timeout")
         store.end_session(session_id)
-    source = StoreSource(path)
-    try:
-        result = run_audit(source)
-    finally:
-        source.close()
-    (trial,) = result.trials
+    (trial,) = _audited(path).trials
     assert trial.trial_id == trial_id and trial.task_stage == "over_zone"
