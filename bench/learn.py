@@ -40,6 +40,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from pathlib import Path
 
+from workcell.audit.task_stages import counts_text
 from workcell.metrics import wilson_interval
 
 EXPERT_SEED = 0
@@ -86,14 +87,8 @@ class Evaluation:
             f"{self.name:28s}{used}{trained}  success {self.successes:3d}/{self.n}"
             f" = {100 * self.rate:5.1f} % [Wilson 95 % {100 * low:5.1f}, {100 * high:5.1f}]"
             f"  rollouts {self.sim_s / max(self.seconds, 1e-9):5.1f}x real time"
-            f"  got to: {self.stages_text()}"
+            f"  got to: {counts_text(self.stages)}"
         )
-
-    def stages_text(self) -> str:
-        """``18 delivered, 2 over_zone``: furthest stage first, stages no rollout ended at
-        left out."""
-        parts = [f"{n} {stage}" for stage, n in reversed(list(self.stages.items())) if n]
-        return ", ".join(parts) or "-"
 
 
 def workcell(*args: str, log: Path) -> subprocess.CompletedProcess[str]:

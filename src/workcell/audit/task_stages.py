@@ -248,6 +248,13 @@ def stage_counts(stages: Iterable[TaskStage]) -> dict[TaskStage, int]:
     return counts
 
 
+def counts_text(counts: Mapping[TaskStage, int] | Mapping[str, int]) -> str:
+    """The stages trials ended at, furthest first, none left out but zeros:
+    ``18 delivered, 2 over_zone``."""
+    parts = [f"{n} {stage}" for stage, n in reversed(list(counts.items())) if n]
+    return ", ".join(parts) or "no trials"
+
+
 def at_least(counts: Mapping[TaskStage, int]) -> dict[TaskStage, int]:
     """How many trials reached each stage or a later one (a trial that delivered also
     touched, grasped, lifted and was over the zone)."""

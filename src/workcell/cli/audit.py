@@ -10,12 +10,11 @@ from pathlib import Path
 from typing import TYPE_CHECKING
 
 if TYPE_CHECKING:
-    from collections.abc import Mapping, Sequence
+    from collections.abc import Sequence
 
     from workcell.audit.counts import DispositionCounts
     from workcell.audit.run import AuditResult
     from workcell.audit.stats import GroupStats, SuccessRate
-    from workcell.audit.task_stages import TaskStage
     from workcell.audit.trial_audit import TrialAudit
     from workcell.cli.command import Subparsers
 
@@ -160,21 +159,22 @@ def _group_lines(key: str, groups: Sequence[GroupStats]) -> list[str]:
         lines.append(
             f"  {key} {group.value}: {c.raw} trials, {c.valid} valid "
             f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}, "
-            f"{_marked_text(c)}; got to: {_counts_text(group.task_stages)}"
+            f"{_marked_text(c)}; got to: {_stages_of_group(group)}"
         )
     return lines
 
 
+def _stages_of_group(group: GroupStats) -> str:
+    from workcell.audit.task_stages import counts_text  # noqa: PLC0415
+
+    return counts_text(group.task_stages)
+
+
 def _stages_text(trials: Sequence[TrialAudit]) -> str:
     from workcell.audit.stats import task_stages_of  # noqa: PLC0415
+    from workcell.audit.task_stages import counts_text  # noqa: PLC0415
 
-    return _counts_text(task_stages_of(trials))
-
-
-def _counts_text(counts: Mapping[TaskStage, int]) -> str:
-    """The stages trials ended at, furthest first: ``18 delivered, 2 over_zone``."""
-    parts = [f"{n} {stage}" for stage, n in reversed(list(counts.items())) if n]
-    return ", ".join(parts) or "no trials"
+    return counts_text(task_stages_of(trials))
 
 
 def _comparison_lines(result: AuditResult) -> list[str]:

@@ -140,7 +140,13 @@ class LiveSession:
         reason: ev.SessionEndReason = "error"
         detail = "the simulation thread failed"
         try:
-            reason = session.run(after_step=self._state_sender(session))
+            send_state = self._state_sender(session)
+
+            def after_step() -> None:
+                self._apply_actions(session)
+                send_state()
+
+            reason = session.run(after_step=after_step)
             detail = ""
             if reason == "storage_error":
                 logger.warning("session %s stopped: %s", session.session_id, session.failure)
@@ -174,6 +180,11 @@ class LiveSession:
                 self.listener.message(encode(scene))
         self.listener.message(encode(event_message(event)))
 
+    def _apply_actions(self, session: RecordedSession) -> None:
+        """The operator actions requested since the last control period, in order."""
+        while self._actions:  # deque.popleft is atomic: the socket thread appends
+            session.runner.act_on(*self._actions.popleft())
+
     def _state_sender(self, session: RecordedSession) -> Callable[[], None]:
         """After each control period: the State to the listener, at ``state_hz`` on the
         sim clock on average, never faster than the control rate."""
@@ -183,8 +194,6 @@ class LiveSession:
 
         def send() -> None:
             nonlocal next_state
-            while self._actions:  # deque.popleft is atomic: the socket thread appends
-                session.runner.act_on(*self._actions.popleft())
             now = session.pacing.steps * dt
             if now >= next_state - dt / 2:
                 next_state = max(next_state + self.state_period, now)

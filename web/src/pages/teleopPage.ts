@@ -4,7 +4,7 @@
 
 import * as THREE from "three";
 import type { App } from "../app";
-import type { Pose, Scene, State } from "../protocol";
+import type { Act, Pose, Scene, State } from "../protocol";
 import type { Viewer } from "../scene/viewer";
 import type { XrController } from "../xr/xrSession";
 import { xrAvailability } from "../xr/xrSession";
@@ -112,12 +112,12 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     viewButton.textContent = `View: ${mode} person`;
   };
   /** Switch the view and have the server record it. */
-  const toggleView = (source: "xr_menu" | "xr_button" | "desktop"): void => {
+  const toggleView = (source: Act["source"]): void => {
     const next = viewer.viewMode === "first" ? "third" : "first";
     setView(next);
     act(next === "first" ? "view_first" : "view_third", source);
   };
-  const act = (action: "restart_trial" | "recenter_view" | "view_first" | "view_third", source: "xr_menu" | "xr_button" | "desktop"): void => {
+  const act = (action: Act["action"], source: Act["source"]): void => {
     actions.push(`${action}:${source}`);
     if (app.sessionActive && app.isOperator) app.act(action, source);
   };
