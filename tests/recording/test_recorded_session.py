@@ -110,6 +110,39 @@ def test_a_dead_writer_ends_the_session_as_storage_error_within_one_hand_over(
     assert _stored(tmp_path / "s.sqlite") == ("interrupted", [("interrupted", "storage_error")])
 
 
+def test_a_failure_while_a_trial_ends_is_what_the_results_and_the_store_both_say(
+    tmp_path: Path,
+) -> None:
+    """The writer dies after the trial's last hand-over of frames, so the failure comes as
+    its timeout is written: the store closes the trial interrupted (storage_error), and the
+    results say so too, without the next trial the runner began, which was never recorded."""
+    task = TaskConfig(mode="collection", trials=0, time_limit_s=1.0, countdown_s=0.0)
+    config = RecordedSessionConfig(
+        session=SessionConfig(seed=3, task=task),
+        driver=ExpertDriver(ExpertConfig(skill=0.5)),
+        store=tmp_path / "s.sqlite",
+        max_trials=3,
+    )
+    reported: list[TrialResult] = []
+    with RecordedSession.open(config) as session:
+        writer = writer_of(os.getpid())
+        runner = session.runner
+
+        def kill_after_the_last_hand_over() -> None:
+            if runner.trial_time >= 0.975 and session.failure is None and not reported:
+                os.kill(writer, signal.SIGKILL)
+                wait_until_dead(writer)
+
+        ended = session.run(after_step=kill_after_the_last_hand_over, on_trial=reported.append)
+    assert ended == "storage_error"
+    expected = [(0, "interrupted", "storage_error")]
+    assert [(r.spec.trial_index, r.outcome, r.interruption_reason) for r in reported] == expected
+    assert reported == session.runner.results
+    (result,) = reported
+    assert result.completion_time_s is None and result.elapsed_s == pytest.approx(1.0)
+    assert _stored(tmp_path / "s.sqlite") == ("interrupted", [("interrupted", "storage_error")])
+
+
 def test_a_stop_request_from_another_thread_ends_a_paced_session(tmp_path: Path) -> None:
     task = TaskConfig(mode="practice", time_limit_s=30.0, countdown_s=0.0)
     config = RecordedSessionConfig(

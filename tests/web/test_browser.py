@@ -201,7 +201,6 @@ def run_script(name: str, server: Server, *extra: str) -> dict[str, Any]:
     lines = [line for line in completed.stdout.splitlines() if line.startswith("RESULT ")]
     assert lines, f"{name}.ts printed no RESULT line\n{output}"
     result: dict[str, Any] = json.loads(lines[-1].removeprefix("RESULT "))
-    result["wall_s"] = took
     return result
 
 
@@ -254,7 +253,6 @@ def test_vr_delivery_with_emulated_quest(server: Server) -> None:
     assert result["base_moved_m"] > 0.2
     frames = check_successful_trial(server.store, result["session_id"], "e2e-xr")
     check_operator_inputs(frames)
-    assert result["wall_s"] < 90
     assert result["hud_off_axis_deg"] > 45  # the HUD never sits in front of the work area
     assert result["vignette_peak"] > 0.3  # driving in first person narrowed the view
 
@@ -266,7 +264,6 @@ def test_desktop_delivery_with_keyboard_and_mouse(server: Server) -> None:
     assert {"w", "g", "h", "f", "j", "z"} <= set(result["keys_used"])
     frames = check_successful_trial(server.store, result["session_id"], "e2e-desktop")
     check_operator_inputs(frames)
-    assert result["wall_s"] < 90
 
 
 def test_reconnect_sessions_page_and_replay(server: Server) -> None:
@@ -277,7 +274,6 @@ def test_reconnect_sessions_page_and_replay(server: Server) -> None:
     assert trial["outcome"] == "interrupted"
     assert trial["interruption_reason"] == "operator_stop"
     assert result["replay_frames"] > 10
-    assert result["wall_s"] < 90
 
 
 def test_toolbar_stays_on_top_after_leaving_vr(server: Server) -> None:

@@ -26,7 +26,7 @@ from __future__ import annotations
 
 import contextlib
 from collections.abc import Callable, Iterator
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from pathlib import Path
 from typing import Literal
 
@@ -187,11 +187,37 @@ class RecordedSession:
         return None if should_stop is None else should_stop()
 
     def _report(self, on_trial: Callable[[TrialResult], None] | None) -> None:
+        self._agree_with_store()
         results = self.runner.results
         if on_trial is not None:
             for result in results[self._reported :]:
                 on_trial(result)
         self._reported = len(results)
+
+    def _agree_with_store(self) -> None:
+        """After recording failed, the runner's results say what the store says: the trial
+        open at the failure ended ``interrupted``/``storage_error`` (even when the failure
+        came as its success or timeout was being written), and trials begun after the
+        failure, never recorded, are not results."""
+        recorder = self.recorder
+        if recorder is None or recorder.failure is None:
+            return
+        failed = recorder.failed_trial
+        box_score = self.config.session.task.box_score
+        agreed: list[TrialResult] = []
+        for position, result in enumerate(self.runner.results):
+            stored = result
+            if result.spec.trial_index == failed and result.interruption_reason != "storage_error":
+                stored = replace(
+                    result,
+                    outcome="interrupted",
+                    interruption_reason="storage_error",
+                    completion_time_s=None,
+                    score=box_score * result.boxes_delivered,
+                )
+            if position < recorder.results_at_failure or result.spec.trial_index == failed:
+                agreed.append(stored)
+        self.runner.results[:] = agreed
 
     def _media(self) -> MediaRecorder | None:
         config = self.config

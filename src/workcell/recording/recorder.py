@@ -116,11 +116,17 @@ class Recorder:
         self.media = media
         self.session_id = store.create_session(session_info(self.config))
         self.failure: StorageError | None = None
+        self.failed_trial: int | None = None
+        """The index of the trial whose row was open when recording failed (the store
+        closed it ``interrupted``/``storage_error``); None: none was open."""
+        self.results_at_failure = 0
+        """How many trial results the runner had when recording failed."""
         self.frames_written = 0
         self._steps_per_frame = self.config.physics_steps_per_frame
         rate = self.config.recording.sampling_rate_hz
         self._frames_per_commit = max(1, math.floor(MAX_UNCOMMITTED_S * rate + 1e-9))
         self._trial_id: str | None = None
+        self._trial_index: int | None = None
         self._pending_events: list[ev.TaskEvent] = []
         self._capture = FrameCapture(
             runner.sim.world, runner.sim.controller, self._frames_per_commit
@@ -180,6 +186,7 @@ class Recorder:
             trial_seed=event.trial_seed,
         )
         self._trial_id = self.store.start_trial(self.session_id, start)
+        self._trial_index = event.trial_index
         if self.media is not None:
             self.media.start(self._trial_id)
         for pending in self._pending_events:
@@ -226,6 +233,7 @@ class Recorder:
         )
         self.store.commit()
         self._trial_id = None
+        self._trial_index = None
 
     def _flush(self) -> None:
         if self._trial_id is None or not len(self._capture):
@@ -238,9 +246,12 @@ class Recorder:
         """Stop recording and close the session as ``storage_error`` (its running trial
         ``interrupted``), as far as the store can still write."""
         self.failure = error
+        self.failed_trial = None if self._trial_id is None else self._trial_index
+        self.results_at_failure = len(self.runner.results)
         self.runner.sim.world.sampler = None
         self._capture.take()
         self._trial_id = None
+        self._trial_index = None
         self.store.try_interrupt_session(self.session_id, "storage_error")
 
     # --- the end ----------------------------------------------------------------------------

@@ -3,6 +3,7 @@
 // trial and the checks every delivery must pass. Only looking and acting differ by
 // device (emulated Quest controllers, or keyboard and mouse).
 
+import { writeFileSync } from "node:fs";
 import path from "node:path";
 import type { Page } from "playwright-core";
 import type { Pose, TrialEnded } from "../../src/protocol";
@@ -24,16 +25,19 @@ export interface DeliveryOptions {
   prefix: string;
   budgetMs: number;
   tickMs: number;
-  /** With E2E_DEBUG set: how often to log `debug`'s line. */
+  /** How often to keep `debug`'s line (written to operator-trace.log, printed as it goes
+   * with E2E_DEBUG set, and its tail printed when the delivery fails). */
   debugEveryMs: number;
   /** Read the page (and apply what `act` prepared, if the device works that way). */
   look: () => Promise<Seen>;
-  /** Carry one decision out. */
-  act: (decision: Decision, obs: Observation, snap: DebugSnapshot) => Promise<void>;
+  /** Carry one decision out; returns the milliseconds it waited on purpose (a key tap
+   * and the settling after it), which are not latency. */
+  act: (decision: Decision, obs: Observation, snap: DebugSnapshot) => Promise<number>;
   debug: (decision: Decision, obs: Observation, snap: DebugSnapshot) => string;
-  /** Set the operator's `lead` to the latency measured as it goes (one loop plus the
-   * link's round trip), at least its initial value: on a slow machine the page draws a
-   * few frames a second, and an operator that does not anticipate that overshoots. */
+  /** Set the operator's `lead` to the latency measured as it goes (the time a look and
+   * an action take, without the waits on purpose, plus the link's round trip), at least
+   * its initial value: on a slow machine the page draws a few frames a second, and an
+   * operator that does not anticipate that overshoots. */
   adaptLead?: boolean;
 }
 
@@ -48,14 +52,18 @@ export interface Delivery {
 }
 
 const PHASE_SHOTS = ["squeeze", "carry", "place"];
+/** Trace lines printed when a delivery fails. */
+const TRACE_TAIL = 25;
+/** The most latency the operator anticipates (s): beyond it, it waits rather than guesses. */
+const MAX_LEAD_S = 1.5;
 
 /** Run the operator until the trial ends (or the budget runs out), then wait for the
  * session's end; its trial_ended event must have arrived. */
 export async function deliver(page: Page, artifacts: string, operator: ScriptedOperator, options: DeliveryOptions): Promise<Delivery> {
   const { prefix, budgetMs, tickMs, debugEveryMs, look, act, debug, adaptLead = false } = options;
   const minimumLead = operator.lead;
-  let loopS: number | null = null;
-  let lookedAt: number | null = null;
+  let latencyS: number | null = null;
+  const trace: string[] = [];
   let startBase: Base | null = null;
   let baseMovedM = 0;
   let maxGrip = 0;
@@ -66,15 +74,9 @@ export async function deliver(page: Page, artifacts: string, operator: ScriptedO
   let last: DebugSnapshot | null = null;
   const deadline = performance.now() + budgetMs;
   while (performance.now() < deadline) {
+    const lookStarted = performance.now();
     const { snap, bodies } = await look();
     last = snap;
-    const now = performance.now();
-    if (lookedAt !== null) {
-      const seconds = (now - lookedAt) / 1000;
-      loopS = loopS === null ? seconds : 0.8 * loopS + 0.2 * seconds;
-      if (adaptLead) operator.lead = Math.max(minimumLead, loopS + (snap.link.rttMs ?? 0) / 1000);
-    }
-    lookedAt = now;
     if (snap.ended !== null || snap.last_trial_end !== null) break;
     const base = bodies["base"];
     if (base === undefined) {
@@ -93,20 +95,34 @@ export async function deliver(page: Page, artifacts: string, operator: ScriptedO
         await page.screenshot({ path: path.join(artifacts, `${prefix}-${lastPhase}.png`) });
       }
     }
-    if (process.env["E2E_DEBUG"] && (debugAt === undefined || performance.now() - debugAt > debugEveryMs)) {
+    if (debugAt === undefined || performance.now() - debugAt > debugEveryMs) {
       debugAt = performance.now();
-      log(`debug ${operator.phase} lead=${operator.lead.toFixed(2)} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} ${debug(decision, obs, snap)}`);
+      const line = `[${(debugAt / 1000).toFixed(1)}s] ${operator.phase} lead=${operator.lead.toFixed(2)} t=${obs.t.toFixed(2)} base=${obs.base.map((v) => v.toFixed(3))} ${debug(decision, obs, snap)}`;
+      trace.push(line);
+      if (process.env["E2E_DEBUG"]) log(`debug ${line}`);
     }
-    await act(decision, obs, snap);
+    const waited = await act(decision, obs, snap);
+    if (adaptLead) {
+      const seconds = (performance.now() - lookStarted - waited) / 1000;
+      latencyS = latencyS === null ? seconds : 0.8 * latencyS + 0.2 * seconds;
+      operator.lead = Math.min(MAX_LEAD_S, Math.max(minimumLead, latencyS + (snap.link.rttMs ?? 0) / 1000));
+    }
     const sent = snap.teleop?.last_input;
     maxGrip = Math.max(maxGrip, sent?.left.grip ?? 0);
     maxTrigger = Math.max(maxTrigger, sent?.left.trigger ?? 0);
     await sleep(tickMs);
   }
   writeJson(path.join(artifacts, "operator-log.json"), operator.log);
+  writeFileSync(path.join(artifacts, "operator-trace.log"), trace.join("\n") + "\n");
   log(`operator phases: ${JSON.stringify(operator.log)}`);
   check(last !== null, "the page never showed its state");
-  const end = await waitForEnd(page, 10000);
+  let end: EndedSnapshot;
+  try {
+    end = await waitForEnd(page, 10000);
+  } catch (error) {
+    log(`the operator's last ${Math.min(TRACE_TAIL, trace.length)} trace lines (all in operator-trace.log):\n${trace.slice(-TRACE_TAIL).join("\n")}`);
+    throw error;
+  }
   const trialEnd = end.last_trial_end;
   check(trialEnd !== null, "no trial_ended event arrived");
   log(`trial ended: ${JSON.stringify(trialEnd)}`);

@@ -98,7 +98,7 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
   const keys = new Keys(page.keyboard);
   const operator = new ScriptedOperator({ onOff: true, lead: 0.25, tolerance: 0.03, slowDrive: true });
   let mouse: { x: number; y: number } | null = null; // while the left button is held
-  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<void> => {
+  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<number> => {
     const sent = snap.teleop?.last_input ?? null;
     const wanted = new Set<string>();
     driveKeys(decision.drive, wanted);
@@ -148,8 +148,11 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
       await sleep(TAP_MS);
       for (const k of ["w", "a", "s", "d", "q", "e"]) wanted.delete(k);
       await keys.set(wanted);
-      await sleep(Math.max(SETTLE_MS, operator.lead * 1000)); // until the base has stopped
+      const settle = Math.max(SETTLE_MS, operator.lead * 1000); // until the base has stopped
+      await sleep(settle);
+      return TAP_MS + settle;
     }
+    return 0;
   };
   const run = await deliver(page, artifacts, operator, {
     prefix: "desktop",

@@ -143,6 +143,11 @@ export class ScriptedOperator {
     return arrived;
   }
 
+  /** The base neither drives nor turns (as far as the last looks tell). */
+  standingStill(): boolean {
+    return this.baseSpeed < 0.03 && Math.abs(this.velocity[2]) < 0.05;
+  }
+
   stop(): void {
     this.drive = { forward: 0, left: 0, turn: 0, fine: false };
   }
@@ -208,7 +213,7 @@ export class ScriptedOperator {
         const box = this.chosenBox(obs);
         const heading = Math.PI + wrap(box.yaw);
         const goal: Base = [box.pos[0] - PICK_DISTANCE * Math.cos(heading), box.pos[1] - PICK_DISTANCE * Math.sin(heading), heading];
-        if (this.driveTo(obs, goal, this.tolerance, this.slowDrive ? 0.3 : 0.6) && this.baseSpeed < 0.03) {
+        if (this.driveTo(obs, goal, this.tolerance, this.slowDrive ? 0.3 : 0.6) && this.standingStill()) {
           this.stop();
           this.enter("engage", t);
         }
@@ -259,7 +264,7 @@ export class ScriptedOperator {
         if (goal === undefined) break;
         const last = this.route.length === 1;
         const arrived = this.driveTo(obs, goal, last ? Math.max(0.02, this.tolerance) : 0.1, this.slowDrive ? 0.35 : 0.6);
-        if (arrived && (!last || this.baseSpeed < 0.03)) {
+        if (arrived && (!last || this.standingStill())) {
           this.route.shift();
           if (this.route.length === 0) {
             this.stop();

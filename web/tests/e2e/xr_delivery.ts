@@ -123,7 +123,7 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   const ctrl: Record<Side, Vec3> = { left: [...REST.left], right: [...REST.right] };
   let inputsWithPose = 0;
   let command: DeviceCommand | null = null;
-  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<void> => {
+  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<number> => {
     const corrections = controllerCorrections(obs, decision.targets);
     if (!decision.grip) {
       ctrl.left = [...REST.left];
@@ -157,12 +157,14 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
     };
     const sent = snap.teleop?.last_input;
     if (sent?.source === "xr" && sent.left.pose !== null && sent.right.pose !== null) inputsWithPose += 1;
+    return 0;
   };
   const run = await deliver(page, artifacts, operator, {
     prefix: "xr",
     budgetMs: TRIAL_BUDGET_MS,
     tickMs: TICK_MS,
     debugEveryMs: 1000,
+    adaptLead: true,
     look: () => page.evaluate(applyAndObserve, command),
     act,
     debug: (decision, obs, snap) => {
