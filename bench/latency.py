@@ -10,9 +10,13 @@ that sends Input messages at a headset's frame rate and measures, measured in on
 - the simulation's real-time factor, late steps and dropped time while clients are
   connected (target: it never falls behind real time on 2 cores).
 
-Run: ``.venv/bin/python bench/latency.py [--seconds S] [--input-hz HZ]`` on an otherwise
-idle machine: the figures are wall-clock timings, and other work on the cores shows up in
-them (the machine's load average is printed with them).
+Each measurement runs once per control rate a person may drive at
+(``world.robot.teleop_control_hz``, by default the expert's 40 Hz and the teleop default
+100 Hz), each on a fresh server, and ends with the rates side by side as ratios.
+
+Run: ``.venv/bin/python bench/latency.py [--seconds S] [--input-hz HZ] [--control-hz
+40,100]`` on an otherwise idle machine: the figures are wall-clock timings, and other work
+on the cores shows up in them (the machine's load average is printed with them).
 """
 
 from __future__ import annotations
@@ -45,7 +49,7 @@ serve.register(parser.add_subparsers())
 args = parser.parse_args(["serve", *sys.argv[1:]])
 sys.exit(args.func(args))
 """
-SETTINGS: dict[str, object] = {"task": {"countdown_s": 0.0, "time_limit_s": 600.0}}
+TASK: dict[str, object] = {"countdown_s": 0.0, "time_limit_s": 600.0}
 HAND = m.ControllerState(
     pose=(0.2, 1.1, -0.3, 1.0, 0.0, 0.0, 0.0), grip=0.0, trigger=0.0, stick=(0.0, 0.0), buttons=0
 )
@@ -129,11 +133,12 @@ async def measure_cpu(base: str, seconds: float) -> float:
     return float(after - before) / (t1 - t0)
 
 
-async def run(port: int, seconds: float, input_hz: float) -> None:
+async def run(port: int, seconds: float, input_hz: float, control_hz: float) -> dict[str, float]:
     base, url = f"http://127.0.0.1:{port}", f"ws://127.0.0.1:{port}/ws"
+    settings = {"task": TASK, "world": {"robot": {"teleop_control_hz": control_hz}}}
     async with connect(url, subprotocols=[m.SUBPROTOCOL], max_queue=None) as ws:  # type: ignore[list-item]
         await ws.send(encode(m.Hello(role="operator")))
-        await ws.send(encode(m.StartSession(settings=SETTINGS)))
+        await ws.send(encode(m.StartSession(settings=settings)))
         while not isinstance(decode_server(await ws.recv()), m.SessionStarted):
             pass
         operator = Operator(ws, input_hz)
@@ -156,10 +161,12 @@ async def run(port: int, seconds: float, input_hz: float) -> None:
         await asyncio.sleep(0.3)
         for task in tasks:
             task.cancel()
-    report(operator.latencies, cpu, sim, input_hz)
+    return report(operator.latencies, cpu, sim, input_hz)
 
 
-def report(latencies: list[float], cpu: dict[int, float], sim: dict[str, Any], hz: float) -> None:
+def report(
+    latencies: list[float], cpu: dict[int, float], sim: dict[str, Any], hz: float
+) -> dict[str, float]:
     period_ms = sim["control_period_s"] * 1000.0
     ms = [x * 1000.0 for x in latencies]
     p50, p99 = percentile(ms, 0.5), percentile(ms, 0.99)
@@ -183,13 +190,45 @@ def report(latencies: list[float], cpu: dict[int, float], sim: dict[str, Any], h
         f"{sim['late_steps']}, dropped {sim['dropped_s']:.3f} s, longest step "
         f"{sim['max_step_ms']:.1f} ms ({sim['max_step_ms'] / period_ms:.2f} x period)"
     )
+    return {"p50": p50, "p99": p99, "cpu": cpu[0], "rtf": rtf}
+
+
+def compare(results: dict[float, dict[str, float]]) -> None:
+    """The control rates side by side, as ratios to the first (the expert's rate)."""
+    (base_hz, base), *others = results.items()
+    print(f"\n--- side by side (ratios to {base_hz:g} Hz, measured in this run) ---")
+    print("control   input->state p50      p99            server CPU, operator only")
+    for hz, row in results.items():
+        print(
+            f"{hz:5g} Hz  {row['p50']:5.1f} ms ({row['p50'] / base['p50']:4.2f}x)  "
+            f"{row['p99']:5.1f} ms ({row['p99'] / base['p99']:4.2f}x)  "
+            f"{row['cpu'] * 100:5.1f} % ({row['cpu'] / base['cpu']:4.2f}x)"
+        )
+    for hz, row in others:
+        ok = row["p50"] <= 12.0 and row["p99"] <= 25.0
+        print(f"target at {hz:g} Hz: p50 <= 12 ms and p99 <= 25 ms: {'ok' if ok else 'MISSED'}")
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0] if __doc__ else None)
     parser.add_argument("--seconds", type=float, default=5.0, help="per CPU measurement")
     parser.add_argument("--input-hz", type=float, default=72.0, help="headset frame rate")
+    parser.add_argument(
+        "--control-hz",
+        default="40,100",
+        help="control rates a person drives at, comma-separated (the first is the baseline)",
+    )
     args = parser.parse_args()
+    results: dict[float, dict[str, float]] = {}
+    for control_hz in (float(hz) for hz in args.control_hz.split(",")):
+        print(f"\n--- a person driving at {control_hz:g} Hz control ---")
+        results[control_hz] = measure(args.seconds, args.input_hz, control_hz)
+    if len(results) > 1:
+        compare(results)
+
+
+def measure(seconds: float, input_hz: float, control_hz: float) -> dict[str, float]:
+    """One fresh server, one session driven at ``control_hz``."""
     port = free_port()
     with tempfile.TemporaryDirectory() as folder:
         store = Path(folder) / "bench.sqlite"
@@ -205,7 +244,7 @@ def main() -> None:
                     break
                 except OSError:
                     time.sleep(0.1)
-            asyncio.run(run(port, args.seconds, args.input_hz))
+            return asyncio.run(run(port, seconds, input_hz, control_hz))
         finally:
             server.terminate()
             server.wait(30)

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import itertools
 import threading
 import time
@@ -9,6 +10,7 @@ from pathlib import Path
 
 import pytest
 
+from workcell.errors import ConfigError
 from workcell.protocol import messages as m
 from workcell.protocol.codec import decode_server
 from workcell.record.store import Store
@@ -19,6 +21,7 @@ from workcell.task import events as ev
 from workcell.task.hud import HudPhase
 from workcell.task.pacing import Pacer
 from workcell.task.runner import SessionRunner
+from workcell.teleop.rate import at_teleop_rate
 
 
 class FakeClock:
@@ -99,9 +102,9 @@ def test_a_live_session_keeps_real_time_and_caps_states(tmp_path: Path) -> None:
     session.request_stop("operator_stop")
     assert listener.done.wait(10) and session.join(10)
     stats = session.pacing
-    assert 36 <= stats.steps <= 44  # 40 Hz control for 1 s
+    assert 90 <= stats.steps <= 110  # a person drives at 100 Hz control for 1 s
     times = [t for t, _ in listener.states]
-    assert 25 <= len(times) <= 32  # capped at 30 Hz
+    assert 25 <= len(times) <= 32  # no input: capped at 30 Hz
     sim_times = [
         s.t_sim for _, text in listener.states if isinstance(s := decode_server(text), m.State)
     ]
@@ -115,7 +118,52 @@ def test_a_live_session_keeps_real_time_and_caps_states(tmp_path: Path) -> None:
     assert listener.end is not None and listener.end.reason == "operator_stop"
     with Store.open(tmp_path / "s.sqlite", writer=False) as store:
         (trial,) = store.trials()
+        (stored,) = store.sessions()
     assert trial.interruption_reason == "operator_stop"
+    assert stored.parameters["world"]["robot"]["control_hz"] == 100.0  # the rate it ran at
+
+
+def test_a_person_drives_at_the_teleop_rate_and_the_expert_at_its_own() -> None:
+    assert (CONFIG.world.robot.control_hz, CONFIG.world.robot.teleop_control_hz) == (40.0, 100.0)
+    driven = at_teleop_rate(CONFIG)
+    assert driven.world.robot.control_hz == 100.0 and driven.world.control_substeps == 4
+    assert dataclasses.replace(driven, world=CONFIG.world) == CONFIG  # nothing else changed
+    same = from_mapping(SessionConfig, {"world": {"robot": {"teleop_control_hz": 40.0}}})
+    assert at_teleop_rate(same) is same
+    with pytest.raises(ConfigError, match=r"world\.robot\.teleop_control_hz = 30: must divide"):
+        from_mapping(SessionConfig, {"world": {"robot": {"teleop_control_hz": 30.0}}})
+
+
+def _input(seq: int) -> m.Input:
+    hand = m.ControllerState(None, 0.0, 0.0, (0.0, 0.0), 0)
+    return m.Input(seq=seq, t_client=0.0, source="xr", headset=None, left=hand, right=hand)
+
+
+def test_an_input_is_shown_applied_in_the_state_after_the_period_that_applied_it(
+    tmp_path: Path,
+) -> None:
+    """States are due twice a second here, but each new input is acknowledged by a State
+    right after the control period that acted on it (input_seq), a period later at most."""
+    listener = Collect()
+    session = LiveSession(CONFIG, tmp_path / "s.sqlite", listener, state_hz=2.0)
+    session.start()
+    acknowledged: list[float] = []
+    for seq in range(1, 6):
+        time.sleep(0.05)
+        seen = len(listener.states)
+        sent = time.monotonic()
+        assert session.operator.submit(_input(seq))
+        deadline = sent + 1.0
+        while time.monotonic() < deadline and not any(
+            isinstance(s := decode_server(text), m.State) and s.input_seq >= seq
+            for _, text in listener.states[seen:]
+        ):
+            time.sleep(0.001)
+        acknowledged.append(time.monotonic() - sent)
+    session.request_stop("operator_stop")
+    assert listener.done.wait(10) and session.join(10)
+    assert max(acknowledged) < 0.2, acknowledged  # not the 0.5 s a due State takes
+    assert len(listener.states) <= 5 + 2 * 2 + 2  # one per input, plus the due ones
 
 
 def test_a_failing_simulation_ends_the_session_and_leaves_the_trial_to_recovery(

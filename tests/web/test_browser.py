@@ -226,6 +226,22 @@ def check_successful_trial(store: Path, session_id: str, operator_id: str) -> li
     return frames
 
 
+def check_frame_reports(store: Path, session_id: str, presenting: bool) -> None:
+    """The operator's page reported how it drew, recorded with the trial: frame intervals
+    and draw calls, presenting to a headset or not."""
+    rows = _rows(
+        store,
+        "SELECT payload_json FROM events WHERE session_id = ? AND kind = 'client_frames'",
+        session_id,
+    )
+    reports = [json.loads(row["payload_json"]) for row in rows]
+    assert reports, "the page never reported its frame times"
+    for report in reports:
+        assert report["frames"] > 0 and report["draw_calls"] > 0 and report["triangles"] > 0
+        assert 0 < report["frame_ms_p50"] <= report["frame_ms_p95"] <= report["frame_ms_max"]
+    assert any(report["presenting"] is presenting for report in reports)
+
+
 def check_operator_inputs(frames: list[sqlite3.Row]) -> None:
     """The frames carry the operator's raw device state: both controller poses, grips held,
     triggers closed, and the base driven away from its start."""
@@ -253,6 +269,7 @@ def test_vr_delivery_with_emulated_quest(server: Server) -> None:
     assert result["base_moved_m"] > 0.2
     frames = check_successful_trial(server.store, result["session_id"], "e2e-xr")
     check_operator_inputs(frames)
+    check_frame_reports(server.store, result["session_id"], presenting=True)
     assert result["hud_off_axis_deg"] > 45  # the HUD never sits in front of the work area
     assert result["vignette_peak"] > 0.3  # driving in first person narrowed the view
 
@@ -264,6 +281,7 @@ def test_desktop_delivery_with_keyboard_and_mouse(server: Server) -> None:
     assert {"w", "g", "h", "f", "j", "z"} <= set(result["keys_used"])
     frames = check_successful_trial(server.store, result["session_id"], "e2e-desktop")
     check_operator_inputs(frames)
+    check_frame_reports(server.store, result["session_id"], presenting=False)
 
 
 def test_reconnect_sessions_page_and_replay(server: Server) -> None:

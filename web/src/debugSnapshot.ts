@@ -2,6 +2,7 @@
 // outside the page, typed here once for the page and the tests (web/tests/e2e) alike.
 
 import type { LinkInfo } from "./net/connection";
+import type { FrameReport } from "./scene/frameMeter";
 import type {
   Hud,
   Input,
@@ -21,6 +22,10 @@ export interface TeleopDebug {
   xr_frames: number;
   frames: number;
   draw_calls: number;
+  /** The view's last frame report (every few seconds; null until the first). */
+  frame_report: FrameReport | null;
+  /** Frame reports sent to the server (as the operator of a running session). */
+  frame_reports_sent: number;
   inputs_sent: number;
   last_input: Input | null;
   grips_latched: boolean;

@@ -127,6 +127,25 @@ export interface OperatorActed {
   readonly type: "event";
 }
 
+/**
+ * How the operator's browser drew over its last few seconds (see the protocol's
+ * ``FrameStats``): frame intervals in ms, draw calls and triangles of a frame, and
+ * whether it presented to a headset.
+ */
+export interface ClientFrames {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly frames: number;
+  readonly frame_ms_p50: number;
+  readonly frame_ms_p95: number;
+  readonly frame_ms_max: number;
+  readonly draw_calls: number;
+  readonly triangles: number;
+  readonly presenting: boolean;
+  readonly kind: "client_frames";
+  readonly type: "event";
+}
+
 /** A trial is over: its outcome, time, deliveries and score. */
 export interface TrialEnded {
   readonly trial_index: number;
@@ -202,6 +221,23 @@ export interface Act {
   readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third";
   readonly source: "xr_menu" | "xr_button" | "desktop";
   readonly type: "act";
+}
+
+/**
+ * How the operator's browser draws, over the frames since its previous report (every
+ * few seconds): frame intervals (ms; p50, p95 and the longest), the WebGL draw calls and
+ * triangles of its last frame (both eyes in a headset) and whether it was presenting to a
+ * headset. Recorded as a ``client_frames`` event of the trial under way.
+ */
+export interface FrameStats {
+  readonly frames: number;
+  readonly frame_ms_p50: number;
+  readonly frame_ms_p95: number;
+  readonly frame_ms_max: number;
+  readonly draw_calls: number;
+  readonly triangles: number;
+  readonly presenting: boolean;
+  readonly type: "frame_stats";
 }
 
 /** Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged. */
@@ -482,7 +518,8 @@ export type TaskEvent =
   | TrialTimedOut
   | TrialInterrupted
   | TrialEnded
-  | OperatorActed;
+  | OperatorActed
+  | ClientFrames;
 
 /** What a client may send. */
 export type ClientMessage =
@@ -491,6 +528,7 @@ export type ClientMessage =
   | Input
   | Stop
   | Act
+  | FrameStats
   | Ping;
 
 /** What the server sends. */

@@ -111,6 +111,23 @@ class Act:
 
 
 @dataclass(frozen=True)
+class FrameStats:
+    """How the operator's browser draws, over the frames since its previous report (every
+    few seconds): frame intervals (ms; p50, p95 and the longest), the WebGL draw calls and
+    triangles of its last frame (both eyes in a headset) and whether it was presenting to a
+    headset. Recorded as a ``client_frames`` event of the trial under way."""
+
+    frames: int
+    frame_ms_p50: float
+    frame_ms_p95: float
+    frame_ms_max: float
+    draw_calls: int
+    triangles: int
+    presenting: bool
+    type: Literal["frame_stats"] = "frame_stats"
+
+
+@dataclass(frozen=True)
 class Ping:
     """Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged."""
 
@@ -118,7 +135,7 @@ class Ping:
     type: Literal["ping"] = "ping"
 
 
-ClientMessage = Hello | StartSession | Input | Stop | Act | Ping
+ClientMessage = Hello | StartSession | Input | Stop | Act | FrameStats | Ping
 
 
 # --- server -> client -------------------------------------------------------------------------
@@ -271,7 +288,7 @@ ServerMessage = (
     | Pong
 )
 
-CLIENT_MESSAGES: tuple[type, ...] = (Hello, StartSession, Input, Stop, Act, Ping)
+CLIENT_MESSAGES: tuple[type, ...] = (Hello, StartSession, Input, Stop, Act, FrameStats, Ping)
 SERVER_MESSAGES: tuple[type, ...] = (
     Welcome,
     Scene,

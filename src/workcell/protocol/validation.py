@@ -36,6 +36,12 @@ RANGES: dict[tuple[type, str], tuple[float, float]] = {
     (m.ControllerState, "stick"): (-1.0, 1.0),
     (m.ControllerState, "buttons"): (0, 255),
     (m.Input, "seq"): (0, MAX_SAFE_INTEGER),
+    (m.FrameStats, "frames"): (0, 1_000_000),
+    (m.FrameStats, "frame_ms_p50"): (0.0, 60_000.0),
+    (m.FrameStats, "frame_ms_p95"): (0.0, 60_000.0),
+    (m.FrameStats, "frame_ms_max"): (0.0, 60_000.0),
+    (m.FrameStats, "draw_calls"): (0, 1_000_000),
+    (m.FrameStats, "triangles"): (0, 1_000_000_000),
 }
 """Inclusive bounds of numeric fields (each element, for tuples)."""
 MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128}

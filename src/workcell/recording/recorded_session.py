@@ -177,6 +177,7 @@ class RecordedSession:
         self._report(on_trial)
         if self.recorder is not None:
             self.recorder.close(interrupted=bool(results) and results[-1].outcome == "interrupted")
+            self._report(on_trial)  # the last trials' ends are written now
         return ended
 
     def _stop_reason(self, should_stop: StopReason | None) -> ev.InterruptionReason | None:
@@ -187,27 +188,34 @@ class RecordedSession:
         return None if should_stop is None else should_stop()
 
     def _report(self, on_trial: Callable[[TrialResult], None] | None) -> None:
+        """Each trial's result once the store has its end (a writer process writes it a
+        moment later), in order."""
         self._agree_with_store()
         results = self.runner.results
-        if on_trial is not None:
-            for result in results[self._reported :]:
+        recorder = self.recorder
+        while self._reported < len(results):
+            result = results[self._reported]
+            if recorder is not None and not recorder.trial_settled(result.spec.trial_index):
+                break
+            if on_trial is not None:
                 on_trial(result)
-        self._reported = len(results)
+            self._reported += 1
 
     def _agree_with_store(self) -> None:
-        """After recording failed, the runner's results say what the store says: the trial
-        open at the failure ended ``interrupted``/``storage_error`` (even when the failure
-        came as its success or timeout was being written), and trials begun after the
+        """After recording failed, the runner's results say what the store says: the trials
+        it closed ended ``interrupted``/``storage_error`` (also one whose success or
+        timeout was being written as the failure came), and trials begun after the
         failure, never recorded, are not results."""
         recorder = self.recorder
         if recorder is None or recorder.failure is None:
             return
-        failed = recorder.failed_trial
+        lost = recorder.lost_trials
         box_score = self.config.session.task.box_score
         agreed: list[TrialResult] = []
         for position, result in enumerate(self.runner.results):
             stored = result
-            if result.spec.trial_index == failed and result.interruption_reason != "storage_error":
+            index = result.spec.trial_index
+            if index in lost and result.interruption_reason != "storage_error":
                 stored = replace(
                     result,
                     outcome="interrupted",
@@ -215,7 +223,7 @@ class RecordedSession:
                     completion_time_s=None,
                     score=box_score * result.boxes_delivered,
                 )
-            if position < recorder.results_at_failure or result.spec.trial_index == failed:
+            if position < recorder.results_at_failure or index in lost:
                 agreed.append(stored)
         self.runner.results[:] = agreed
 

@@ -75,6 +75,8 @@ class RecordingStore(Protocol):
 
     def end_session(self, session_id: str, status: str = "completed") -> None: ...
 
+    def trial_end_written(self, trial_id: str) -> bool: ...
+
     def try_interrupt_session(self, session_id: str, reason: str = "storage_error") -> bool: ...
 
 
@@ -116,9 +118,10 @@ class Recorder:
         self.media = media
         self.session_id = store.create_session(session_info(self.config))
         self.failure: StorageError | None = None
-        self.failed_trial: int | None = None
-        """The index of the trial whose row was open when recording failed (the store
-        closed it ``interrupted``/``storage_error``); None: none was open."""
+        self.lost_trials: frozenset[int] = frozenset()
+        """After recording failed: the indices of the trials the store closed
+        ``interrupted``/``storage_error`` (the one running, and any whose end had not been
+        written yet)."""
         self.results_at_failure = 0
         """How many trial results the runner had when recording failed."""
         self.frames_written = 0
@@ -127,6 +130,8 @@ class Recorder:
         self._frames_per_commit = max(1, math.floor(MAX_UNCOMMITTED_S * rate + 1e-9))
         self._trial_id: str | None = None
         self._trial_index: int | None = None
+        self._ending: dict[int, str] = {}
+        """Trials whose end was handed to the store, by index, until it is written."""
         self._pending_events: list[ev.TaskEvent] = []
         self._capture = FrameCapture(
             runner.sim.world, runner.sim.controller, self._frames_per_commit
@@ -232,8 +237,21 @@ class Recorder:
             thresholds=self.thresholds,  # metrics from the frames as stored
         )
         self.store.commit()
+        if self._trial_index is not None:
+            self._ending[self._trial_index] = trial_id
         self._trial_id = None
         self._trial_index = None
+
+    def trial_settled(self, trial_index: int) -> bool:
+        """Whether the store has the trial's end written (or never had the trial, or
+        recording failed: then :attr:`lost_trials` says how the store closed it)."""
+        trial_id = self._ending.get(trial_index)
+        if trial_id is None or self.failure is not None:
+            return True
+        if not self.store.trial_end_written(trial_id):
+            return False
+        del self._ending[trial_index]
+        return True
 
     def _flush(self) -> None:
         if self._trial_id is None or not len(self._capture):
@@ -246,13 +264,16 @@ class Recorder:
         """Stop recording and close the session as ``storage_error`` (its running trial
         ``interrupted``), as far as the store can still write."""
         self.failure = error
-        self.failed_trial = None if self._trial_id is None else self._trial_index
         self.results_at_failure = len(self.runner.results)
         self.runner.sim.world.sampler = None
         self._capture.take()
+        running = None if self._trial_id is None else self._trial_index
         self._trial_id = None
         self._trial_index = None
         self.store.try_interrupt_session(self.session_id, "storage_error")
+        # answered after every call before it: the ends written are known now
+        unwritten = {i for i, t in self._ending.items() if not self.store.trial_end_written(t)}
+        self.lost_trials = frozenset(unwritten | ({running} if running is not None else set()))
 
     # --- the end ----------------------------------------------------------------------------
 
@@ -266,4 +287,4 @@ class Recorder:
         try:
             self.store.end_session(self.session_id, "interrupted" if interrupted else "completed")
         except StorageError as error:
-            self.failure = error
+            self._fail(error)

@@ -8,7 +8,8 @@ makes no system call and wakes no process (on a virtual machine, waking a proces
 another core costs the waker tens of microseconds). Events and other calls go through a
 pipe, sent at the next :meth:`StoreProcess.commit`. Calls whose answer the recorder needs
 (ids, the end of a session) wait for it, and for every frame handed over before them to be
-written.
+written. The end of a trial is not waited for, but answered: the recorder reports a
+trial's result once the writer has written its end (:meth:`StoreProcess.trial_end_written`).
 
 Guarantees are those of :class:`~workcell.record.store.Store`, kept across the pipe:
 
@@ -86,6 +87,10 @@ class StoreProcess(Closing):
         self._trial_sessions: dict[str, str] = {}
         self._woken_at = 0
         """Ring position of the last wake-up message sent to the writer."""
+        self._ends_sent: dict[int, str] = {}
+        """Trials whose end was sent, by call id, until the writer answers."""
+        self._ends_written: set[str] = set()
+        """Trials whose end the writer has written (told on the reader thread)."""
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when the writer opened the store."""
 
@@ -207,9 +212,19 @@ class StoreProcess(Closing):
     def end_trial(
         self, trial_id: str, end: TrialEnd, *, thresholds: MetricThresholds | None = None
     ) -> None:
-        """Sent at once, not waited for: the writer closes the trial after its frames."""
-        self._queue("end_trial", (trial_id, end), {"thresholds": thresholds})
+        """Sent at once, not waited for: the writer closes the trial after its frames and
+        says so (:meth:`trial_end_written`); a failure is raised by a later call."""
+        if self._failure is not None:
+            raise self._failure
+        call_id = next(self._ids)
+        self._ends_sent[call_id] = trial_id
+        self._pending.append((call_id, "end_trial", (trial_id, end), {"thresholds": thresholds}))
         self._send_pending()
+
+    def trial_end_written(self, trial_id: str) -> bool:
+        """Whether the writer has written the end of trial ``trial_id`` (a waited call
+        answered after an :meth:`end_trial` means its answer has been read too)."""
+        return trial_id in self._ends_written
 
     def end_session(self, session_id: str, status: str = "completed") -> None:
         self._call("end_session", session_id, status)
@@ -352,11 +367,14 @@ class StoreProcess(Closing):
             except (EOFError, OSError, ValueError):
                 self._replies.put(None)
                 return
-            if answer[1] is None:  # a call sent without waiting failed
+            ended = None if answer[1] is None else self._ends_sent.pop(answer[1], None)
+            if answer[1] is not None and ended is None:
+                self._replies.put(answer)  # a waiting call's answer
+            elif answer[0] == "error":  # a call sent without waiting failed
                 if self._failure is None:
                     self._failure = raised_error(answer[2], answer[3])
-            else:
-                self._replies.put(answer)
+            elif ended is not None:
+                self._ends_written.add(ended)
 
     def _died(self) -> Exception:
         """The writer's death as the failure of this store (kept: later calls raise it)."""

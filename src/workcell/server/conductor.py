@@ -174,6 +174,12 @@ class Conductor:
         else:
             self.session.request_action(message.action, message.source)
 
+    def frame_stats(self, client: Client, message: m.FrameStats) -> None:
+        """The operator's drawing figures go into the record; a spectator's are not asked
+        for and are ignored, as are reports while no session runs."""
+        if client is self.operator and self.session is not None:
+            self.session.report_frames(message)
+
     def stop(self, client: Client) -> None:
         if client is not self.operator:
             client.refuse("not_allowed", "stop: only the operator stops the session")

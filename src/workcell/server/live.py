@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import collections
 import contextlib
+import dataclasses
 import logging
 import threading
 from collections.abc import Callable
@@ -19,7 +20,7 @@ from typing import Protocol
 
 from workcell.errors import WorkcellError
 from workcell.protocol.codec import encode
-from workcell.protocol.messages import Scene, SessionEnded
+from workcell.protocol.messages import FrameStats, Scene, SessionEnded
 from workcell.recording.drivers import TeleopDriver
 from workcell.recording.recorded_session import RealTime, RecordedSession, RecordedSessionConfig
 from workcell.server.scene import describe
@@ -28,7 +29,9 @@ from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
 from workcell.task.pacing import PacingStats, StopRequest
+from workcell.task.runner import SessionRunner
 from workcell.teleop.operator import TeleopOperator
+from workcell.teleop.rate import at_teleop_rate
 
 logger = logging.getLogger(__name__)
 
@@ -59,9 +62,10 @@ class LiveSession:
         *,
         key_file: Path | None = None,
     ) -> None:
-        self.config = config
+        self.config = at_teleop_rate(config)
+        """The session as it runs: at the control rate a person drives at."""
         self.recorded = RecordedSessionConfig(
-            session=config,
+            session=self.config,
             driver=TeleopDriver(),
             store=store_path,
             key_file=key_file,
@@ -74,9 +78,7 @@ class LiveSession:
         self.scene: Scene | None = None
         self._session: RecordedSession | None = None
         self._stop = StopRequest()
-        self._actions: collections.deque[tuple[ev.OperatorAction, ev.ActionSource]] = (
-            collections.deque()
-        )
+        self._requests: collections.deque[Callable[[SessionRunner], None]] = collections.deque()
         self._ready = threading.Event()
         self._startup_error: BaseException | None = None
         self._thread = threading.Thread(target=self._main, name="workcell-sim", daemon=True)
@@ -92,7 +94,18 @@ class LiveSession:
     def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
         """Have the runner act on an operator's action at its next control period (from
         any thread)."""
-        self._actions.append((action, source))
+        self._requests.append(lambda runner: runner.act_on(action, source))
+
+    def report_frames(self, stats: FrameStats) -> None:
+        """Record how the operator's browser draws, at the next control period (from any
+        thread)."""
+
+        def event(trial_index: int, t_sim: float) -> ev.TaskEvent:
+            figures = dataclasses.asdict(stats)
+            del figures["type"]
+            return ev.ClientFrames(trial_index, t_sim, **figures)
+
+        self._requests.append(lambda runner: runner.note(event))
 
     def request_stop(self, reason: ev.InterruptionReason) -> None:
         """End the running trial as interrupted with ``reason`` (from any thread)."""
@@ -143,7 +156,7 @@ class LiveSession:
             send_state = self._state_sender(session)
 
             def after_step() -> None:
-                self._apply_actions(session)
+                self._apply_requests(session)
                 send_state()
 
             reason = session.run(after_step=after_step)
@@ -173,6 +186,8 @@ class LiveSession:
     def _forward(self, event: ev.TaskEvent, world: World) -> None:
         """A task event to every client; at a trial's start also the scene, when the
         trial's conditions changed it (box size, target...)."""
+        if isinstance(event, ev.ClientFrames):
+            return  # the client's own figures, for the record only
         if self.scene is not None and isinstance(event, ev.CountdownStarted | ev.TrialStarted):
             scene = describe(world.model, world.data)
             if _shapes(scene) != _shapes(self.scene):
@@ -180,24 +195,35 @@ class LiveSession:
                 self.listener.message(encode(scene))
         self.listener.message(encode(event_message(event)))
 
-    def _apply_actions(self, session: RecordedSession) -> None:
-        """The operator actions requested since the last control period, in order."""
-        while self._actions:  # deque.popleft is atomic: the socket thread appends
-            session.runner.act_on(*self._actions.popleft())
+    def _apply_requests(self, session: RecordedSession) -> None:
+        """What the operator's client asked of the runner since the last control period
+        (actions, frame reports), in order."""
+        while self._requests:  # deque.popleft is atomic: the socket thread appends
+            self._requests.popleft()(session.runner)
 
     def _state_sender(self, session: RecordedSession) -> Callable[[], None]:
-        """After each control period: the State to the listener, at ``state_hz`` on the
-        sim clock on average, never faster than the control rate."""
-        states = StateBuilder(session.runner, self.operator)
+        """After each control period: the State to the listener when the period acted on
+        a new input (the operator sees its input applied at once), else at ``state_hz``
+        on the sim clock; never faster than the control rate."""
+        operator = self.operator
+        states = StateBuilder(session.runner, operator)
         dt = session.sim.control_dt
-        next_state = 0.0
+        next_state: float | None = None  # None: the first period's State is due
+        shown_input = operator.applied_seq
 
         def send() -> None:
-            nonlocal next_state
+            nonlocal next_state, shown_input
             now = session.pacing.steps * dt
-            if now >= next_state - dt / 2:
+            if next_state is None:
+                next_state = now + self.state_period  # the grid starts here
+            elif now >= next_state - dt / 2:
                 next_state = max(next_state + self.state_period, now)
-                self.listener.state(encode(states.build()))
+            elif operator.applied_seq != shown_input:  # and the next one a period on
+                next_state = max(next_state, now + self.state_period)
+            else:
+                return
+            shown_input = operator.applied_seq
+            self.listener.state(encode(states.build()))
 
         return send
 

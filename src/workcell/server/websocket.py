@@ -85,3 +85,5 @@ async def _handle(client: Client, conductor: Conductor, raw: str | bytes | None)
         conductor.stop(client)
     elif isinstance(message, m.Act):
         conductor.act(client, message)
+    elif isinstance(message, m.FrameStats):
+        conductor.frame_stats(client, message)

@@ -164,6 +164,16 @@ class RobotConfig:
         high=200.0,
         constraint="must divide the physics rate 1/world.timestep evenly",
     )
+    teleop_control_hz: float = setting(
+        100.0,
+        "control and IK rate while a person drives (workcell serve): their input acts "
+        "within one period of arriving, 10 ms at 100 Hz; the expert and policies run at "
+        "control_hz",
+        unit="Hz",
+        low=10.0,
+        high=200.0,
+        constraint="must divide the physics rate 1/world.timestep evenly",
+    )
 
     def __post_init__(self) -> None:
         _raise_if(declared_problems(self, "robot"))
@@ -217,12 +227,13 @@ class WorldConfig:
                 checks.problem("world.box.size", self.box.size, "must be shorter than the conveyor")
             )
         if not timestep_problems:
-            problems += divides(
-                "world.robot.control_hz",
-                self.robot.control_hz,
-                1.0 / self.timestep,
-                "the physics rate 1/world.timestep",
-            )
+            for name in ("control_hz", "teleop_control_hz"):
+                problems += divides(
+                    f"world.robot.{name}",
+                    getattr(self.robot, name),
+                    1.0 / self.timestep,
+                    "the physics rate 1/world.timestep",
+                )
         shift = self.randomization.target_shift
         if _target_overlaps_conveyor(self.target, self.conveyor, margin=0.3 + shift):
             problems.append(

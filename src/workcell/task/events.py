@@ -148,6 +148,25 @@ class OperatorActed:
 
 
 @dataclass(frozen=True)
+class ClientFrames:
+    """How the operator's browser drew over its last few seconds (see the protocol's
+    ``FrameStats``): frame intervals in ms, draw calls and triangles of a frame, and
+    whether it presented to a headset."""
+
+    trial_index: int
+    t_sim: float
+    frames: int
+    frame_ms_p50: float
+    frame_ms_p95: float
+    frame_ms_max: float
+    draw_calls: int
+    triangles: int
+    presenting: bool
+    kind: Literal["client_frames"] = "client_frames"
+    type: Literal["event"] = "event"
+
+
+@dataclass(frozen=True)
 class TrialEnded:
     """A trial is over: its outcome, time, deliveries and score."""
 
@@ -173,6 +192,7 @@ TaskEvent = (
     | TrialInterrupted
     | TrialEnded
     | OperatorActed
+    | ClientFrames
 )
 TASK_EVENTS: tuple[type[TaskEvent], ...] = get_args(TaskEvent)
 

@@ -145,6 +145,13 @@ class SessionRunner:
         self._finish("interrupted", "operator_restart", max(t, 0.0))
         self._begin(replace(spec, trial_index=spec.trial_index + 1))
 
+    def note(self, event: Callable[[int, float], ev.TaskEvent]) -> None:
+        """Publish ``event(trial_index, t_sim)``, stamped with the trial under way (or
+        counting down), e.g. how the operator's browser draws; nothing once finished."""
+        if self.phase is HudPhase.FINISHED or self._spec is None:
+            return
+        self.bus.publish(event(self._spec.trial_index, self.trial_time))
+
     # --- state ------------------------------------------------------------------------------
 
     @property

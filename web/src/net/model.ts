@@ -124,6 +124,7 @@ export class ClientModel {
       case "trial_timed_out":
       case "trial_interrupted":
       case "operator_action":
+      case "client_frames": // recorded only; the server does not send it
         break;
       default:
         unhandled(event);

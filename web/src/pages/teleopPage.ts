@@ -25,6 +25,7 @@ import { hudLines, trialEndSummary } from "../hud/hudText";
 import { linesToDom, renderEndScreen } from "../hud/endScreen";
 import { exposeCapture, exposeExtra } from "../debug";
 import { el } from "../util/dom";
+import { describeReport } from "../scene/frameMeter";
 
 export interface TeleopShared {
   viewer: Viewer;
@@ -60,7 +61,9 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const restartButton = el("button", { id: "restart-trial", textContent: "Restart trial" });
   const stopButton = el("button", { id: "stop-session", textContent: "Stop session" });
   const keysButton = el("button", { textContent: "Keys" });
-  bar.append(linkBadge, vrButton, viewButton, restartButton, stopButton, keysButton);
+  const frameBadge = el("span", { className: "frame-badge", id: "frame-badge", textContent: describeReport(null) });
+  frameBadge.title = "how this page draws: frames per second (median), the slowest 5 % of frames, WebGL draw calls per frame";
+  bar.append(linkBadge, frameBadge, vrButton, viewButton, restartButton, stopButton, keysButton);
   const keymap = el("div", { className: "keymap", id: "keymap" });
   keymap.append(el("h2", { textContent: "Desktop controls" }));
   const keyTable = el("table");
@@ -313,6 +316,13 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   };
 
   const removeFrame = viewer.onFrame(onFrame);
+  // Every few seconds: how this page draws, in the toolbar and (for the operator of a
+  // running session) into the record.
+  let reportsSent = 0;
+  const removeReports = viewer.onFrameReport((report) => {
+    frameBadge.textContent = describeReport(report);
+    if (app.sessionActive && app.isOperator && app.connection.send({ type: "frame_stats", ...report })) reportsSent += 1;
+  });
   const unsubscribe = app.subscribe((event) => {
     if (event.kind === "session" || event.kind === "task_event") renderOverlay();
     if (event.kind === "link") renderHud();
@@ -326,6 +336,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     xr_frames: xrFrames,
     frames: viewer.frameCount,
     draw_calls: viewer.renderer.info.render.calls,
+    frame_report: viewer.frameMeter.latest,
+    frame_reports_sent: reportsSent,
     inputs_sent: sent,
     last_input: sequencer.last,
     grips_latched: desktop.gripsLatched,
@@ -350,6 +362,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     removeCapture();
     removeExtra();
     removeFrame();
+    removeReports();
     unsubscribe();
     desktop.dispose();
     viewer.rig.remove(hudPanel.mesh);

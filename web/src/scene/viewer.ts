@@ -10,6 +10,8 @@ import { WorldModel } from "./worldModel";
 import { lowQuality } from "../util/env";
 import { NO_RECENTER } from "../xr/recenter";
 import type { Recenter } from "../xr/recenter";
+import { FrameMeter } from "./frameMeter";
+import type { FrameReport } from "./frameMeter";
 
 export type ViewMode = "first" | "third";
 export type FrameCallback = (time: number, frame: XRFrame | undefined) => void;
@@ -32,6 +34,9 @@ export class Viewer {
   private container: HTMLElement | null = null;
   private readonly resizeObserver: ResizeObserver;
   private frames = 0;
+  /** Frame time and draw figures of what this view draws. */
+  readonly frameMeter = new FrameMeter();
+  private readonly reportListeners: ((report: FrameReport) => void)[] = [];
 
   constructor() {
     this.renderer = new THREE.WebGLRenderer({ antialias: !lowQuality(), preserveDrawingBuffer: true });
@@ -60,6 +65,15 @@ export class Viewer {
 
   get presenting(): boolean {
     return this.renderer.xr.isPresenting;
+  }
+
+  /** Called with each frame report (every few seconds while drawing). */
+  onFrameReport(listener: (report: FrameReport) => void): () => void {
+    this.reportListeners.push(listener);
+    return () => {
+      const i = this.reportListeners.indexOf(listener);
+      if (i >= 0) this.reportListeners.splice(i, 1);
+    };
   }
 
   get frameCount(): number {
@@ -180,6 +194,9 @@ export class Viewer {
     }
     if (this.container === null && !this.presenting) return;
     this.renderer.render(this.scene, this.camera);
+    const { calls, triangles } = this.renderer.info.render;
+    const report = this.frameMeter.frame(time, calls, triangles, this.presenting);
+    if (report !== null) for (const listener of this.reportListeners) listener(report);
   }
 
   private resize(): void {

@@ -164,7 +164,8 @@ export class WorldModel {
   }
 
   /** A body's group; a static body's geoms go into `fixed` (world-frame geometry by
-   * material) instead of becoming meshes of their own. */
+   * material) instead of becoming meshes of their own, and a moving body's geoms are
+   * drawn as one mesh per material (one draw call each). */
   private buildBody(
     body: BodyDescription,
     fixed: Map<THREE.Material, THREE.BufferGeometry[]> | null,
@@ -173,22 +174,26 @@ export class WorldModel {
     group.name = body.name;
     applyPose(group, body.pose);
     group.updateMatrix();
+    const own = new Map<THREE.Material, THREE.BufferGeometry[]>();
     for (const geom of body.geoms) {
       const geometry = geometryFor(geom);
       if (geometry === null || geom.rgba[3] <= 0.001) continue;
       const material = materialFor(geom, this.materials);
-      const mesh = new THREE.Mesh(geometry, material);
-      mesh.position.set(geom.pos[0], geom.pos[1], geom.pos[2]);
-      mesh.quaternion.set(geom.quat[1], geom.quat[2], geom.quat[3], geom.quat[0]);
-      mesh.updateMatrix();
-      if (fixed === null) {
-        group.add(mesh);
-        continue;
-      }
-      geometry.applyMatrix4(new THREE.Matrix4().multiplyMatrices(group.matrix, mesh.matrix));
-      const list = fixed.get(material) ?? [];
+      const local = new THREE.Matrix4().compose(
+        new THREE.Vector3(geom.pos[0], geom.pos[1], geom.pos[2]),
+        new THREE.Quaternion(geom.quat[1], geom.quat[2], geom.quat[3], geom.quat[0]),
+        new THREE.Vector3(1, 1, 1),
+      );
+      geometry.applyMatrix4(fixed === null ? local : new THREE.Matrix4().multiplyMatrices(group.matrix, local));
+      const into = fixed ?? own;
+      const list = into.get(material) ?? [];
       list.push(geometry);
-      fixed.set(material, list);
+      into.set(material, list);
+    }
+    for (const [material, geometries] of own) {
+      const merged = geometries.length === 1 ? (geometries[0] ?? null) : mergeGeometries(geometries, false);
+      if (geometries.length > 1) for (const g of geometries) g.dispose();
+      if (merged !== null) group.add(new THREE.Mesh(merged, material));
     }
     return group;
   }
