@@ -328,7 +328,10 @@ def test_in_vr_menu_recenters_switches_view_restarts_and_stops(server: Server) -
         (first["trial_id"], "recenter_view", "xr_menu"),
         (first["trial_id"], "view_third", "xr_menu"),
         (first["trial_id"], "restart_trial", "xr_menu"),
+        (second["trial_id"], "turn_snap", "xr_menu"),
+        (second["trial_id"], "snap_right", "xr_button"),
     ]
+    assert result["snap_turned"] == pytest.approx(-math.pi / 6, abs=0.05)  # one flick right
 
 
 def test_a_page_of_another_origin_cannot_drive(tmp_path: Path, one_browser_at_a_time: None) -> None:

@@ -40,7 +40,16 @@ export interface TeleopDebug {
     off_axis_deg: number | null;
   };
   /** The tunnel vignette's strength now and its peak so far (0..0.75), and the base speed it follows (m/s). */
-  comfort: { vignette: number; vignette_peak: number; base_speed: number };
+  comfort: {
+    vignette: number;
+    vignette_peak: number;
+    base_speed: number;
+    /** How the right stick turns the base in the headset, snaps made, and whether a snap
+     * blacks the view out now. */
+    turn: "smooth" | "snap";
+    snaps: number;
+    blackout: boolean;
+  };
   /** The in-VR menu: open, and the highlighted item's index. */
   menu: { open: boolean; index: number };
   /** The headset heading that recentering made forward (radians; 0: never recentered). */

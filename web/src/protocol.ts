@@ -121,7 +121,7 @@ export interface TrialInterrupted {
 export interface OperatorActed {
   readonly trial_index: number;
   readonly t_sim: number;
-  readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third";
+  readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third" | "turn_snap" | "turn_smooth" | "snap_left" | "snap_right";
   readonly source: "xr_menu" | "xr_button" | "desktop";
   readonly kind: "operator_action";
   readonly type: "event";
@@ -218,7 +218,7 @@ export interface Stop {
  * begins a new one of the same kind.
  */
 export interface Act {
-  readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third";
+  readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third" | "turn_snap" | "turn_smooth" | "snap_left" | "snap_right";
   readonly source: "xr_menu" | "xr_button" | "desktop";
   readonly type: "act";
 }

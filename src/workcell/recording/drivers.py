@@ -74,10 +74,15 @@ class TeleopDriver:
             qw, qx, qy, qz, x, y, z = (float(v) for v in ik.tcp_pose(side).wxyz_xyz)
             return (x, y, z, qw, qx, qy, qz)
 
+        def reference_heading(world: World) -> tuple[float, float]:
+            """The heading the base is asked to be at, and its rate: what a snap steers."""
+            return float(sim.controller.base.pose[2]), float(sim.controller.base.twist[2])
+
         operator = TeleopOperator(
             TeleopConfig.for_session(config),
             tcp_source=tcp_target,
             soft_stop=SoftStop(sim.world.model, config.world.robot),
+            heading_source=reference_heading,
         )
         return Driving(operator, operator.operator_input)
 

@@ -28,12 +28,16 @@ from workcell.server.state_message import StateBuilder, event_message
 from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
+from workcell.task.hud import HudPhase
 from workcell.task.pacing import PacingStats, StopRequest
 from workcell.task.runner import SessionRunner
 from workcell.teleop.operator import TeleopOperator
 from workcell.teleop.rate import at_teleop_rate
 
 logger = logging.getLogger(__name__)
+
+SNAPS: dict[ev.OperatorAction, int] = {"snap_left": 1, "snap_right": -1}
+"""The actions that turn the base by a snap (the direction of each)."""
 
 
 class SessionListener(Protocol):
@@ -94,7 +98,13 @@ class LiveSession:
     def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
         """Have the runner act on an operator's action at its next control period (from
         any thread)."""
-        self._requests.append(lambda runner: runner.act_on(action, source))
+
+        def apply(runner: SessionRunner) -> None:
+            runner.act_on(action, source)
+            if action in SNAPS and runner.phase is HudPhase.RUNNING:
+                self.operator.ask_snap(SNAPS[action])
+
+        self._requests.append(apply)
 
     def report_frames(self, stats: FrameStats) -> None:
         """Record how the operator's browser draws, at the next control period (from any

@@ -126,10 +126,22 @@ class TrialInterrupted:
     type: Literal["event"] = "event"
 
 
-OperatorAction = Literal["restart_trial", "recenter_view", "view_first", "view_third"]
+OperatorAction = Literal[
+    "restart_trial",
+    "recenter_view",
+    "view_first",
+    "view_third",
+    "turn_snap",
+    "turn_smooth",
+    "snap_left",
+    "snap_right",
+]
 """What an operator can do from the in-VR menu (or its desktop counterpart) besides driving:
 start the trial over (the attempt ends interrupted, ``operator_restart``, and a new trial
-of the same kind begins), recenter the headset view, switch to first or third person."""
+of the same kind begins), recenter the headset view, switch to first or third person,
+switch the right stick to snap turns or back to smooth turning; with snap turns, a flick
+of the stick asks for one (``snap_left``/``snap_right``: the base turns 30 degrees while
+the client blacks the view out)."""
 ActionSource = Literal["xr_menu", "xr_button", "desktop"]
 """Where an action came from: the in-VR menu, a controller button (B/Y switches the view),
 or the desktop page (toolbar, keys)."""

@@ -23,6 +23,9 @@ class TeleopConfig:
     max_yaw_rate: float = same_as(
         RobotConfig, "max_yaw_rate", "full right-stick deflection (the robot's max_yaw_rate)"
     )
+    yaw_accel: float = same_as(
+        RobotConfig, "yaw_accel", "how fast a snap turn can brake (the robot's yaw_accel)"
+    )
     dead_zone: float = setting(
         0.15,
         "stick deflection below this counts as zero; above it the scale starts at zero",
@@ -87,5 +90,6 @@ class TeleopConfig:
         return cls(
             max_linear_speed=robot.max_linear_speed,
             max_yaw_rate=robot.max_yaw_rate,
+            yaw_accel=robot.yaw_accel,
             grip_threshold=config.recording.grip_threshold,
         )

@@ -14,7 +14,7 @@ import threading
 import time
 from collections.abc import Callable
 
-from workcell.control.command import Command
+from workcell.control.command import BaseTwist, Command
 from workcell.protocol.messages import Input
 from workcell.recording.frame_capture import OperatorInput
 from workcell.sim.world import World
@@ -22,10 +22,18 @@ from workcell.teleop.clutch import ArmClutch, Pose
 from workcell.teleop.config import TeleopConfig
 from workcell.teleop.mapping import base_twist, head_angles
 from workcell.teleop.rotation import conjugate, multiply
+from workcell.teleop.snap_turn import SnapTurn
 from workcell.teleop.soft_stop import SoftStop
 
 TcpSource = Callable[[World, str], Pose]
 """Where an arm's TCP target is now (base frame), read when its grip engages."""
+HeadingSource = Callable[[World], tuple[float, float]]
+"""The base's reference heading and its yaw rate (rad, rad/s), which snap turns steer."""
+
+
+def measured_heading(world: World) -> tuple[float, float]:
+    """The base's measured heading and yaw rate (a moment behind its reference)."""
+    return float(world.base_pose[2]), float(world.base_velocity[2])
 
 
 def measured_tcp(world: World, side: str) -> Pose:
@@ -47,9 +55,11 @@ class TeleopOperator:
         tcp_source: TcpSource = measured_tcp,
         clock: Callable[[], float] = time.monotonic,
         soft_stop: SoftStop | None = None,
+        heading_source: HeadingSource = measured_heading,
     ) -> None:
         self.config = config
         self.soft_stop = soft_stop
+        self._heading = heading_source
         """Slows the base before fixed obstacles (None: the sticks' twist as it is)."""
         self._tcp_source = tcp_source
         self._clock = clock
@@ -61,6 +71,9 @@ class TeleopOperator:
         self.clutches = {side: ArmClutch(config.motion_scale) for side in ("l", "r")}
         self.applied_seq = -1
         """The sequence number of the input behind the latest command (-1: none yet)."""
+        self._snap_asked = 0
+        self.snap: SnapTurn | None = None
+        """The snap turn under way, which drives the base's yaw instead of the stick."""
 
     # --- the socket side --------------------------------------------------------------------
 
@@ -83,10 +96,18 @@ class TeleopOperator:
     # --- the Operator protocol --------------------------------------------------------------
 
     def start_trial(self, trial_seed: int) -> None:
-        """The world was reset: forget the arm targets (grips must be pressed again)."""
+        """The world was reset: forget the arm targets (grips must be pressed again) and
+        any snap turn."""
         for clutch in self.clutches.values():
             clutch.reset()
         self._grippers = (0.0, 0.0)
+        self._snap_asked = 0
+        self.snap = None
+
+    def ask_snap(self, direction: int) -> None:
+        """Turn the base by :data:`~workcell.teleop.snap_turn.SNAP_ANGLE` (+1: left, -1:
+        right), starting at the next control period (on the simulation thread)."""
+        self._snap_asked = direction
 
     def act(self, world: World) -> Command:
         with self._lock:
@@ -96,6 +117,7 @@ class TeleopOperator:
             # No or stale input: stop the base, freeze the arms, keep the grippers; a held
             # grip stays engaged through a short gap (clutch_hold_s), so none of the hand's
             # motion during the gap is lost when input returns.
+            self.snap = None  # no input: the base stops, a snap too
             hold = latest is not None and age <= self.config.clutch_hold_s
             arms = {
                 side: clutch.hold() if hold else clutch.release()
@@ -118,7 +140,7 @@ class TeleopOperator:
             for side, hand in (("l", latest.left), ("r", latest.right))
         }
         self._grippers = (_unit(latest.left.trigger), _unit(latest.right.trigger))
-        base = base_twist(latest.left.stick, latest.right.stick, self.config)
+        base = self._snapping(world, base_twist(latest.left.stick, latest.right.stick, self.config))
         if self.soft_stop is not None:
             base = self.soft_stop.limit(base, world.model, world.data, float(world.base_pose[2]))
         return Command(
@@ -129,6 +151,21 @@ class TeleopOperator:
             close_right=self._grippers[1],
             head=self._head(latest),
         )
+
+    def _snapping(self, world: World, base: BaseTwist) -> BaseTwist:
+        """``base`` with its yaw rate from the snap turn under way, if any."""
+        if not self._snap_asked and self.snap is None:
+            return base
+        yaw, yaw_rate = self._heading(world)
+        if self._snap_asked:
+            self.snap = SnapTurn(self._snap_asked, yaw)
+            self._snap_asked = 0
+        assert self.snap is not None
+        rate = self.snap.yaw_rate(yaw, yaw_rate, self.config.max_yaw_rate, self.config.yaw_accel)
+        if rate is None:
+            self.snap = None
+            return base
+        return BaseTwist(vx=base.vx, vy=base.vy, wz=rate)
 
     def _head(self, latest: Input) -> tuple[float, float]:
         quat = latest.headset[3:] if latest.headset is not None else None

@@ -26,6 +26,9 @@ import { linesToDom, renderEndScreen } from "../hud/endScreen";
 import { exposeCapture, exposeExtra } from "../debug";
 import { el } from "../util/dom";
 import { describeReport } from "../scene/frameMeter";
+import { SnapTurn } from "../xr/snapTurn";
+import { snapTurnRequested } from "../util/env";
+import type { TurnMode } from "../xr/snapTurn";
 
 export interface TeleopShared {
   viewer: Viewer;
@@ -88,6 +91,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const markers = [controllerMarker(0x4fa3ff), controllerMarker(0xff7a4f)];
   for (const m of markers) viewer.rig.add(m);
   const vignette = new Vignette();
+  let turnMode: TurnMode = snapTurnRequested() ? "snap" : "smooth";
+  const snapTurn = new SnapTurn();
   viewer.camera.add(vignette.mesh);
   const baseMotion = new BaseMotionMeter();
   let hudMode: HudMode = "wrist";
@@ -119,6 +124,11 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     const next = viewer.viewMode === "first" ? "third" : "first";
     setView(next);
     act(next === "first" ? "view_first" : "view_third", source);
+  };
+  /** Switch the right stick between smooth and snap turns and have the server record it. */
+  const toggleTurn = (source: Act["source"]): void => {
+    turnMode = turnMode === "snap" ? "smooth" : "snap";
+    act(turnMode === "snap" ? "turn_snap" : "turn_smooth", source);
   };
   const act = (action: Act["action"], source: Act["source"]): void => {
     actions.push(`${action}:${source}`);
@@ -206,6 +216,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (headset !== null) recenter = recenterOn(headset);
       act("recenter_view", "xr_menu");
     } else if (item === "toggle_view") toggleView("xr_menu");
+    else if (item === "toggle_turn") toggleTurn("xr_menu");
     else if (item === "stop_session") app.stopSession();
   };
 
@@ -254,6 +265,15 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (menuOpen || chosen !== null) {
         reading = { ...xrReading, left: { ...xrReading.left, stick: [0, 0] }, right: { ...xrReading.right, stick: [0, 0] } };
       }
+      // Snap turns: a flick of the right stick asks the server to turn the base by a
+      // fixed angle, unseen; the stick itself no longer turns it.
+      let blackout = false;
+      if (turnMode === "snap" && !menuOpen) {
+        const snapped = snapTurn.update(xrReading.right.stick[0], time / 1000, baseMotion.yawRate);
+        reading = { ...reading, right: { ...reading.right, stick: [0, reading.right.stick[1]] } };
+        if (snapped.ask !== null) act(snapped.ask, "xr_button");
+        blackout = snapped.blackout;
+      }
       const buttons = xrReading.left.buttons | xrReading.right.buttons;
       if (!wasOpen && !menuOpen && buttons & BUTTON.secondary && !(lastButtons & BUTTON.secondary)) {
         toggleView("xr_button");
@@ -283,7 +303,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       hudPanel.mesh.lookAt(eyesInRig());
       menu.mesh.visible = menuOpen;
       if (menuOpen) {
-        menu.draw(viewer.viewMode === "first" ? "Third person" : "First person");
+        menu.draw(viewer.viewMode === "first" ? "Third person" : "First person", turnMode === "snap" ? "Smooth turning" : "Snap turning");
         // in front of where the operator looks now (raw local-floor, as the rig's children)
         const gaze = raw.headset === null ? 0 : headingOf(raw.headset);
         menu.mesh.position.set(rawEyes.x - 0.6 * Math.sin(gaze), rawEyes.y - 0.1, rawEyes.z - 0.6 * Math.cos(gaze));
@@ -294,7 +314,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       const moving = app.sessionActive && time - lastStateAt < STATE_FRESH_MS;
       const strength =
         viewer.viewMode === "first" && moving ? vignetteStrength(baseMotion.speed, baseMotion.yawRate, BASE_LIMITS) : 0;
-      vignette.set(strength);
+      vignette.set(strength, blackout);
       vignettePeak = Math.max(vignettePeak, strength);
     } else {
       vignette.set(0);
@@ -350,7 +370,14 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       off_axis_deg:
         hudPlaced === null ? null : offAxisDegrees([headsetLocal.x, headsetLocal.y, headsetLocal.z], hudPlaced.position),
     },
-    comfort: { vignette: vignette.strength, vignette_peak: vignettePeak, base_speed: baseMotion.speed },
+    comfort: {
+      vignette: vignette.strength,
+      vignette_peak: vignettePeak,
+      base_speed: baseMotion.speed,
+      turn: turnMode,
+      snaps: snapTurn.snaps,
+      blackout: vignette.blackedOut,
+    },
     menu: { open: menu.state.open, index: menu.state.index },
     recenter_yaw: recenter.yaw,
     actions: [...actions],

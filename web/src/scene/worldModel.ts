@@ -1,5 +1,11 @@
 // The drawn world: three.js objects built once from a Scene message (MuJoCo geom
 // semantics), then moved by the dynamic body poses of State messages or a replay.
+//
+// Draw calls are what a software renderer and a standalone headset pay for: everything
+// that never moves is one mesh per material, and every moving body's geoms (arm links,
+// fingers, boxes) are instances of one THREE.BatchedMesh per material (one multi-draw
+// each), placed at their body's pose every frame. A body keeps an empty group that carries
+// its pose (the head camera hangs from the head's).
 
 import * as THREE from "three";
 import { mergeGeometries } from "three/examples/jsm/utils/BufferGeometryUtils.js";
@@ -51,6 +57,11 @@ function materialFor(geom: GeomDescription, cache: Map<string, THREE.Material>):
   return material;
 }
 
+interface BatchedPart {
+  batch: THREE.BatchedMesh;
+  instance: number;
+}
+
 export class WorldModel {
   /** Rotated z-up → y-up; everything the server describes lives under it. */
   readonly root = new THREE.Group();
@@ -63,6 +74,10 @@ export class WorldModel {
   private readonly targetMarkers: THREE.Mesh[] = [];
   private readonly materials = new Map<string, THREE.Material>();
   private readonly staticMeshes: THREE.Mesh[] = [];
+  private readonly batches: THREE.BatchedMesh[] = [];
+  /** Each moving body's instances in the batches, by its dynamic index. */
+  private parts: BatchedPart[][] = [];
+  private readonly partsByBody = new Map<string, BatchedPart[]>();
 
   constructor() {
     this.root.name = "world";
@@ -101,12 +116,14 @@ export class WorldModel {
     this.headBodyName = scene.head_camera_body;
     let maxIndex = -1;
     const fixed = new Map<THREE.Material, THREE.BufferGeometry[]>();
+    const moving = new Map<THREE.Material, { body: string; geometry: THREE.BufferGeometry }[]>();
     for (const body of scene.bodies) {
-      const group = this.buildBody(body, body.dynamic ? null : fixed);
+      const group = this.buildBody(body, body.dynamic ? null : fixed, moving);
       this.root.add(group);
       this.bodies.set(body.name, group);
       if (body.dynamic) maxIndex = Math.max(maxIndex, body.index);
     }
+    this.batchMoving(moving);
     // Everything that never moves is drawn as one mesh per material (fewer draw calls:
     // software-rendered browsers and standalone headsets both care).
     for (const [material, geometries] of fixed) {
@@ -120,8 +137,13 @@ export class WorldModel {
       this.root.add(mesh);
     }
     this.dynamic = new Array<THREE.Group | undefined>(maxIndex + 1).fill(undefined);
+    this.parts = Array.from({ length: maxIndex + 1 }, () => []);
     for (const body of scene.bodies) {
-      if (body.dynamic) this.dynamic[body.index] = this.bodies.get(body.name);
+      if (!body.dynamic) continue;
+      this.dynamic[body.index] = this.bodies.get(body.name);
+      this.parts[body.index] = this.partsByBody.get(body.name) ?? [];
+      const group = this.bodies.get(body.name);
+      if (group !== undefined) this.placeParts(this.parts[body.index] ?? [], group);
     }
     this.headBody?.add(this.headCamera);
     for (const marker of this.targetMarkers) this.root.add(marker);
@@ -133,7 +155,10 @@ export class WorldModel {
     for (let i = 0; i < n; i += 1) {
       const group = this.dynamic[i];
       const pose = poses[i];
-      if (group !== undefined && pose !== undefined) applyPose(group, pose);
+      if (group !== undefined && pose !== undefined) {
+        applyPose(group, pose);
+        this.placeParts(this.parts[i] ?? [], group);
+      }
     }
   }
 
@@ -149,9 +174,7 @@ export class WorldModel {
 
   /** Hide the robot's own head (it would fill a first-person view). */
   setHeadVisible(visible: boolean): void {
-    const head = this.headBody;
-    if (head === undefined) return;
-    for (const child of head.children) if (child instanceof THREE.Mesh) child.visible = visible;
+    for (const part of this.partsByBody.get(this.headBodyName) ?? []) part.batch.setVisibleAt(part.instance, visible);
   }
 
   /** World (z-up) pose of a body as last drawn, or null. */
@@ -163,18 +186,17 @@ export class WorldModel {
     return [p.x, p.y, p.z, q.w, q.x, q.y, q.z];
   }
 
-  /** A body's group; a static body's geoms go into `fixed` (world-frame geometry by
-   * material) instead of becoming meshes of their own, and a moving body's geoms are
-   * drawn as one mesh per material (one draw call each). */
+  /** A body's group (its pose); its geoms go, by material, into `fixed` in the world
+   * frame (a static body: `fixed` given) or into `moving` in the body's frame. */
   private buildBody(
     body: BodyDescription,
     fixed: Map<THREE.Material, THREE.BufferGeometry[]> | null,
+    moving: Map<THREE.Material, { body: string; geometry: THREE.BufferGeometry }[]>,
   ): THREE.Group {
     const group = new THREE.Group();
     group.name = body.name;
     applyPose(group, body.pose);
     group.updateMatrix();
-    const own = new Map<THREE.Material, THREE.BufferGeometry[]>();
     for (const geom of body.geoms) {
       const geometry = geometryFor(geom);
       if (geometry === null || geom.rgba[3] <= 0.001) continue;
@@ -184,18 +206,51 @@ export class WorldModel {
         new THREE.Quaternion(geom.quat[1], geom.quat[2], geom.quat[3], geom.quat[0]),
         new THREE.Vector3(1, 1, 1),
       );
-      geometry.applyMatrix4(fixed === null ? local : new THREE.Matrix4().multiplyMatrices(group.matrix, local));
-      const into = fixed ?? own;
-      const list = into.get(material) ?? [];
+      if (fixed === null) {
+        geometry.applyMatrix4(local);
+        const list = moving.get(material) ?? [];
+        list.push({ body: body.name, geometry });
+        moving.set(material, list);
+        continue;
+      }
+      geometry.applyMatrix4(new THREE.Matrix4().multiplyMatrices(group.matrix, local));
+      const list = fixed.get(material) ?? [];
       list.push(geometry);
-      into.set(material, list);
-    }
-    for (const [material, geometries] of own) {
-      const merged = geometries.length === 1 ? (geometries[0] ?? null) : mergeGeometries(geometries, false);
-      if (geometries.length > 1) for (const g of geometries) g.dispose();
-      if (merged !== null) group.add(new THREE.Mesh(merged, material));
+      fixed.set(material, list);
     }
     return group;
+  }
+
+  /** One BatchedMesh per material for the moving bodies' geoms (body frame each). */
+  private batchMoving(moving: Map<THREE.Material, { body: string; geometry: THREE.BufferGeometry }[]>): void {
+    for (const [material, items] of moving) {
+      let vertices = 0;
+      let indices = 0;
+      for (const { geometry } of items) {
+        vertices += geometry.getAttribute("position").count;
+        indices += geometry.getIndex()?.count ?? 0;
+      }
+      const batch = new THREE.BatchedMesh(items.length, vertices, indices, material);
+      batch.name = "moving";
+      batch.frustumCulled = false; // its instances move every frame
+      batch.sortObjects = false;
+      for (const { body, geometry } of items) {
+        const instance = batch.addInstance(batch.addGeometry(geometry));
+        geometry.dispose();
+        const parts = this.partsByBody.get(body) ?? [];
+        parts.push({ batch, instance });
+        this.partsByBody.set(body, parts);
+      }
+      this.batches.push(batch);
+      this.root.add(batch);
+    }
+  }
+
+  /** Put a body's instances where its group is (root frame). */
+  private placeParts(parts: readonly BatchedPart[], group: THREE.Group): void {
+    if (parts.length === 0) return;
+    group.updateMatrix();
+    for (const part of parts) part.batch.setMatrixAt(part.instance, group.matrix);
   }
 
   private clear(): void {
@@ -210,6 +265,13 @@ export class WorldModel {
       this.root.remove(mesh);
     }
     this.staticMeshes.length = 0;
+    for (const batch of this.batches) {
+      batch.dispose();
+      this.root.remove(batch);
+    }
+    this.batches.length = 0;
+    this.parts = [];
+    this.partsByBody.clear();
     for (const material of this.materials.values()) material.dispose();
     this.materials.clear();
     this.bodies.clear();

@@ -41,3 +41,8 @@ export function requestedRole(): "operator" | "spectator" {
 export function lowQuality(): boolean {
   return queryParam("quality") === "low" || queryParam("emulate") !== null;
 }
+
+/** `?turn=snap`: the headset starts with snap turns (the in-VR menu switches them). */
+export function snapTurnRequested(): boolean {
+  return queryParam("turn") === "snap";
+}

@@ -1,12 +1,15 @@
 // The tunnel vignette: a dark ring close in front of the eyes whose opacity follows the
-// base's motion (see comfort.ts); the centre stays clear.
+// base's motion (see comfort.ts); the centre stays clear. Its blackout covers the whole
+// view (while a snap turn turns the base, see snapTurn.ts).
 
 import * as THREE from "three";
 
 export class Vignette {
   readonly mesh: THREE.Mesh;
   private readonly material: THREE.MeshBasicMaterial;
+  private readonly cover: THREE.Mesh;
   strength = 0;
+  blackedOut = false;
 
   constructor() {
     const size = 256;
@@ -28,11 +31,21 @@ export class Vignette {
     this.mesh.position.set(0, 0, -0.12);
     this.mesh.renderOrder = 20;
     this.mesh.visible = false;
+    this.cover = new THREE.Mesh(
+      new THREE.PlaneGeometry(0.5, 0.5),
+      new THREE.MeshBasicMaterial({ color: 0x000000, depthTest: false }),
+    );
+    this.cover.name = "comfort_blackout";
+    this.cover.renderOrder = 21;
+    this.cover.visible = false;
+    this.mesh.add(this.cover);
   }
 
-  set(strength: number): void {
+  set(strength: number, blackout = false): void {
     this.strength = strength;
+    this.blackedOut = blackout;
     this.material.opacity = strength;
-    this.mesh.visible = strength > 0.01;
+    this.cover.visible = blackout;
+    this.mesh.visible = strength > 0.01 || blackout;
   }
 }

@@ -4,13 +4,14 @@
 
 import * as THREE from "three";
 
-export type MenuItem = "restart_trial" | "recenter_view" | "toggle_view" | "stop_session" | "close";
-export const MENU_ITEMS: readonly MenuItem[] = ["restart_trial", "recenter_view", "toggle_view", "stop_session", "close"];
+export type MenuItem = "restart_trial" | "recenter_view" | "toggle_view" | "toggle_turn" | "stop_session" | "close";
+export const MENU_ITEMS: readonly MenuItem[] = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "stop_session", "close"];
 
 const LABELS: Record<MenuItem, string> = {
   restart_trial: "Restart trial",
   recenter_view: "Recenter view",
   toggle_view: "Switch view",
+  toggle_turn: "Switch turning",
   stop_session: "Stop session",
   close: "Close menu",
 };
@@ -84,9 +85,10 @@ export class VrMenu {
     this.mesh.visible = false;
   }
 
-  /** Draw the items with the highlight (only when something changed). */
-  draw(viewLabel: string): void {
-    const key = `${this.state.index}|${viewLabel}`;
+  /** Draw the items with the highlight (only when something changed); the toggles are
+   * labelled with what choosing them switches to. */
+  draw(viewLabel: string, turnLabel = LABELS.toggle_turn): void {
+    const key = `${this.state.index}|${viewLabel}|${turnLabel}`;
     if (key === this.drawn) return;
     this.drawn = key;
     const c = this.context;
@@ -105,7 +107,8 @@ export class VrMenu {
       c.fillStyle = "#ffffff";
       c.font = "bold 30px system-ui, sans-serif";
       c.textBaseline = "middle";
-      c.fillText(item === "toggle_view" ? viewLabel : LABELS[item], 36, y + (ROW - 8) / 2);
+      const label = item === "toggle_view" ? viewLabel : item === "toggle_turn" ? turnLabel : LABELS[item];
+      c.fillText(label, 36, y + (ROW - 8) / 2);
     });
     this.texture.needsUpdate = true;
   }

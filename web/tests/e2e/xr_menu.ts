@@ -1,7 +1,9 @@
 // The in-VR menu in an emulated Meta Quest 3 (IWER): X opens it, the right thumbstick
 // moves the highlight, A chooses. Recenter the view after turning the headset, switch to
-// third person, restart the trial (a new trial begins), then stop the session from the
-// menu. Prints "RESULT {json}" for the pytest wrapper, which checks the store's events.
+// third person, restart the trial (a new trial begins), switch to snap turns and flick the
+// right stick (the server turns the base 30 degrees while the view is blacked out), then stop
+// the session from the menu. Prints "RESULT {json}" for the pytest wrapper, which checks
+// the store's events.
 //
 //   npm run build:e2e && node build/e2e/tests/e2e/xr_menu.js http://127.0.0.1:8000   (in web/)
 
@@ -17,6 +19,7 @@ interface DeviceChange {
   button?: string;
   value?: number;
   stickY?: number;
+  stickX?: number;
   headsetYaw?: number;
 }
 
@@ -28,10 +31,20 @@ function device(change: DeviceChange): void {
   const controller = change.side === undefined ? undefined : quest.controllers[change.side];
   if (controller === undefined) return;
   if (change.button !== undefined) controller.updateButtonValue(change.button, change.value ?? 0);
-  if (change.stickY !== undefined) controller.updateAxes("thumbstick", 0, change.stickY);
+  if (change.stickY !== undefined || change.stickX !== undefined) {
+    controller.updateAxes("thumbstick", change.stickX ?? 0, change.stickY ?? 0);
+  }
 }
 
-const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "stop_session", "close"];
+/** In the page: the robot base's heading as drawn (radians). */
+function baseYaw(): number {
+  const base = window.__workcell?.bodies()["base"];
+  if (base === undefined) throw new Error("no base drawn");
+  const [, , , w, x, y, z] = base;
+  return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
+}
+
+const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "stop_session", "close"];
 
 await runScript("xr_menu", async ({ url, page, artifacts }) => {
   await startSession(page, url, { operatorId: "e2e-xr-menu", query: { emulate: "quest3" }, artifacts });
@@ -80,6 +93,22 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
   const interrupted = s.events.find((e) => e.kind === "trial_interrupted");
   check(interrupted?.kind === "trial_interrupted" && interrupted.reason === "operator_restart", `the restarted trial ended ${JSON.stringify(interrupted)}`);
 
+  // Snap turns: a flick of the right stick turns the base about 30°, the view blacked out.
+  await choose("toggle_turn");
+  await waitFor(page, (s) => s.teleop?.comfort.turn === "snap", { what: "the menu to switch to snap turns" });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the new trial to run", timeout: 15000 });
+  const before = await page.evaluate(baseYaw);
+  await page.evaluate<void, DeviceChange>(device, { side: "right", stickX: 0.9 });
+  await waitFor(page, (s) => s.teleop?.comfort.blackout === true, { what: "the view to black out while the base turns", every: 20 });
+  s = await waitFor(page, (s) => s.teleop?.comfort.snaps === 1 && !s.teleop.comfort.blackout, { what: "the snap turn to end" });
+  await page.evaluate<void, DeviceChange>(device, { side: "right", stickX: 0 });
+  await sleep(300);
+  const after = await page.evaluate(baseYaw);
+  const turned = Math.atan2(Math.sin(after - before), Math.cos(after - before));
+  log(`snap turn: the base turned ${((turned * 180) / Math.PI).toFixed(1)} degrees, the stick held all along`);
+  check(Math.abs(turned + Math.PI / 6) < 0.05, `one flick to the right turned the base ${turned.toFixed(3)} rad (wanted ${(-Math.PI / 6).toFixed(3)})`);
+  check(s.teleop?.comfort.snaps === 1, "holding the stick made more than one snap");
+
   await choose("stop_session");
   const end = await waitForEnd(page, 15000);
   const result = {
@@ -87,6 +116,7 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
     reason: end.ended.reason,
     actions: s.teleop?.actions ?? [],
     recenter_yaw: s.teleop?.recenter_yaw ?? null,
+    snap_turned: turned,
   };
   console.log(`RESULT ${JSON.stringify(result)}`);
   check(end.ended.reason === "operator_stop", `the session ended ${end.ended.reason}, not operator_stop`);
