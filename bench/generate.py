@@ -8,11 +8,18 @@ Prints, measured in one run on this machine:
 
 Each run is a real ``workcell collect`` (recording into a store), so process start-up and
 merging are included. Run: ``.venv/bin/python bench/generate.py [--trials N]``.
+
+``--part scaling --repeats R`` measures only the scaling from 1 to 2 workers, as R paired
+runs (1 worker then 2 workers, the order alternating between pairs so that a drift in the
+machine's load does not favour one side), and prints each pair's ratio with their mean and
+its 95 % interval (Student's t over the pairs): issue 19's "2 workers >= 1.8x one, stable
+across runs".
 """
 
 from __future__ import annotations
 
 import argparse
+import statistics
 import subprocess
 import sys
 import tempfile
@@ -20,6 +27,8 @@ import time
 from pathlib import Path
 
 CAMERAS = "head_cam,wrist_l_cam,wrist_r_cam"
+T_975 = {1: 12.71, 2: 4.30, 3: 3.18, 4: 2.78, 5: 2.57, 6: 2.45, 7: 2.36, 8: 2.31, 9: 2.26}
+"""Student's t, two-sided 95 %, by degrees of freedom (1.96 beyond)."""
 
 
 def collect(folder: Path, name: str, trials: int, *extra: str) -> float:
@@ -35,11 +44,46 @@ def per_minute(trials: int, seconds: float) -> float:
     return 60.0 * trials / seconds
 
 
+def scaling(trials: int, repeats: int) -> None:
+    """Paired runs of 1 and 2 workers; each pair's ratio, their mean and 95 % interval."""
+    ratios = []
+    with tempfile.TemporaryDirectory() as name:
+        folder = Path(name)
+        for k in range(repeats):
+            order = ("one", "two") if k % 2 == 0 else ("two", "one")
+            seconds = {}
+            for side in order:
+                workers = 1 if side == "one" else 2
+                extra = ("--workers", "2") if workers == 2 else ()
+                seconds[side] = collect(folder, f"{side}-{k}", workers * trials, *extra)
+            one = per_minute(trials, seconds["one"])
+            two = per_minute(2 * trials, seconds["two"])
+            ratios.append(two / one)
+            print(
+                f"pair {k + 1}: 1 worker {one:6.1f}, 2 workers {two:6.1f} trials/min: "
+                f"{two / one:.2f}x"
+            )
+    mean = statistics.fmean(ratios)
+    if len(ratios) > 1:
+        half = T_975.get(len(ratios) - 1, 1.96) * statistics.stdev(ratios) / len(ratios) ** 0.5
+        print(
+            f"scaling 1 -> 2: {mean:.2f}x, 95 % interval [{mean - half:.2f}, {mean + half:.2f}] "
+            f"over {len(ratios)} paired runs (target >= 1.80)"
+        )
+    else:
+        print(f"scaling 1 -> 2: {mean:.2f}x (one pair: no interval)")
+
+
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--trials", type=int, default=6, help="trials per worker")
+    parser.add_argument("--part", choices=("all", "scaling"), default="all")
+    parser.add_argument("--repeats", type=int, default=5, help="paired runs (--part scaling)")
     args = parser.parse_args()
     n = args.trials
+    if args.part == "scaling":
+        scaling(n, args.repeats)
+        return
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
         plain = collect(folder, "plain", n)
