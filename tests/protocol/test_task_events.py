@@ -25,7 +25,7 @@ EXAMPLES: tuple[ev.TaskEvent, ...] = (
     ev.TrialTimedOut(1, 90.0),
     ev.TrialInterrupted(1, 3.0, "client_lost"),
     ev.OperatorActed(1, 2.5, "restart_trial", "xr_menu"),
-    ev.ClientFrames(1, 2.75, 310, 16.7, 22.4, 48.0, 41, 52_310, True),
+    ev.ClientFrames(310, 16.7, 22.4, 48.0, 41, 52_310, True, trial_index=1, t_sim=2.75),
     ev.TrialEnded(1, 3.0, "interrupted", "client_lost", 3.0, 0, 0),
 )
 

@@ -128,13 +128,12 @@ export interface OperatorActed {
 }
 
 /**
- * How the operator's browser drew over its last few seconds (see the protocol's
- * ``FrameStats``): frame intervals in ms, draw calls and triangles of a frame, and
- * whether it presented to a headset.
+ * How the operator's browser drew over its last few seconds: frame intervals in ms
+ * (p50, p95, the longest), the WebGL draw calls and triangles of a frame (both eyes in a
+ * headset), and whether it presented to a headset. The client sends them (the
+ * protocol's ``FrameStats``); the record keeps them (:class:`ClientFrames`).
  */
-export interface ClientFrames {
-  readonly trial_index: number;
-  readonly t_sim: number;
+export interface FrameFigures {
   readonly frames: number;
   readonly frame_ms_p50: number;
   readonly frame_ms_p95: number;
@@ -142,6 +141,19 @@ export interface ClientFrames {
   readonly draw_calls: number;
   readonly triangles: number;
   readonly presenting: boolean;
+}
+
+/** A :class:`FrameFigures` report, in the trial under way. */
+export interface ClientFrames {
+  readonly frames: number;
+  readonly frame_ms_p50: number;
+  readonly frame_ms_p95: number;
+  readonly frame_ms_max: number;
+  readonly draw_calls: number;
+  readonly triangles: number;
+  readonly presenting: boolean;
+  readonly trial_index: number;
+  readonly t_sim: number;
   readonly kind: "client_frames";
   readonly type: "event";
 }
@@ -225,9 +237,8 @@ export interface Act {
 
 /**
  * How the operator's browser draws, over the frames since its previous report (every
- * few seconds): frame intervals (ms; p50, p95 and the longest), the WebGL draw calls and
- * triangles of its last frame (both eyes in a headset) and whether it was presenting to a
- * headset. Recorded as a ``client_frames`` event of the trial under way.
+ * few seconds; the fields are :class:`~workcell.task.events.FrameFigures`'). Recorded as
+ * a ``client_frames`` event of the trial under way.
  */
 export interface FrameStats {
   readonly frames: number;

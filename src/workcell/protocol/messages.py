@@ -23,6 +23,7 @@ from workcell.session.config import Mode
 from workcell.task.events import (
     TASK_EVENTS,
     ActionSource,
+    FrameFigures,
     OperatorAction,
     SessionEndReason,
     TaskEvent,
@@ -110,20 +111,12 @@ class Act:
     type: Literal["act"] = "act"
 
 
-@dataclass(frozen=True)
-class FrameStats:
+@dataclass(frozen=True, kw_only=True)
+class FrameStats(FrameFigures):
     """How the operator's browser draws, over the frames since its previous report (every
-    few seconds): frame intervals (ms; p50, p95 and the longest), the WebGL draw calls and
-    triangles of its last frame (both eyes in a headset) and whether it was presenting to a
-    headset. Recorded as a ``client_frames`` event of the trial under way."""
+    few seconds; the fields are :class:`~workcell.task.events.FrameFigures`'). Recorded as
+    a ``client_frames`` event of the trial under way."""
 
-    frames: int
-    frame_ms_p50: float
-    frame_ms_p95: float
-    frame_ms_max: float
-    draw_calls: int
-    triangles: int
-    presenting: bool
     type: Literal["frame_stats"] = "frame_stats"
 
 

@@ -110,10 +110,10 @@ class LiveSession:
         """Record how the operator's browser draws, at the next control period (from any
         thread)."""
 
+        figures = {f.name: getattr(stats, f.name) for f in dataclasses.fields(ev.FrameFigures)}
+
         def event(trial_index: int, t_sim: float) -> ev.TaskEvent:
-            figures = dataclasses.asdict(stats)
-            del figures["type"]
-            return ev.ClientFrames(trial_index, t_sim, **figures)
+            return ev.ClientFrames(trial_index=trial_index, t_sim=t_sim, **figures)
 
         self._requests.append(lambda runner: runner.note(event))
 

@@ -160,13 +160,12 @@ class OperatorActed:
 
 
 @dataclass(frozen=True)
-class ClientFrames:
-    """How the operator's browser drew over its last few seconds (see the protocol's
-    ``FrameStats``): frame intervals in ms, draw calls and triangles of a frame, and
-    whether it presented to a headset."""
+class FrameFigures:
+    """How the operator's browser drew over its last few seconds: frame intervals in ms
+    (p50, p95, the longest), the WebGL draw calls and triangles of a frame (both eyes in a
+    headset), and whether it presented to a headset. The client sends them (the
+    protocol's ``FrameStats``); the record keeps them (:class:`ClientFrames`)."""
 
-    trial_index: int
-    t_sim: float
     frames: int
     frame_ms_p50: float
     frame_ms_p95: float
@@ -174,6 +173,14 @@ class ClientFrames:
     draw_calls: int
     triangles: int
     presenting: bool
+
+
+@dataclass(frozen=True, kw_only=True)
+class ClientFrames(FrameFigures):
+    """A :class:`FrameFigures` report, in the trial under way."""
+
+    trial_index: int
+    t_sim: float
     kind: Literal["client_frames"] = "client_frames"
     type: Literal["event"] = "event"
 

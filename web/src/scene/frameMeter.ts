@@ -3,12 +3,12 @@
 // Summarised every few seconds as the protocol's FrameStats, which the teleoperation page
 // sends to the server (recorded as a `client_frames` event) and shows in its toolbar.
 
-import type { FrameStats } from "../protocol";
+import type { FrameFigures } from "../protocol";
 
 /** How often a report is made (ms of the animation clock). */
 export const REPORT_EVERY_MS = 5000;
 
-export type FrameReport = Omit<FrameStats, "type">;
+export type FrameReport = FrameFigures;
 
 /** The value at quantile `q` of ascending `sorted` (nearest rank). */
 export function quantile(sorted: readonly number[], q: number): number {
