@@ -76,6 +76,8 @@ class Operator:
         self.latencies: list[float] = []
         self.seen = 0
         self.measuring = False
+        self.errors: list[str] = []
+        """What the server refused (code: message)."""
 
     async def send_inputs(self, stop: asyncio.Event) -> None:
         seq = 0
@@ -101,6 +103,8 @@ class Operator:
             async for text in self.ws:
                 now = time.perf_counter()
                 message = json.loads(text)  # (the full decode is not what is timed)
+                if message["type"] == "error":
+                    self.errors.append(f"{message['code']}: {message['message']}")
                 applied = message.get("input_seq", -1) if message["type"] == "state" else -1
                 if applied <= self.seen:
                     continue

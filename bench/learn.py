@@ -28,6 +28,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import json
 import os
 import sqlite3
@@ -58,6 +59,8 @@ class Settings:
     mixed_trials: int
     low_skill: float
     policy: str
+    filter_policies: tuple[str, ...] = ("kept", "all")
+    """Which of the filtering experiment's two policies to train and evaluate, in order."""
 
 
 @dataclass(frozen=True)
@@ -229,11 +232,15 @@ def filtering(settings: Settings) -> None:
     for line in describe_operators(work / "mixed-audit" / "trials.csv", store):
         print("  ", line)
     results = {}
-    for name, dataset in (("all", everything), ("kept", kept)):
+    datasets = {"kept": kept, "all": everything}
+    for name in settings.filter_policies:
+        dataset = datasets[name]
         out = work / f"{settings.policy}-mixed-{name}"
         minutes = train(settings, dataset, out)
         results[name] = evaluate(settings, f"{settings.policy}-mixed-{name}", f"policy:{out}")
         print(results[name].line(minutes, episode_count(dataset)))
+    if set(results) != set(datasets):
+        return
     gain = 100 * (results["kept"].rate - results["all"].rate)
     print(f"filtering gain: {gain:+.1f} points of success (target >= +10): "
           f"{'met' if gain >= 10 else 'NOT met'}")  # fmt: skip
@@ -294,6 +301,10 @@ def parse(argv: Sequence[str] | None = None) -> tuple[Settings, str]:
     parser.add_argument("--mixed-trials", type=int, default=200)
     parser.add_argument("--low-skill", type=float, default=0.2)
     parser.add_argument("--policy", default="act")
+    parser.add_argument(
+        "--filter-policies", default="kept,all",
+        help="which filtering policies to train, in order: kept (the audit's keep), all",
+    )  # fmt: skip
     parser.add_argument("--quick", action="store_true", help="tiny sizes: checks the pipeline")
     args = parser.parse_args(argv)
     demos = tuple(int(n) for n in args.demos.split(","))
@@ -306,10 +317,13 @@ def parse(argv: Sequence[str] | None = None) -> tuple[Settings, str]:
         mixed_trials=args.mixed_trials,
         low_skill=args.low_skill,
         policy=args.policy,
+        filter_policies=tuple(args.filter_policies.split(",")),
     )
+    if not set(settings.filter_policies) <= {"kept", "all"}:
+        parser.error(f"--filter-policies {args.filter_policies}: allowed are kept and all")
     if args.quick:
-        settings = Settings(
-            args.work, (2,), 2, 20, settings.threads, 4, args.low_skill, args.policy
+        settings = dataclasses.replace(
+            settings, demos=(2,), eval_trials=2, steps=20, mixed_trials=4
         )
     return settings, args.part
 

@@ -74,7 +74,7 @@ def test_a_hesitation_is_marked_slow_against_the_sets_median(hesitant: Path) -> 
                for t in timeouts)  # fmt: skip
     slow_findings = [f for f in result.findings if f.kind == QUALITY_FLAG and f.subject == SLOW]
     assert [f.trial_id for f in slow_findings] == [paused.trial_id]
-    assert result.config.describe()["detectors"]["slow"]["factor"] == 2.0
+    assert result.config.describe()["detectors"]["slow"]["factor"] == 1.5
 
 
 def test_the_audited_export_leaves_the_slow_demonstration_out(hesitant: Path) -> None:

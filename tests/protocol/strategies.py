@@ -76,7 +76,9 @@ def for_hint(hint: Any, bounds: tuple[float, float] | None = None, max_text: int
     if origin is Literal:
         return st.sampled_from(args)
     if origin in (Union, types.UnionType):
-        return st.one_of(*(st.none() if a is type(None) else for_hint(a, bounds) for a in args))
+        return st.one_of(
+            *(st.none() if a is type(None) else for_hint(a, bounds, max_text) for a in args)
+        )
     if origin is tuple:
         if len(args) == 2 and args[1] is Ellipsis:
             return st.lists(for_hint(args[0], bounds), max_size=3).map(tuple)

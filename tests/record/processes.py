@@ -97,9 +97,12 @@ def wait_for_trials(store: Path, count: int, timeout_s: float = 120.0) -> None:
 
 def writer_of(pid: int, timeout_s: float = 30.0) -> int:
     """The pid of the store writer process (``workcell.recording.store_worker``) that the
-    process ``pid`` started."""
+    process ``pid`` started, or that one of its descendants started (a server's session
+    process)."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
+        parents: dict[int, int] = {}
+        writers: list[int] = []
         for entry in Path("/proc").iterdir():
             if not entry.name.isdigit():
                 continue
@@ -108,8 +111,15 @@ def writer_of(pid: int, timeout_s: float = 30.0) -> int:
                 command = (entry / "cmdline").read_bytes()
             except (OSError, IndexError, ValueError):
                 continue
-            if parent == pid and b"workcell.recording.store_worker" in command:
-                return int(entry.name)
+            parents[int(entry.name)] = parent
+            if b"workcell.recording.store_worker" in command:
+                writers.append(int(entry.name))
+        for writer in writers:
+            ancestor = parents.get(writer)
+            while ancestor is not None and ancestor != pid:
+                ancestor = parents.get(ancestor)
+            if ancestor == pid:
+                return writer
         time.sleep(0.02)
     raise AssertionError(f"process {pid} has no store writer process")
 

@@ -24,6 +24,7 @@ from workcell.server.app import create_app
 from workcell.server.conductor import Conductor
 from workcell.server.http_config import uvicorn_config
 from workcell.server.options import ServerOptions
+from workcell.server.seats import Seats
 from workcell.server.tls import Certificate
 
 FAST_SETTINGS: dict[str, Any] = {"task": {"countdown_s": 0.0, "time_limit_s": 60.0}}
@@ -33,9 +34,14 @@ FAST_SETTINGS: dict[str, Any] = {"task": {"countdown_s": 0.0, "time_limit_s": 60
 @dataclass
 class RunningServer:
     options: ServerOptions
-    conductor: Conductor
+    seats: Seats
     server: uvicorn.Server
     port: int
+
+    @property
+    def conductor(self) -> Conductor:
+        """The first seat (the only one of a one-session server)."""
+        return self.seats.first
 
     @property
     def http(self) -> str:
@@ -65,9 +71,9 @@ def running_server(
     tmp_path: Path, tls: Certificate | None = None, **overrides: Any
 ) -> Iterator[RunningServer]:
     options = replace(ServerOptions(store=tmp_path / "store.sqlite", grace_s=1.0), **overrides)
-    conductor = Conductor(options)
+    seats = Seats(options)
     config = uvicorn_config(
-        create_app(options, conductor),
+        create_app(options, seats),
         options,
         ssl_certfile=str(tls.cert_file) if tls else None,
         ssl_keyfile=str(tls.key_file) if tls else None,
@@ -83,7 +89,7 @@ def running_server(
         assert time.monotonic() < deadline, "server did not start"
         time.sleep(0.01)
     try:
-        yield RunningServer(options, conductor, server, port)
+        yield RunningServer(options, seats, server, port)
     finally:
         server.should_exit = True
         thread.join(30)
@@ -122,8 +128,10 @@ class Client:
             if predicate(message):
                 return message
 
-    async def hello(self, role: m.Role = "operator", token: str | None = None) -> m.Welcome:
-        await self.send(m.Hello(role=role, resume_token=token))
+    async def hello(
+        self, role: m.Role = "operator", token: str | None = None, seat: str | None = None
+    ) -> m.Welcome:
+        await self.send(m.Hello(role=role, resume_token=token, seat=seat))
         welcome = await self.wait_for(lambda x: isinstance(x, m.Welcome))
         assert isinstance(welcome, m.Welcome)
         return welcome

@@ -14,7 +14,7 @@ export type Mode = "practice" | "collection" | "challenge";
 export type Outcome = "success" | "timeout" | "interrupted";
 export type InterruptionReason = "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart";
 export type SessionEndReason = "completed" | "error" | "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart";
-export type ErrorCode = "malformed" | "too_large" | "invalid_value" | "not_allowed" | "rate_limited" | "protocol";
+export type ErrorCode = "malformed" | "too_large" | "invalid_value" | "not_allowed" | "rate_limited" | "protocol" | "server_full";
 export type SettingKind = "int" | "float" | "text" | "choice" | "int_list" | "float_list" | "bool";
 
 /** What the operator sees: mode, progress, clock and score. */
@@ -174,10 +174,13 @@ export interface TrialEnded {
 /**
  * First message of a connection: who the client wants to be. ``resume_token`` (from
  * a previous :class:`Welcome`) takes back control of a session after a dropped link.
+ * ``seat`` names the session a spectator watches (a :class:`Welcome`'s ``seat``; none:
+ * the first); an operator gets a seat of its own while the server has room.
  */
 export interface Hello {
   readonly role: Role;
   readonly resume_token: string | null;
+  readonly seat: string | null;
   readonly type: "hello";
 }
 
@@ -258,8 +261,10 @@ export interface Ping {
 }
 
 /**
- * Answer to :class:`Hello`: the granted role (a second operator becomes a spectator),
- * the running session if any, and the token that resumes control after a dropped link.
+ * Answer to :class:`Hello`: the granted role (an operator the server has no seat for
+ * becomes a spectator, told so by a ``server_full`` :class:`Error`), the seat (whose
+ * session the client drives or watches), the running session if any, and the token that
+ * resumes control after a dropped link.
  */
 export interface Welcome {
   readonly protocol: number;
@@ -267,6 +272,7 @@ export interface Welcome {
   readonly session_id: string | null;
   readonly resume_token: string | null;
   readonly grace_s: number;
+  readonly seat: string;
   readonly type: "welcome";
 }
 
@@ -365,8 +371,8 @@ export interface SessionEnded {
 
 /**
  * A message was refused. ``code``: ``malformed``, ``too_large``, ``invalid_value``,
- * ``not_allowed``, ``rate_limited``, ``protocol``. The connection stays open unless
- * ``fatal``.
+ * ``not_allowed``, ``rate_limited``, ``protocol``, ``server_full`` (an operator's hello
+ * when every seat has an operator). The connection stays open unless ``fatal``.
  */
 export interface Error {
   readonly code: ErrorCode;
@@ -473,6 +479,8 @@ export interface ClientDiagnostics {
   readonly errors: { readonly [key: string]: number };
   readonly states_sent: number;
   readonly states_dropped: number;
+  /** The seat the client drives or watches (None before its hello). */
+  readonly seat: string | null;
 }
 
 /**
@@ -488,13 +496,18 @@ export interface SimDiagnostics {
   readonly dropped_s: number;
   readonly max_step_ms: number;
   readonly real_time_factor: number;
+  readonly seat: string;
 }
 
-/** ``GET /api/diagnostics``: the server process's CPU time, clients and simulation. */
+/**
+ * ``GET /api/diagnostics``: the server process's CPU time, clients and simulations
+ * (``sim``: the first seat's running session; ``sims``: every running session).
+ */
 export interface Diagnostics {
   readonly process_cpu_s: number;
   readonly clients: readonly ClientDiagnostics[];
   readonly sim: SimDiagnostics | null;
+  readonly sims: readonly SimDiagnostics[];
 }
 
 /**

@@ -14,8 +14,8 @@ if TYPE_CHECKING:
     import uvicorn
 
     from workcell.cli.command import Subparsers
-    from workcell.server.conductor import Conductor
     from workcell.server.options import ServerOptions
+    from workcell.server.seats import Seats
 
 EXIT_INTERRUPTED = 128 + signal.SIGINT
 EXIT_TERMINATED = 128 + signal.SIGTERM
@@ -66,6 +66,14 @@ def register(subparsers: Subparsers) -> None:
         metavar="FILE",
         help="sign the store's hash chain with the secret in FILE (see 'workcell verify --key')",
     )
+    parser.add_argument(
+        "--sessions",
+        type=int,
+        default=1,
+        metavar="N",
+        help="sessions at once, each with its own operator, simulation and spectators; beyond "
+        "N operators watch, told the server is full (default: %(default)s)",
+    )
     parser.add_argument("--static", type=Path, metavar="DIR", help="built web client folder")
     parser.set_defaults(func=run)
 
@@ -88,6 +96,7 @@ def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
         static_dir=args.static or DEFAULT_STATIC,
         allow_origins=tuple(args.allow_origin),
         key_file=args.key,
+        max_sessions=args.sessions,
     )
     return options, generated
 
@@ -95,8 +104,8 @@ def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
 def run(args: argparse.Namespace) -> int:
     options, generated = options_from(args)
     from workcell.server.app import create_app  # noqa: PLC0415
-    from workcell.server.conductor import Conductor  # noqa: PLC0415
     from workcell.server.http_config import uvicorn_config  # noqa: PLC0415
+    from workcell.server.seats import Seats  # noqa: PLC0415
     from workcell.server.tls import lan_address, self_signed  # noqa: PLC0415
 
     ssl: dict[str, str] = {}
@@ -104,16 +113,19 @@ def run(args: argparse.Namespace) -> int:
         cert = self_signed(options.cert_dir, options.host)
         ssl = {"ssl_certfile": str(cert.cert_file), "ssl_keyfile": str(cert.key_file)}
         print(f"TLS certificate {cert.cert_file}\n  SHA-256 fingerprint {cert.fingerprint}")
-    conductor = Conductor(options)
-    config = uvicorn_config(create_app(options, conductor), options, **ssl)
-    server = quit_first_server(config, conductor)
+    seats = Seats(options)
+    for line in seats.merge_leftovers():
+        print(line)
+    config = uvicorn_config(create_app(options, seats), options, **ssl)
+    server = quit_first_server(config, seats)
     shown = options.host if options.host not in ("0.0.0.0", "::") else lan_address() or "HOST"
     scheme = "https" if options.tls else "http"
     query = f"/?token={options.token}" if options.token else "/"
     if generated:
         print("generated an access token (pass --token to choose one)")
     print(f"workcell serve: open {scheme}://{shown}:{options.port}{query}", flush=True)
-    print(f"recording into {options.store}; Ctrl+C stops (the running trial ends interrupted)")
+    at_once = f"; up to {options.max_sessions} sessions at once" if options.max_sessions > 1 else ""
+    print(f"recording into {options.store}{at_once}; Ctrl+C stops (running trials end interrupted)")
     # uvicorn handles SIGINT and SIGTERM (a graceful shutdown), then re-raises the signal
     # to the handler that was there before: Python's for SIGINT (KeyboardInterrupt), this
     # one for SIGTERM, so that both end here with the shells' status (130, 143).
@@ -126,8 +138,8 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_TERMINATED
     finally:  # whatever uvicorn did, the running trial ends and the store is closed
         signal.signal(signal.SIGTERM, previous)
-        conductor.quit()
-        conductor.finish(30.0)
+        seats.quit()
+        seats.finish(30.0)
     return 0
 
 
@@ -139,18 +151,18 @@ def _raise_terminated(number: int, frame: FrameType | None) -> None:
     raise _TerminatedError
 
 
-def quit_first_server(config: uvicorn.Config, conductor: Conductor) -> uvicorn.Server:
+def quit_first_server(config: uvicorn.Config, seats: Seats) -> uvicorn.Server:
     """uvicorn's Server, told about a shutdown signal before it closes the connections, so
     an operator dropped during shutdown is an ``application_quit``, not a lost client."""
     import uvicorn  # noqa: PLC0415
 
     class QuitFirst(uvicorn.Server):
         def handle_exit(self, sig: int, frame: FrameType | None) -> None:
-            conductor.quit()
+            seats.quit()
             super().handle_exit(sig, frame)
 
         async def shutdown(self, sockets: list[socket.socket] | None = None) -> None:
-            await conductor.shutdown()  # clients hear SessionEnded before they are closed
+            await seats.shutdown()  # clients hear SessionEnded before they are closed
             await super().shutdown(sockets)
 
     return QuitFirst(config)

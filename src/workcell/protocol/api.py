@@ -114,6 +114,8 @@ class ClientDiagnostics:
     errors: dict[str, int]
     states_sent: int
     states_dropped: int
+    seat: str | None = None
+    """The seat the client drives or watches (None before its hello)."""
 
 
 @dataclass(frozen=True)
@@ -129,15 +131,18 @@ class SimDiagnostics:
     dropped_s: float
     max_step_ms: float
     real_time_factor: float
+    seat: str = "1"
 
 
 @dataclass(frozen=True)
 class Diagnostics:
-    """``GET /api/diagnostics``: the server process's CPU time, clients and simulation."""
+    """``GET /api/diagnostics``: the server process's CPU time, clients and simulations
+    (``sim``: the first seat's running session; ``sims``: every running session)."""
 
     process_cpu_s: float
     clients: tuple[ClientDiagnostics, ...]
     sim: SimDiagnostics | None
+    sims: tuple[SimDiagnostics, ...] = ()
 
 
 API_TYPES: tuple[type, ...] = (

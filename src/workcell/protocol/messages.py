@@ -38,7 +38,13 @@ Pose = tuple[float, float, float, float, float, float, float]
 Role = Literal["operator", "spectator"]
 InputSource = Literal["xr", "desktop", "gamepad"]
 ErrorCode = Literal[
-    "malformed", "too_large", "invalid_value", "not_allowed", "rate_limited", "protocol"
+    "malformed",
+    "too_large",
+    "invalid_value",
+    "not_allowed",
+    "rate_limited",
+    "protocol",
+    "server_full",
 ]
 
 
@@ -48,10 +54,13 @@ ErrorCode = Literal[
 @dataclass(frozen=True)
 class Hello:
     """First message of a connection: who the client wants to be. ``resume_token`` (from
-    a previous :class:`Welcome`) takes back control of a session after a dropped link."""
+    a previous :class:`Welcome`) takes back control of a session after a dropped link.
+    ``seat`` names the session a spectator watches (a :class:`Welcome`'s ``seat``; none:
+    the first); an operator gets a seat of its own while the server has room."""
 
     role: Role
     resume_token: str | None = None
+    seat: str | None = None
     type: Literal["hello"] = "hello"
 
 
@@ -136,14 +145,17 @@ ClientMessage = Hello | StartSession | Input | Stop | Act | FrameStats | Ping
 
 @dataclass(frozen=True)
 class Welcome:
-    """Answer to :class:`Hello`: the granted role (a second operator becomes a spectator),
-    the running session if any, and the token that resumes control after a dropped link."""
+    """Answer to :class:`Hello`: the granted role (an operator the server has no seat for
+    becomes a spectator, told so by a ``server_full`` :class:`Error`), the seat (whose
+    session the client drives or watches), the running session if any, and the token that
+    resumes control after a dropped link."""
 
     protocol: int
     role: Role
     session_id: str | None
     resume_token: str | None
     grace_s: float
+    seat: str = "1"
     type: Literal["welcome"] = "welcome"
 
 
@@ -249,8 +261,8 @@ class SessionEnded:
 @dataclass(frozen=True)
 class Error:
     """A message was refused. ``code``: ``malformed``, ``too_large``, ``invalid_value``,
-    ``not_allowed``, ``rate_limited``, ``protocol``. The connection stays open unless
-    ``fatal``."""
+    ``not_allowed``, ``rate_limited``, ``protocol``, ``server_full`` (an operator's hello
+    when every seat has an operator). The connection stays open unless ``fatal``."""
 
     code: ErrorCode
     message: str

@@ -44,7 +44,7 @@ RANGES: dict[tuple[type, str], tuple[float, float]] = {
     (m.FrameStats, "triangles"): (0, 1_000_000_000),
 }
 """Inclusive bounds of numeric fields (each element, for tuples)."""
-MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128}
+MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128, (m.Hello, "seat"): 16}
 """Longest allowed text of a field (characters)."""
 WIDE_INTEGERS: frozenset[tuple[type, str]] = frozenset({(TrialStarted, "trial_seed")})
 """Whole numbers the server sends that may exceed 2^53 (a 63-bit seed): a browser reads

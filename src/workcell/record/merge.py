@@ -13,6 +13,7 @@ import sqlite3
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Literal
 
 from workcell.record.errors import StoreError
 from workcell.record.frame_blocks import has_blocks
@@ -54,9 +55,15 @@ def _compatibility(path: Path) -> tuple[int, set[tuple[str, str]], int]:
 
 
 def merge_stores(
-    shards: Sequence[Path], out: Path, progress: Callable[[str], None] | None = None
+    shards: Sequence[Path],
+    out: Path,
+    progress: Callable[[str], None] | None = None,
+    *,
+    verify: Literal["output", "shards"] = "output",
 ) -> MergeReport:
-    """Copy every shard into ``out`` (created if absent), then verify ``out``."""
+    """Copy every shard into ``out`` (created if absent), then verify ``out``; with
+    ``verify="shards"``, verify each shard before it is copied instead (what a growing
+    store needs: the cost is the shards', not the whole output's)."""
     if not shards:
         raise MergeError("no shards given: name at least one store to merge")
     say = progress or (lambda _: None)
@@ -84,6 +91,8 @@ def merge_stores(
         reference |= kinds
         if len(reference) > 1:
             raise MergeError(f"shard {shard} mixes joint orders or metrics versions")
+        if verify == "shards" and (problems := verify_store(shard)):
+            raise MergeError(f"shard {shard} does not verify: {problems[0]}")
     with Store.open(out, writer=True):  # creates the schema, holds the writer lock
         conn = sqlite3.connect(out, isolation_level=None)
         try:
@@ -96,7 +105,7 @@ def merge_stores(
     media = sum(copy_media(Path(shard), Path(out)) for shard in shards)
     if media:
         say(f"copied {media} camera videos into {media_dir_for(Path(out))}")
-    findings = verify_store(out)
+    findings = verify_store(out) if verify == "output" else []
     if findings:
         raise MergeError(f"merged store {out} does not verify: {findings[0]}")
     with Store.open(out, writer=False) as merged:

@@ -12,31 +12,31 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.websockets import WebSocket
 
 from workcell.server.auth import TokenAuth
-from workcell.server.conductor import Conductor
 from workcell.server.http_api import routes
 from workcell.server.options import ServerOptions, is_loopback
 from workcell.server.origin import OriginGuard, allowed_origins
+from workcell.server.seats import Seats
 from workcell.server.static import ClientFiles, index_route
 from workcell.server.websocket import serve_client
 
 
-def create_app(options: ServerOptions, conductor: Conductor | None = None) -> Starlette:
-    """The app; its lifespan ends a running session (``application_quit``) on shutdown."""
-    conductor = conductor or Conductor(options)
+def create_app(options: ServerOptions, seats: Seats | None = None) -> Starlette:
+    """The app; its lifespan ends the running sessions (``application_quit``) on shutdown."""
+    seats = seats or Seats(options)
 
     async def ws(websocket: WebSocket) -> None:
-        await serve_client(websocket, conductor)
+        await serve_client(websocket, seats)
 
     @contextlib.asynccontextmanager
     async def lifespan(app: Starlette) -> AsyncIterator[None]:
         yield
-        await conductor.shutdown()
-        conductor.close_clients()
+        await seats.shutdown()
+        seats.close_clients()
 
     app = Starlette(
         routes=[
             Route("/", index_route(options.static_dir)),
-            *routes(conductor),
+            *routes(seats),
             WebSocketRoute("/ws", ws),
             Mount("/", ClientFiles(options.static_dir)),
         ],
@@ -51,5 +51,5 @@ def create_app(options: ServerOptions, conductor: Conductor | None = None) -> St
         ],
         lifespan=lifespan,
     )
-    app.state.conductor = conductor
+    app.state.seats = seats
     return app

@@ -1,8 +1,9 @@
-"""The one session of the server and who controls it.
+"""One seat of the server: its session, who controls it and who watches.
 
-Runs on the event loop. One client at a time is the operator; everyone else is a
-spectator. A dropped operator keeps its place for the grace period and takes it back with
-its resume token; past the grace period the running trial ends ``client_lost``.
+Runs on the event loop. One client at a time is the seat's operator; every other client of
+the seat is a spectator. A dropped operator keeps its place for the grace period and takes
+it back with its resume token; past the grace period the running trial ends
+``client_lost``. :class:`~workcell.server.seats.Seats` gives each client its seat.
 """
 
 from __future__ import annotations
@@ -12,6 +13,7 @@ import contextlib
 import dataclasses
 import logging
 import secrets
+from pathlib import Path
 from typing import Any
 
 from workcell.control.simulation import Simulation
@@ -19,10 +21,12 @@ from workcell.errors import ConfigError, Problem, WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.codec import encode
 from workcell.protocol.validation import field_problem
+from workcell.record.errors import StoreError
 from workcell.server.client import Client
-from workcell.server.live import LiveSession
 from workcell.server.options import ServerOptions
 from workcell.server.scene import describe
+from workcell.server.session_process import SessionProcess
+from workcell.server.shards import SessionShards
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 
@@ -41,12 +45,19 @@ def field_problems(error: ConfigError) -> tuple[m.FieldProblem, ...]:
 
 
 class Conductor:
-    def __init__(self, options: ServerOptions) -> None:
+    def __init__(
+        self, options: ServerOptions, seat: str = "1", shards: SessionShards | None = None
+    ) -> None:
         self.options = options
+        self.seat = seat
+        self.shards = shards
+        """Where sessions record when the server has several seats (None: the store)."""
+        self.store: Path = options.store
+        """Where the running (or last) session records."""
         self.clients: set[Client] = set()
         self.operator: Client | None = None
         self.resume_token: str | None = None
-        self.session: LiveSession | None = None
+        self.session: SessionProcess | None = None
         self.quitting = False
         self._loop: asyncio.AbstractEventLoop | None = None
         self._grace: asyncio.TimerHandle | None = None
@@ -80,10 +91,11 @@ class Conductor:
 
     # --- messages ---------------------------------------------------------------------------
 
-    async def hello(self, client: Client, hello: m.Hello) -> None:
+    async def hello(self, client: Client, hello: m.Hello) -> m.Role | None:
+        """Welcome ``client`` in the role it may have; that role (None: refused)."""
         if client.role is not None:
             client.refuse("protocol", "hello: already said; send it once per connection")
-            return
+            return None
         role: m.Role = "spectator"
         token = None
         wants = hello.role == "operator"
@@ -100,11 +112,13 @@ class Conductor:
                 session_id=session.session_id if session else None,
                 resume_token=token,
                 grace_s=self.options.grace_s,
+                seat=self.seat,
             )
         )
         if session is not None:
             client.send(self._started_message(session))
         client.send(session.scene if session and session.scene else await self._default_scene())
+        return role
 
     def _may_resume(self, offered: str | None) -> bool:
         """The seat is free, or reserved for the dropped operator holding ``offered``."""
@@ -136,9 +150,10 @@ class Conductor:
             client.send(m.ConfigRejected(problems=field_problems(error)))
             return
         self._starting = True
+        self.store = self.shards.new_shard() if self.shards else self.options.store
         try:
-            session = LiveSession(
-                config, self.options.store, _Listener(self), self.options.state_hz,
+            session = SessionProcess(
+                config, self.store, _Listener(self), self.options.state_hz,
                 self.options.max_catch_up_s, key_file=self.options.key_file,
             )  # fmt: skip
             await asyncio.to_thread(session.start)
@@ -209,6 +224,8 @@ class Conductor:
     async def session_ended(self, ended: m.SessionEnded) -> None:
         if self.session is not None:
             await asyncio.to_thread(self.session.join, 30.0)  # its store is closed
+        if self.shards is not None:
+            ended = await asyncio.to_thread(self._merge, ended)
         self.session = None
         if self.operator is None:
             self.resume_token = None
@@ -217,7 +234,30 @@ class Conductor:
                 self._grace = None
         self.broadcast(ended)
 
-    def _started_message(self, session: LiveSession) -> m.SessionStarted:
+    def _merge(self, ended: m.SessionEnded) -> m.SessionEnded:
+        """The session's shard into the store (blocking); a failure is the ended
+        message's detail, and the shard stays for the next start."""
+        assert self.shards is not None
+        try:
+            self.shards.merge(self.store)
+        except StoreError as error:
+            logger.warning("seat %s: %s not merged: %s", self.seat, ended.session_id, error)
+            problem = f"recorded in {self.store}, not yet merged into the store: {error}"
+            detail = "; ".join(filter(None, (ended.detail, problem)))
+            return dataclasses.replace(ended, detail=detail)
+        return ended
+
+    @property
+    def idle(self) -> bool:
+        """No client, no session, no operator's place kept: the seat can go."""
+        return (
+            not self.clients
+            and self.session is None
+            and not self._starting
+            and self.resume_token is None
+        )
+
+    def _started_message(self, session: SessionProcess) -> m.SessionStarted:
         settings: dict[str, Any] = dataclasses.asdict(session.config)
         return m.SessionStarted(
             session_id=session.session_id,

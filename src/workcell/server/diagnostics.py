@@ -5,34 +5,48 @@ from __future__ import annotations
 import time
 
 from workcell.protocol.api import ClientDiagnostics, Diagnostics, SimDiagnostics
+from workcell.server.client import Client
 from workcell.server.conductor import Conductor
+from workcell.server.seats import Seats
 
 
-def diagnostics(conductor: Conductor, process_cpu_s: float) -> Diagnostics:
-    clients = tuple(
-        ClientDiagnostics(
-            client=c.id,
-            role=c.role,
-            received=c.stats.received,
-            errors=dict(c.stats.errors),
-            states_sent=c.stats.states_sent,
-            states_dropped=c.stats.states_dropped,
-        )
-        for c in sorted(conductor.clients, key=lambda c: c.id)
+def diagnostics(seats: Seats, process_cpu_s: float) -> Diagnostics:
+    seated = [
+        (c, conductor.seat) for conductor in seats.conductors.values() for c in conductor.clients
+    ]
+    everyone = seated + [(c, None) for c in seats.unseated]
+    clients = tuple(_client(c, seat) for c, seat in sorted(everyone, key=lambda x: x[0].id))
+    sims = tuple(s for s in map(_sim, seats.conductors.values()) if s is not None)
+    first = _sim(seats.first)
+    return Diagnostics(process_cpu_s=round(process_cpu_s, 6), clients=clients, sim=first, sims=sims)
+
+
+def _client(client: Client, seat: str | None) -> ClientDiagnostics:
+    return ClientDiagnostics(
+        client=client.id,
+        role=client.role,
+        received=client.stats.received,
+        errors=dict(client.stats.errors),
+        states_sent=client.stats.states_sent,
+        states_dropped=client.stats.states_dropped,
+        seat=seat,
     )
+
+
+def _sim(conductor: Conductor) -> SimDiagnostics | None:
     session = conductor.session
-    sim = None
-    if session is not None:
-        stats = session.pacing
-        period = session.config.world.control_substeps * session.config.world.timestep
-        wall = time.monotonic() - stats.started if stats.steps else 0.0
-        sim = SimDiagnostics(
-            session_id=session.session_id,
-            control_period_s=period,
-            steps=stats.steps,
-            late_steps=stats.late_steps,
-            dropped_s=round(stats.dropped_s, 6),
-            max_step_ms=round(stats.max_step_s * 1000.0, 3),
-            real_time_factor=round(stats.steps * period / wall, 4) if wall > 0 else 0.0,
-        )
-    return Diagnostics(process_cpu_s=round(process_cpu_s, 6), clients=clients, sim=sim)
+    if session is None:
+        return None
+    stats = session.pacing
+    period = session.config.world.control_substeps * session.config.world.timestep
+    wall = time.monotonic() - stats.started if stats.steps else 0.0
+    return SimDiagnostics(
+        session_id=session.session_id,
+        control_period_s=period,
+        steps=stats.steps,
+        late_steps=stats.late_steps,
+        dropped_s=round(stats.dropped_s, 6),
+        max_step_ms=round(stats.max_step_s * 1000.0, 3),
+        real_time_factor=round(stats.steps * period / wall, 4) if wall > 0 else 0.0,
+        seat=conductor.seat,
+    )

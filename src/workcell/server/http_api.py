@@ -13,10 +13,10 @@ from starlette.routing import Route
 from workcell.protocol.api import SessionList, SessionSummary, TrialSummary
 from workcell.protocol.codec import encode
 from workcell.record.store import Store
-from workcell.server.conductor import Conductor
 from workcell.server.defaults import session_defaults, session_hints
 from workcell.server.diagnostics import diagnostics
 from workcell.server.replay import TrialNotFoundError, trial_replay
+from workcell.server.seats import Seats
 
 MAX_EVERY = 10_000
 
@@ -71,8 +71,8 @@ def session_list(path: Path) -> SessionList:
         )
 
 
-def routes(conductor: Conductor) -> list[Route]:
-    store_path = conductor.options.store
+def routes(seats: Seats) -> list[Route]:
+    store_path = seats.options.store
 
     def defaults(request: Request) -> Response:
         return json_response(session_defaults())
@@ -97,7 +97,7 @@ def routes(conductor: Conductor) -> list[Route]:
         return json_response(reply)
 
     def diagnostics_route(request: Request) -> Response:
-        return json_response(diagnostics(conductor, time.process_time()))
+        return json_response(diagnostics(seats, time.process_time()))
 
     return [
         Route("/api/defaults", defaults),

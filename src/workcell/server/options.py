@@ -15,6 +15,8 @@ from workcell.server.origin import allowed_origins
 DEFAULT_STORE = Path("workcell.sqlite")
 DEFAULT_STATIC = Path(__file__).resolve().parents[3] / "web" / "dist"
 DEFAULT_CERT_DIR = Path.home() / ".cache" / "workcell" / "tls"
+MAX_SESSIONS = 64
+"""Most sessions one server runs at once (``--sessions``)."""
 
 
 def is_loopback(host: str) -> bool:
@@ -53,6 +55,9 @@ class ServerOptions:
     server's own, and whose host names the Host check accepts."""
     key_file: Path | None = None
     """Sign the store's hash chain with the secret in this file (``--key``)."""
+    max_sessions: int = 1
+    """Sessions at once, each with its own operator and simulation (``--sessions``); with
+    more than one, each session records into a shard merged into the store at its end."""
     header_timeout_s: float = 10.0
     """How long a connection may take to send a request's headers (from connecting, or
     from the end of the previous response) before it is closed."""
@@ -68,6 +73,8 @@ class ServerOptions:
             )
         if self.token is not None and not (8 <= len(self.token) <= 256):
             problems.append("--token: must be 8 to 256 characters")
+        if not 1 <= self.max_sessions <= MAX_SESSIONS:
+            problems.append(f"--sessions = {self.max_sessions}: must be 1 to {MAX_SESSIONS}")
         if not (math.isfinite(self.grace_s) and 0 <= self.grace_s <= 3600):
             problems.append(f"--grace = {self.grace_s}: must be 0 to 3600 s")
         if not (math.isfinite(self.state_hz) and 1 <= self.state_hz <= 240):

@@ -15,7 +15,7 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 from workcell.protocol import messages as m
 from workcell.protocol.codec import ProtocolError, decode_client, encode
 from workcell.server.client import Client
-from workcell.server.conductor import Conductor
+from workcell.server.seats import Seats
 
 CLOSE_PROTOCOL_MISMATCH = 4000
 """Close code for a client that does not speak this protocol version."""
@@ -32,14 +32,14 @@ async def refuse_version(websocket: WebSocket) -> None:
     await websocket.close(code=CLOSE_PROTOCOL_MISMATCH, reason=reason[:120])
 
 
-async def serve_client(websocket: WebSocket, conductor: Conductor) -> None:
+async def serve_client(websocket: WebSocket, seats: Seats) -> None:
     if m.SUBPROTOCOL not in (websocket.scope.get("subprotocols") or []):
         await refuse_version(websocket)
         return
     await websocket.accept(subprotocol=m.SUBPROTOCOL)
-    options = conductor.options
+    options = seats.options
     client = Client(websocket, options.max_messages_per_s, options.burst)
-    conductor.connected(client)
+    seats.connected(client)
     sender = asyncio.create_task(client.run_sender())
     try:
         while not client.closed:
@@ -47,23 +47,23 @@ async def serve_client(websocket: WebSocket, conductor: Conductor) -> None:
             if received["type"] == "websocket.disconnect":
                 break
             raw = received.get("text")
-            await _handle(client, conductor, raw if raw is not None else received.get("bytes"))
+            await _handle(client, seats, raw if raw is not None else received.get("bytes"))
     except WebSocketDisconnect:
         pass
     finally:
         client.close()
-        conductor.disconnected(client)
+        seats.disconnected(client)
         sender.cancel()
         with contextlib.suppress(asyncio.CancelledError, Exception):
             await sender
 
 
-async def _handle(client: Client, conductor: Conductor, raw: str | bytes | None) -> None:
+async def _handle(client: Client, seats: Seats, raw: str | bytes | None) -> None:
     client.stats.received += 1
     if not client.limiter.allow():
         client.refuse(
             "rate_limited",
-            f"more than {conductor.options.max_messages_per_s:g} messages/s: message dropped",
+            f"more than {seats.options.max_messages_per_s:g} messages/s: message dropped",
         )
         return
     try:
@@ -74,8 +74,8 @@ async def _handle(client: Client, conductor: Conductor, raw: str | bytes | None)
     if isinstance(message, m.Ping):
         client.send(m.Pong(t_client=message.t_client, t_server=time.time()))
     elif isinstance(message, m.Hello):
-        await conductor.hello(client, message)
-    elif client.role is None:
+        await seats.hello(client, message)
+    elif client.role is None or (conductor := seats.of(client)) is None:
         client.refuse("protocol", f"{message.type}: send hello first")
     elif isinstance(message, m.Input):
         conductor.input(client, message)

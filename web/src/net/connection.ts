@@ -3,7 +3,7 @@
 
 import { SUBPROTOCOL } from "../protocol";
 import type { ClientMessage, Role, ServerMessage, Welcome } from "../protocol";
-import { serverUrl } from "../util/env";
+import { requestedSeat, serverUrl } from "../util/env";
 
 export type LinkStatus = "connecting" | "open" | "reconnecting" | "refused";
 
@@ -77,6 +77,7 @@ export class Connection {
         type: "hello",
         role: this.options.role,
         resume_token: sessionStorage.getItem(RESUME_KEY),
+        seat: requestedSeat(),
       });
     });
     socket.addEventListener("message", (event) => this.receive(event));

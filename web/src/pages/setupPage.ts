@@ -161,7 +161,7 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
         el("a", { href: "#/teleop", textContent: "Open the teleoperation view" }),
       );
     } else if (!app.isOperator && app.connection.isOpen) {
-      running.append("Another client operates this server: you can watch as a spectator.");
+      running.append("Every seat of this server has an operator: you can watch as a spectator.");
     }
   };
 

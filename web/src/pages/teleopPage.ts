@@ -190,7 +190,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     const right = lastFrame?.right;
     hint.textContent =
       role === "spectator"
-        ? "Spectating: another client operates."
+        ? `Spectating seat ${app.connection.lastWelcome?.seat ?? "1"}: another client operates.`
         : app.sessionActive
           ? `grip L ${(left?.grip ?? 0).toFixed(1)} R ${(right?.grip ?? 0).toFixed(1)} · trigger L ${(left?.trigger ?? 0).toFixed(1)} R ${(right?.trigger ?? 0).toFixed(1)}${app.holding ? " · holding a box" : ""}`
           : "";

@@ -32,6 +32,12 @@ export function emulatedDevice(): string | null {
   return queryParam("emulate");
 }
 
+/** `?seat=2`: the seat (session) a spectator watches on a server with several; none: the first. */
+export function requestedSeat(): string | null {
+  const seat = queryParam("seat");
+  return seat === null || seat === "" ? null : seat;
+}
+
 /** `?role=spectator` joins a running session read-only. */
 export function requestedRole(): "operator" | "spectator" {
   return queryParam("role") === "spectator" ? "spectator" : "operator";

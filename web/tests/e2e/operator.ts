@@ -135,9 +135,13 @@ export class ScriptedOperator {
       this.drive = { forward, left, turn, fine };
       return arrived;
     }
-    const v = dist < tolerance * 0.5 ? 0 : Math.min(vmax, 1.2 * dist);
+    // A proportional controller through a delay oscillates once gain x delay nears pi/2:
+    // with the loop's latency (lead) beyond 0.3 s the gains shrink in proportion, as a
+    // person on a laggy link eases off.
+    const gain = Math.min(1, 0.3 / Math.max(this.lead, 0.3));
+    const v = dist < tolerance * 0.5 ? 0 : Math.min(vmax, 1.2 * gain * dist);
     const m = v > 0 ? DEAD_ZONE + (1 - DEAD_ZONE) * Math.min(1, v / 0.8) : 0;
-    const w = Math.max(-1, Math.min(1, 2 * eyaw));
+    const w = Math.max(-1, Math.min(1, 2 * gain * eyaw));
     const turn = Math.abs(eyaw) < 0.01 ? 0 : -(DEAD_ZONE + (1 - DEAD_ZONE) * Math.min(1, Math.abs(w) / 1.2)) * Math.sign(w);
     this.drive = { forward: v > 0 ? (ex / dist) * m : 0, left: v > 0 ? (ey / dist) * m : 0, turn, fine: false };
     return arrived;

@@ -88,7 +88,7 @@ describe("ClientModel.apply", () => {
   it("takes the running session from Welcome after a reconnect", () => {
     const model = new ClientModel();
     model.apply(state(9));
-    model.apply({ type: "welcome", protocol: 1, role: "operator", session_id: "s2", resume_token: "t", grace_s: 10 });
+    model.apply({ type: "welcome", protocol: 1, role: "operator", session_id: "s2", resume_token: "t", grace_s: 10, seat: "1" });
     expect(model.sessionId).toBe("s2");
     expect(model.state).toBeNull();
   });

@@ -1,0 +1,291 @@
+"""Many operators at once against one ``workcell serve --sessions N`` (issue 16).
+
+For each N, a fresh server in its own process on a free localhost port, and N emulated
+remote operators, each a real WebSocket client that starts a session of its own and sends
+Input messages at a headset's 72 Hz: the left stick drives the base back and forth while
+turning, the right hand is gripped and moves along a 10 cm circle (so the arm's IK and the
+base controller work in every control period). Per N, measured together:
+
+- sessions held at real time: each session's real-time factor over the window (sim
+  seconds per wall second from ``/api/diagnostics``; held: >= 0.98), its late steps and
+  the wall time it dropped;
+- input -> state latency over all operators: from sending Input ``seq`` to the first State
+  whose ``input_seq`` reaches it, p50/p99 (target p99 <= 100 ms);
+- frames lost: gaps in each recorded trial's sim clock, read back from the store after
+  the sessions were stopped and merged (target 0), and the recorded frames per session;
+- server CPU: the server process and its store writer processes, cores in use and per
+  session.
+
+The baseline, measured in the same run, is N = 1. The operators do not deliver boxes (the
+expert's behaviour is not yet turned into Input messages), so successes are not measured.
+
+Run: ``.venv/bin/python -m bench.crowd [--sessions 1,4,8,16] [--seconds S]`` from the
+project root on an otherwise idle machine; every figure is a wall-clock measurement.
+"""
+
+from __future__ import annotations
+
+import argparse
+import asyncio
+import contextlib
+import json
+import math
+import os
+import subprocess
+import sys
+import tempfile
+import time
+import urllib.request
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any
+
+import numpy as np
+from websockets.asyncio.client import ClientConnection, connect
+
+from bench import latency
+from bench.latency import LAUNCH, free_port, percentile
+from workcell.protocol import messages as m
+from workcell.protocol.codec import encode
+from workcell.record import Store
+
+INPUT_HZ = 72.0
+TASK: dict[str, object] = {"countdown_s": 0.0, "time_limit_s": 900.0}
+HELD_RTF = 0.98
+
+
+@dataclass(frozen=True)
+class Figures:
+    sessions: int
+    held: int
+    min_rtf: float
+    late_steps: int
+    dropped_s: float
+    p50_ms: float
+    p99_ms: float
+    frames: int
+    frames_lost: int
+    cores: float
+    load: float
+
+
+class Operator(latency.Operator):
+    """Starts its own session, then sends inputs (see the module's docstring) and times
+    when states show them applied."""
+
+    def __init__(self, ws: ClientConnection, phase: float) -> None:
+        super().__init__(ws, INPUT_HZ)
+        self.phase = phase
+
+    async def start(self, index: int) -> str:
+        await self.ws.send(encode(m.Hello(role="operator")))
+        settings = {"task": TASK, "operator_id": f"crowd-{index:02d}", "seed": index}
+        await self.ws.send(encode(m.StartSession(settings=settings)))
+        while True:
+            message = json.loads(await asyncio.wait_for(self.ws.recv(), 60))
+            if message["type"] == "error":
+                raise SystemExit(f"operator {index}: {message['code']}: {message['message']}")
+            if message["type"] == "session_started":
+                return str(message["session_id"])
+
+    def input(self, seq: int, t: float) -> m.Input:
+        w = 2 * math.pi * 0.25 * t + self.phase
+        stick = (0.4 * math.sin(w / 2), 0.5 * math.cos(w))  # drive back and forth, turning
+        x, y, z = 0.25 + 0.1 * math.cos(w), 1.1 + 0.1 * math.sin(w), -0.35
+        right = m.ControllerState((x, y, z, 1.0, 0.0, 0.0, 0.0), 1.0, 0.0, (0.0, 0.0), 0)
+        left = m.ControllerState((-0.25, 1.1, -0.35, 1.0, 0.0, 0.0, 0.0), 0.0, 0.0, stick, 0)
+        return m.Input(
+            seq=seq,
+            t_client=time.time(),
+            source="xr",
+            headset=(0.0, 1.6, 0.0, 1.0, 0.0, 0.0, 0.0),
+            left=left,
+            right=right,
+        )
+
+    async def send_inputs(self, stop: asyncio.Event) -> None:
+        seq = 0
+        started = next_at = time.perf_counter()
+        while not stop.is_set():
+            seq += 1
+            message = self.input(seq, time.perf_counter() - started)
+            self.sent[seq] = time.perf_counter()
+            await self.ws.send(encode(message))
+            next_at += self.period
+            await asyncio.sleep(max(0.0, next_at - time.perf_counter()))
+
+    async def stop(self) -> None:
+        await self.ws.send(encode(m.Stop()))
+
+
+def diagnostics(base: str) -> dict[str, Any]:
+    with urllib.request.urlopen(f"{base}/api/diagnostics", timeout=30) as response:
+        body: dict[str, Any] = json.loads(response.read())
+        return body
+
+
+def tree_cpu_s(pid: int) -> float:
+    """CPU seconds of process ``pid`` and its descendants (the store writers), from /proc."""
+    parents: dict[int, int] = {}
+    ticks: dict[int, int] = {}
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        with contextlib.suppress(OSError):
+            fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
+            parents[int(entry)] = int(fields[1])
+            ticks[int(entry)] = int(fields[11]) + int(fields[12])  # utime + stime
+    tree, grew = {pid}, True
+    while grew:
+        more = {child for child, parent in parents.items() if parent in tree} - tree
+        tree |= more
+        grew = bool(more)
+    return sum(ticks.get(p, 0) for p in tree) / os.sysconf("SC_CLK_TCK")
+
+
+def sim_clock(sims: list[dict[str, Any]]) -> dict[str, float]:
+    return {s["session_id"]: s["steps"] * s["control_period_s"] for s in sims}
+
+
+async def crowd(port: int, n: int, seconds: float, server: int) -> dict[str, Any]:
+    base, url = f"http://127.0.0.1:{port}", f"ws://127.0.0.1:{port}/ws"
+    async with contextlib.AsyncExitStack() as stack:
+        sockets = [
+            await stack.enter_async_context(
+                connect(url, subprotocols=[m.SUBPROTOCOL], max_queue=None)  # type: ignore[list-item]
+            )
+            for _ in range(n)
+        ]
+        operators = [Operator(ws, 2 * math.pi * i / n) for i, ws in enumerate(sockets)]
+        for i, operator in enumerate(operators):
+            await operator.start(i)
+        stop = asyncio.Event()
+        tasks = [asyncio.create_task(o.receive()) for o in operators]
+        tasks += [asyncio.create_task(o.send_inputs(stop)) for o in operators]
+        await asyncio.sleep(2.0)  # warm up
+        for operator in operators:
+            operator.measuring = True
+        before = diagnostics(base)
+        cpu0, t0 = tree_cpu_s(server), time.perf_counter()
+        await asyncio.sleep(seconds)
+        after = diagnostics(base)
+        cpu1, t1 = tree_cpu_s(server), time.perf_counter()
+        stop.set()
+        for operator in operators:
+            await operator.stop()
+        await asyncio.sleep(3.0)  # the sessions end and merge
+        for task in tasks:
+            task.cancel()
+    wall = t1 - t0
+    first, last = sim_clock(before["sims"]), sim_clock(after["sims"])
+    rtf = [(last[s] - first[s]) / wall for s in last if s in first]
+    return {
+        "rtf": rtf,
+        "late": sum(s["late_steps"] for s in after["sims"]),
+        "dropped": sum(s["dropped_s"] for s in after["sims"]),
+        "latencies": [x for o in operators for x in o.latencies],
+        "cores": (cpu1 - cpu0) / wall,
+        "errors": [e for o in operators for e in o.errors],
+    }
+
+
+def frames_recorded(store: Path) -> tuple[int, int, int]:
+    """Sessions, frames and frames lost (gaps in a trial's sim clock) in ``store``."""
+    frames = lost = 0
+    with Store.open(store, writer=False) as reader:
+        sessions = len(reader.sessions())
+        for trial in reader.trials():
+            t = np.asarray(reader.frames(trial.trial_id)["t_sim"], dtype=float)
+            frames += len(t)
+            if len(t) > 2:
+                step = float(np.median(np.diff(t)))
+                lost += int(np.sum(np.round(np.diff(t) / step) - 1))
+    return sessions, frames, lost
+
+
+def measure(n: int, seconds: float) -> Figures:
+    with tempfile.TemporaryDirectory() as tmp:
+        store = Path(tmp) / "crowd.sqlite"
+        port = free_port()
+        env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+        arguments = ["--port", str(port), "--store", str(store), "--sessions", str(n)]
+        process = subprocess.Popen(
+            [sys.executable, "-c", LAUNCH, *arguments],
+            stdout=subprocess.DEVNULL,
+            stderr=subprocess.PIPE,
+            env=env,
+        )
+        try:
+            deadline = time.monotonic() + 60
+            while True:
+                try:
+                    diagnostics(f"http://127.0.0.1:{port}")
+                    break
+                except OSError:
+                    if time.monotonic() > deadline or process.poll() is not None:
+                        raise SystemExit("the server did not start") from None
+                    time.sleep(0.1)
+            result = asyncio.run(crowd(port, n, seconds, process.pid))
+        finally:
+            process.terminate()
+            process.wait(60)
+        sessions, frames, lost = frames_recorded(store)
+    if result["errors"]:
+        print(f"  errors the operators heard: {sorted(set(result['errors']))[:5]}")
+    rtf, latencies = result["rtf"], result["latencies"]
+    assert sessions == n, f"{sessions} sessions recorded, {n} driven"
+    return Figures(
+        sessions=n,
+        held=sum(r >= HELD_RTF for r in rtf),
+        min_rtf=min(rtf),
+        late_steps=result["late"],
+        dropped_s=result["dropped"],
+        p50_ms=1000 * percentile(latencies, 0.5),
+        p99_ms=1000 * percentile(latencies, 0.99),
+        frames=frames // n,
+        frames_lost=lost,
+        cores=result["cores"],
+        load=os.getloadavg()[0],
+    )
+
+
+def report(rows: list[Figures], seconds: float) -> None:
+    print(f"\n{seconds:g} s per N, operators at {INPUT_HZ:g} Hz; ratios against N = 1")
+    print(
+        "sessions  held at RT  min RTF  late steps  dropped s   input->state p50 (ratio)"
+        "   p99 (ratio)   frames/session  lost   cores (per session)  load"
+    )
+    base = rows[0]
+    for r in rows:
+        print(
+            f"{r.sessions:8d}  {r.held:4d}/{r.sessions:<5d}  {r.min_rtf:7.3f}  {r.late_steps:10d}"
+            f"  {r.dropped_s:9.2f}   {r.p50_ms:8.1f} ms ({r.p50_ms / base.p50_ms:4.2f})"
+            f"   {r.p99_ms:6.1f} ms ({r.p99_ms / base.p99_ms:4.2f})   {r.frames:14d}"
+            f"  {r.frames_lost:4d}   {r.cores:5.2f} ({r.cores / r.sessions:5.3f})"
+            f"    {r.load:4.1f}"
+        )
+    held = [
+        r.sessions for r in rows if r.held == r.sessions and r.p99_ms <= 100 and not r.frames_lost
+    ]
+    print(
+        f"most sessions held at real time with p99 <= 100 ms and no frame lost: "
+        f"{max(held, default=0)} (target >= 16)"
+    )
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--sessions", default="1,4,8,16", help="values of N")
+    parser.add_argument("--seconds", type=float, default=20.0, help="measured window per N")
+    args = parser.parse_args()
+    counts = [int(n) for n in args.sessions.split(",")]
+    print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
+    rows = []
+    for n in counts:
+        print(f"N = {n} ...", flush=True)
+        rows.append(measure(n, args.seconds))
+    report(rows, args.seconds)
+
+
+if __name__ == "__main__":
+    main()
