@@ -25,7 +25,10 @@ from workcell.server.conductor import Conductor
 from workcell.server.http_config import uvicorn_config
 from workcell.server.options import ServerOptions
 from workcell.server.seats import Seats
+from workcell.server.study_desk import StudyDesk
 from workcell.server.tls import Certificate
+from workcell.study.config import StudyConfig
+from workcell.study.invites import invites_path, load_or_create
 
 FAST_SETTINGS: dict[str, Any] = {"task": {"countdown_s": 0.0, "time_limit_s": 60.0}}
 """A practice session that starts at once."""
@@ -51,9 +54,11 @@ class RunningServer:
     def ws(self) -> str:
         return f"ws://127.0.0.1:{self.port}/ws"
 
-    def get(self, path: str, headers: dict[str, str] | None = None) -> tuple[int, bytes]:
-        """Status and body of a GET (errors included)."""
-        request = urllib.request.Request(self.http + path, headers=headers or {})
+    def get(
+        self, path: str, headers: dict[str, str] | None = None, method: str = "GET"
+    ) -> tuple[int, bytes]:
+        """Status and body of a request (errors included)."""
+        request = urllib.request.Request(self.http + path, headers=headers or {}, method=method)
         try:
             with urllib.request.urlopen(request, timeout=10) as response:
                 return int(response.status), bytes(response.read())
@@ -68,10 +73,20 @@ class RunningServer:
 
 @contextlib.contextmanager
 def running_server(
-    tmp_path: Path, tls: Certificate | None = None, **overrides: Any
+    tmp_path: Path,
+    tls: Certificate | None = None,
+    study: StudyConfig | None = None,
+    **overrides: Any,
 ) -> Iterator[RunningServer]:
+    """A server on ``tmp_path/store.sqlite``; with ``study``, running it as ``workcell serve
+    --study`` does (its invites beside the store, the admin token as the server's)."""
     options = replace(ServerOptions(store=tmp_path / "store.sqlite", grace_s=1.0), **overrides)
-    seats = Seats(options)
+    desk = None
+    if study is not None:
+        invites = load_or_create(invites_path(options.store, study), study)
+        desk = StudyDesk(study, invites, options.store)
+        options = replace(options, token=options.token or invites.admin)
+    seats = Seats(options, desk)
     config = uvicorn_config(
         create_app(options, seats),
         options,

@@ -43,6 +43,9 @@ HOSTILE: list[str | bytes] = [
     b"\x00\xff binary",
     '{"type":"input"}',
     '{"type":"ping","t_client":NaN}',
+    '{"type":"ping","t_client":1,"rtt_ms":-5}',
+    '{"type":"ping","t_client":1,"rtt_ms":"fast"}',
+    '{"type":"start_session","settings":{},"consent":"yes"}',
     json.dumps({"type": "hello", "role": "operator", "nonsense": 1}),
     '{"type":"input","seq":99,"t_client":0,"source":"xr","headset":[0,1,0,5,5,5,5],'
     '"left":{"pose":null,"grip":0,"trigger":0,"stick":[0,0],"buttons":0},'

@@ -41,7 +41,15 @@ def test_default_toml_is_complete_commented_and_round_trips() -> None:
     text = to_toml(SessionConfig())
     assert resolve_session_config(None, ()) == SessionConfig()
     data = tomllib.loads(text)
-    assert set(data) == {"task", "recording", "world", "seed", "operator_id", "condition"}
+    assert set(data) == {
+        "task",
+        "recording",
+        "world",
+        "seed",
+        "operator_id",
+        "condition",
+        "consent",
+    }
 
     def every_field(config: object, path: str) -> list[str]:
         names = []

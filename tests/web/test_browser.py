@@ -16,6 +16,7 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
+import hashlib
 import json
 import math
 import os
@@ -34,6 +35,10 @@ from pathlib import Path
 from typing import Any
 
 import pytest
+
+from workcell.study.config import load_study
+from workcell.study.invites import invites_path, load_or_create
+from workcell.study.plan import participant_plan
 
 REPO = Path(__file__).resolve().parents[2]
 WEB = REPO / "web"
@@ -117,9 +122,9 @@ def _free_port() -> int:
 
 
 @contextlib.contextmanager
-def serving(tmp_path: Path, *extra: str) -> Iterator[Server]:
+def serving(tmp_path: Path, *extra: str, token: str | None = None) -> Iterator[Server]:
     """``python -m workcell serve EXTRA...`` recording into a fresh store, stopped with
-    SIGINT."""
+    SIGINT (``token``: the one it needs, to see that it answers)."""
     port = _free_port()
     store = tmp_path / "store.sqlite"
     log = tmp_path / "server.log"
@@ -145,7 +150,9 @@ def serving(tmp_path: Path, *extra: str) -> Iterator[Server]:
                 pytest.fail(f"workcell serve exited with {process.returncode}:\n{log.read_text()}")
             with (
                 contextlib.suppress(OSError),
-                urllib.request.urlopen(f"{url}/api/defaults", timeout=2) as reply,
+                urllib.request.urlopen(
+                    f"{url}/api/defaults" + (f"?token={token}" if token else ""), timeout=2
+                ) as reply,
             ):
                 if reply.status == 200:
                     break
@@ -332,6 +339,43 @@ def test_in_vr_menu_recenters_switches_view_restarts_and_stops(server: Server) -
         (second["trial_id"], "snap_right", "xr_button"),
     ]
     assert result["snap_turned"] == pytest.approx(-math.pi / 6, abs=0.05)  # one flick right
+
+
+STUDY = """name = "pilot"
+participants = 2
+instructions = "Move the box to the green zone."
+consent = "I agree that my teleoperation is recorded."
+[session]
+task = { countdown_s = 0.0, time_limit_s = 3.0 }
+[[conditions]]
+name = "assisted"
+settings = { "world.grasp" = "assisted" }
+[[conditions]]
+name = "physical"
+settings = { "world.grasp" = "physical" }
+[[steps]]
+mode = "practice"
+"""
+
+
+def test_a_study_participant_consents_and_runs_their_plan_and_the_admin_sees_it(
+    tmp_path: Path, one_browser_at_a_time: None
+) -> None:
+    """``workcell serve --study``: the participant's invite page asks consent once and runs
+    the plan's session; the admin page lists the participants live."""
+    study_file = tmp_path / "pilot.toml"
+    study_file.write_text(STUDY, encoding="utf-8")
+    study = load_study(study_file)
+    invites = load_or_create(invites_path(tmp_path / "store.sqlite", study), study)
+    study_server = ("--study", str(study_file), "--sessions", "2")
+    with serving(tmp_path, *study_server, token=invites.admin) as server:
+        result = run_script("study", server, invites.participants["p01"], invites.admin)
+    (session,) = _rows(server.store, "SELECT * FROM sessions")
+    parameters = json.loads(session["parameters_json"])
+    assert session["session_id"] == result["session_id"] and session["operator_id"] == "p01"
+    assert parameters["condition"] == participant_plan(study, "p01")[0].condition
+    assert parameters["consent"] == hashlib.sha256(study.consent.encode()).hexdigest()
+    assert session["status"] == "completed"
 
 
 def test_a_page_of_another_origin_cannot_drive(tmp_path: Path, one_browser_at_a_time: None) -> None:

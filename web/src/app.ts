@@ -41,10 +41,12 @@ export class App extends ClientModel {
     return () => this.listeners.delete(listener);
   }
 
-  startSession(settings: Record<string, unknown>): boolean {
+  /** Start a session; `consent`: the operator accepted a study's consent text (a study
+   * participant's settings come from their plan, not from `settings`). */
+  startSession(settings: Record<string, unknown>, consent = false): boolean {
     this.ended = null;
     this.lastTrialEnd = null;
-    return this.connection.send({ type: "start_session", settings });
+    return this.connection.send({ type: "start_session", settings, consent });
   }
 
   stopSession(): boolean {

@@ -1,13 +1,17 @@
 // Entry point: one connection, one 3D viewer for live teleoperation, and a hash router
-// over the pages (#/ setup, #/teleop, #/sessions, #/replay/<trial id>).
+// over the pages (#/ setup, #/teleop, #/sessions, #/replay/<trial id>, #/admin). A study
+// participant's invite shows their study's start page at #/ and no recorded sessions.
 
 import "./style.css";
 import { App } from "./app";
 import { exposeDebug } from "./debug";
 import { InputSequencer } from "./input/hands";
+import { fetchParticipant } from "./net/api";
+import { mountAdmin } from "./pages/adminPage";
 import { mountReplay } from "./pages/replayPage";
 import { mountSessions } from "./pages/sessionsPage";
 import { mountSetup } from "./pages/setupPage";
+import { mountStudyStart } from "./pages/studyStart";
 import { mountTeleop } from "./pages/teleopPage";
 import type { TeleopShared } from "./pages/teleopPage";
 import { Viewer } from "./scene/viewer";
@@ -25,11 +29,18 @@ async function boot(): Promise<void> {
   const main = document.getElementById("app");
   if (main === null) throw new Error("index.html has no #app element");
   const nav = el("nav", { className: "topnav" });
-  const links: [string, string][] = [
-    ["#/", "Setup"],
-    ["#/teleop", "Teleoperate"],
-    ["#/sessions", "Sessions"],
-  ];
+  const participant = await fetchParticipant().catch(() => null);
+  const links: [string, string][] =
+    participant === null
+      ? [
+          ["#/", "Setup"],
+          ["#/teleop", "Teleoperate"],
+          ["#/sessions", "Sessions"],
+        ]
+      : [
+          ["#/", "Study"],
+          ["#/teleop", "Teleoperate"],
+        ];
   nav.append(el("span", { className: "brand", textContent: "Workcell" }));
   for (const [href, label] of links) nav.append(el("a", { href, textContent: label }));
   const linkState = el("span", { className: "nav-link-state" });
@@ -55,12 +66,16 @@ async function boot(): Promise<void> {
       a.classList.toggle("active", a.getAttribute("href") === `#${hash}`);
     }
     document.body.dataset["page"] = hash.split("/")[1] || "setup";
-    if (hash.startsWith("/replay/")) {
+    if (hash.startsWith("/replay/") && participant === null) {
       unmount = mountReplay(outlet, decodeURIComponent(hash.slice("/replay/".length)));
     } else if (hash === "/teleop") {
       unmount = mountTeleop(outlet, app, teleopShared());
-    } else if (hash === "/sessions") {
+    } else if (hash === "/sessions" && participant === null) {
       unmount = mountSessions(outlet, app);
+    } else if (hash === "/admin" && participant === null) {
+      unmount = mountAdmin(outlet, app);
+    } else if (participant !== null) {
+      unmount = mountStudyStart(outlet, app);
     } else {
       unmount = mountSetup(outlet, app);
     }

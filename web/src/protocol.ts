@@ -12,10 +12,11 @@ export type InputSource = "xr" | "desktop" | "gamepad";
 export type HudPhase = "countdown" | "running" | "finished";
 export type Mode = "practice" | "collection" | "challenge";
 export type Outcome = "success" | "timeout" | "interrupted";
-export type InterruptionReason = "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart";
-export type SessionEndReason = "completed" | "error" | "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart";
+export type InterruptionReason = "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart" | "admin_stop";
+export type SessionEndReason = "completed" | "error" | "operator_stop" | "application_quit" | "client_lost" | "crash_recovered" | "storage_error" | "operator_restart" | "admin_stop";
 export type ErrorCode = "malformed" | "too_large" | "invalid_value" | "not_allowed" | "rate_limited" | "protocol" | "server_full";
 export type SettingKind = "int" | "float" | "text" | "choice" | "int_list" | "float_list" | "bool";
+export type ParticipantState = "offline" | "waiting" | "running" | "finished";
 
 /** What the operator sees: mode, progress, clock and score. */
 export interface Hud {
@@ -190,6 +191,12 @@ export interface Hello {
  */
 export interface StartSession {
   readonly settings: { readonly [key: string]: unknown };
+  /**
+   * The operator accepted the study's consent text (``workcell serve --study``: the
+   * first session of a study with consent text needs it; the settings come from the
+   * participant's plan and ``settings`` is ignored).
+   */
+  readonly consent: boolean;
   readonly type: "start_session";
 }
 
@@ -257,6 +264,11 @@ export interface FrameStats {
 /** Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged. */
 export interface Ping {
   readonly t_client: number;
+  /**
+   * The client's previous round-trip time, for the server's diagnostics and the study's
+   * admin page (None before the first pong).
+   */
+  readonly rtt_ms: number | null;
   readonly type: "ping";
 }
 
@@ -508,6 +520,65 @@ export interface Diagnostics {
   readonly clients: readonly ClientDiagnostics[];
   readonly sim: SimDiagnostics | null;
   readonly sims: readonly SimDiagnostics[];
+}
+
+/**
+ * One session of a study participant's plan: its place in their sequence (from 1),
+ * its condition, which of the study's steps (from 1), its mode and trials (0 for a
+ * challenge, which runs ``task.rounds`` rounds).
+ */
+export interface PlannedStep {
+  readonly position: number;
+  readonly condition: string;
+  readonly step: number;
+  readonly mode: string;
+  readonly trials: number;
+}
+
+/**
+ * ``GET /api/study/me`` (a participant's invite): the study's texts, whether they
+ * have accepted its consent text, how far they are and what they run next (None: done).
+ */
+export interface ParticipantStatus {
+  readonly study: string;
+  readonly participant: string;
+  readonly instructions: string;
+  readonly consent: string;
+  readonly consented: boolean;
+  readonly done: number;
+  readonly total: number;
+  readonly next: PlannedStep | null;
+}
+
+/**
+ * One participant on the admin page: their invite link's path, progress, the condition
+ * they are in (running) or run next, their link and session (``rtt_ms``: the browser's
+ * last round trip; ``real_time_factor`` of the running session) and their recorded
+ * outcomes (trials ended, successes).
+ */
+export interface ParticipantRow {
+  readonly participant: string;
+  readonly invite: string;
+  readonly state: ParticipantState;
+  readonly done: number;
+  readonly total: number;
+  readonly condition: string | null;
+  readonly session_id: string | null;
+  readonly rtt_ms: number | null;
+  readonly real_time_factor: number | null;
+  readonly trials: number;
+  readonly successes: number;
+}
+
+/**
+ * ``GET /api/study`` (the admin token): every participant, and how many sessions run
+ * of the most the server runs at once.
+ */
+export interface StudyOverview {
+  readonly study: string;
+  readonly running: number;
+  readonly max_sessions: number;
+  readonly participants: readonly ParticipantRow[];
 }
 
 /**

@@ -16,6 +16,7 @@ if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
     from workcell.server.options import ServerOptions
     from workcell.server.seats import Seats
+    from workcell.server.study_desk import StudyDesk
 
 EXIT_INTERRUPTED = 128 + signal.SIGINT
 EXIT_TERMINATED = 128 + signal.SIGTERM
@@ -74,15 +75,37 @@ def register(subparsers: Subparsers) -> None:
         help="sessions at once, each with its own operator, simulation and spectators; beyond "
         "N operators watch, told the server is full (default: %(default)s)",
     )
+    parser.add_argument(
+        "--study",
+        type=Path,
+        metavar="FILE",
+        help="run the study in FILE (see 'workcell study --defaults'): one invite link per "
+        "participant, who runs their plan's sessions in turn, and an admin page",
+    )
     parser.add_argument("--static", type=Path, metavar="DIR", help="built web client folder")
     parser.set_defaults(func=run)
 
 
-def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
-    """The server options of ``args`` and whether the token was generated here."""
+def study_desk_from(args: argparse.Namespace) -> StudyDesk | None:
+    """The study ``--study`` names, with its invites (created beside the store)."""
+    if args.study is None:
+        return None
+    from workcell.server.study_desk import StudyDesk  # noqa: PLC0415
+    from workcell.study.config import load_study  # noqa: PLC0415
+    from workcell.study.invites import invites_path, load_or_create  # noqa: PLC0415
+
+    study = load_study(args.study)
+    return StudyDesk(study, load_or_create(invites_path(args.store, study), study), args.store)
+
+
+def options_from(
+    args: argparse.Namespace, desk: StudyDesk | None = None
+) -> tuple[ServerOptions, bool]:
+    """The server options of ``args`` and whether the token was generated here (a study's
+    admin token is the server's token unless ``--token`` is given)."""
     from workcell.server.options import DEFAULT_STATIC, ServerOptions, is_loopback  # noqa: PLC0415
 
-    token: str | None = args.token
+    token: str | None = args.token or (desk.invites.admin if desk else None)
     generated = token is None and not is_loopback(args.host)
     if generated:
         token = secrets.token_urlsafe(18)
@@ -102,7 +125,8 @@ def options_from(args: argparse.Namespace) -> tuple[ServerOptions, bool]:
 
 
 def run(args: argparse.Namespace) -> int:
-    options, generated = options_from(args)
+    desk = study_desk_from(args)
+    options, generated = options_from(args, desk)
     from workcell.server.app import create_app  # noqa: PLC0415
     from workcell.server.http_config import uvicorn_config  # noqa: PLC0415
     from workcell.server.seats import Seats  # noqa: PLC0415
@@ -113,7 +137,7 @@ def run(args: argparse.Namespace) -> int:
         cert = self_signed(options.cert_dir, options.host)
         ssl = {"ssl_certfile": str(cert.cert_file), "ssl_keyfile": str(cert.key_file)}
         print(f"TLS certificate {cert.cert_file}\n  SHA-256 fingerprint {cert.fingerprint}")
-    seats = Seats(options)
+    seats = Seats(options, desk)
     for line in seats.merge_leftovers():
         print(line)
     config = uvicorn_config(create_app(options, seats), options, **ssl)
@@ -123,7 +147,10 @@ def run(args: argparse.Namespace) -> int:
     query = f"/?token={options.token}" if options.token else "/"
     if generated:
         print("generated an access token (pass --token to choose one)")
-    print(f"workcell serve: open {scheme}://{shown}:{options.port}{query}", flush=True)
+    base = f"{scheme}://{shown}:{options.port}"
+    if desk is not None:
+        print_invites(desk, base, args.store)
+    print(f"workcell serve: open {base}{query}", flush=True)
     at_once = f"; up to {options.max_sessions} sessions at once" if options.max_sessions > 1 else ""
     print(f"recording into {options.store}{at_once}; Ctrl+C stops (running trials end interrupted)")
     # uvicorn handles SIGINT and SIGTERM (a graceful shutdown), then re-raises the signal
@@ -141,6 +168,20 @@ def run(args: argparse.Namespace) -> int:
         seats.quit()
         seats.finish(30.0)
     return 0
+
+
+def print_invites(desk: StudyDesk, base: str, store: Path) -> None:
+    from workcell.study.invites import invites_path  # noqa: PLC0415
+
+    study = desk.study
+    print(
+        f"study {study.name}: {study.participants} participants, "
+        f"{len(next(iter(desk.plans.values())))} sessions each; "
+        f"invites kept in {invites_path(store, study)}"
+    )
+    print(f"  admin page  {base}/?token={desk.invites.admin}&role=spectator#/admin")
+    for participant, token in desk.invites.participants.items():
+        print(f"  {participant:<10}  {base}/?token={token}")
 
 
 class _TerminatedError(Exception):

@@ -145,6 +145,68 @@ class Diagnostics:
     sims: tuple[SimDiagnostics, ...] = ()
 
 
+@dataclass(frozen=True)
+class PlannedStep:
+    """One session of a study participant's plan: its place in their sequence (from 1),
+    its condition, which of the study's steps (from 1), its mode and trials (0 for a
+    challenge, which runs ``task.rounds`` rounds)."""
+
+    position: int
+    condition: str
+    step: int
+    mode: str
+    trials: int
+
+
+@dataclass(frozen=True)
+class ParticipantStatus:
+    """``GET /api/study/me`` (a participant's invite): the study's texts, whether they
+    have accepted its consent text, how far they are and what they run next (None: done)."""
+
+    study: str
+    participant: str
+    instructions: str
+    consent: str
+    consented: bool
+    done: int
+    total: int
+    next: PlannedStep | None
+
+
+ParticipantState = Literal["offline", "waiting", "running", "finished"]
+
+
+@dataclass(frozen=True)
+class ParticipantRow:
+    """One participant on the admin page: their invite link's path, progress, the condition
+    they are in (running) or run next, their link and session (``rtt_ms``: the browser's
+    last round trip; ``real_time_factor`` of the running session) and their recorded
+    outcomes (trials ended, successes)."""
+
+    participant: str
+    invite: str
+    state: ParticipantState
+    done: int
+    total: int
+    condition: str | None
+    session_id: str | None
+    rtt_ms: float | None
+    real_time_factor: float | None
+    trials: int
+    successes: int
+
+
+@dataclass(frozen=True)
+class StudyOverview:
+    """``GET /api/study`` (the admin token): every participant, and how many sessions run
+    of the most the server runs at once."""
+
+    study: str
+    running: int
+    max_sessions: int
+    participants: tuple[ParticipantRow, ...]
+
+
 API_TYPES: tuple[type, ...] = (
     SettingInfo,
     SectionInfo,
@@ -156,4 +218,8 @@ API_TYPES: tuple[type, ...] = (
     ClientDiagnostics,
     SimDiagnostics,
     Diagnostics,
+    PlannedStep,
+    ParticipantStatus,
+    ParticipantRow,
+    StudyOverview,
 )

@@ -70,6 +70,10 @@ class StartSession:
     ``workcell config --defaults`` as JSON (missing keys keep their defaults)."""
 
     settings: dict[str, object]
+    consent: bool = False
+    """The operator accepted the study's consent text (``workcell serve --study``: the
+    first session of a study with consent text needs it; the settings come from the
+    participant's plan and ``settings`` is ignored)."""
     type: Literal["start_session"] = "start_session"
 
 
@@ -134,6 +138,9 @@ class Ping:
     """Asks for a :class:`Pong` (round-trip time); ``t_client`` comes back unchanged."""
 
     t_client: float
+    rtt_ms: float | None = None
+    """The client's previous round-trip time, for the server's diagnostics and the study's
+    admin page (None before the first pong)."""
     type: Literal["ping"] = "ping"
 
 

@@ -41,6 +41,7 @@ _ALIASES: dict[str, Any] = {
     "SessionEndReason": events.SessionEndReason,
     "ErrorCode": messages.ErrorCode,
     "SettingKind": api.SettingKind,
+    "ParticipantState": api.ParticipantState,
 }
 _PRIMITIVES: dict[Any, str] = {
     int: "number",

@@ -42,6 +42,7 @@ RANGES: dict[tuple[type, str], tuple[float, float]] = {
     (m.FrameStats, "frame_ms_max"): (0.0, 60_000.0),
     (m.FrameStats, "draw_calls"): (0, 1_000_000),
     (m.FrameStats, "triangles"): (0, 1_000_000_000),
+    (m.Ping, "rtt_ms"): (0.0, 3_600_000.0),
 }
 """Inclusive bounds of numeric fields (each element, for tuples)."""
 MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128, (m.Hello, "seat"): 16}
@@ -287,5 +288,5 @@ def _check_range(cls: type, name: str, value: Any, path: str) -> None:
     low, high = bounds
     items = value if isinstance(value, tuple) else (value,)
     for item in items:
-        if not low <= item <= high:
+        if item is not None and not low <= item <= high:  # None: an optional field unset
             raise _invalid("invalid_value", path, value, f"must be from {low:g} to {high:g}")

@@ -16,6 +16,7 @@ from starlette.websockets import WebSocket
 
 from workcell.protocol.codec import encode
 from workcell.protocol.messages import Error, ErrorCode, FieldProblem, Role, ServerMessage
+from workcell.server.auth import ADMIN, Principal
 from workcell.server.ratelimit import TokenBucket
 
 MAX_QUEUED = 512
@@ -36,15 +37,21 @@ class ClientStats:
     states_sent: int = 0
     states_dropped: int = 0
     """States overwritten before they could be sent (the client was slower)."""
+    rtt_ms: float | None = None
+    """The round-trip time the client last reported (its pings carry it)."""
 
     def refused(self, code: str) -> None:
         self.errors[code] = self.errors.get(code, 0) + 1
 
 
 class Client:
-    def __init__(self, websocket: WebSocket, rate: float, burst: int) -> None:
+    def __init__(
+        self, websocket: WebSocket, rate: float, burst: int, principal: Principal = ADMIN
+    ) -> None:
         self.id = next(_ids)
         self.websocket = websocket
+        self.principal = principal
+        """Who holds the token the connection carried (:mod:`workcell.server.auth`)."""
         self.role: Role | None = None
         """None until the client said hello."""
         self.stats = ClientStats()

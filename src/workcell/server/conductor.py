@@ -14,7 +14,7 @@ import dataclasses
 import logging
 import secrets
 from pathlib import Path
-from typing import Any
+from typing import Any, Protocol
 
 from workcell.control.simulation import Simulation
 from workcell.errors import ConfigError, Problem, WorkcellError
@@ -27,6 +27,7 @@ from workcell.server.options import ServerOptions
 from workcell.server.scene import describe
 from workcell.server.session_process import SessionProcess
 from workcell.server.shards import SessionShards
+from workcell.server.study_desk import Refusal
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 
@@ -44,12 +45,24 @@ def field_problems(error: ConfigError) -> tuple[m.FieldProblem, ...]:
     )
 
 
+class SessionPlanner(Protocol):
+    """Where a seat's session settings come from when the operator does not choose them (a
+    study participant's plan): the settings, or why the session does not start."""
+
+    async def plan(self, start: m.StartSession) -> SessionConfig | Refusal: ...
+
+
 class Conductor:
     def __init__(
-        self, options: ServerOptions, seat: str = "1", shards: SessionShards | None = None
+        self,
+        options: ServerOptions,
+        seat: str = "1",
+        shards: SessionShards | None = None,
+        planner: SessionPlanner | None = None,
     ) -> None:
         self.options = options
         self.seat = seat
+        self.planner = planner
         self.shards = shards
         """Where sessions record when the server has several seats (None: the store)."""
         self.store: Path = options.store
@@ -144,12 +157,11 @@ class Conductor:
         if self.session is not None or self._starting:
             client.refuse("not_allowed", "start_session: a session is running; stop it first")
             return
-        try:
-            config = from_mapping(SessionConfig, start.settings)
-        except ConfigError as error:
-            client.send(m.ConfigRejected(problems=field_problems(error)))
-            return
         self._starting = True
+        config = await self._settings(client, start)
+        if config is None:
+            self._starting = False
+            return
         self.store = self.shards.new_shard() if self.shards else self.options.store
         try:
             session = SessionProcess(
@@ -171,6 +183,24 @@ class Conductor:
         self.broadcast(self._started_message(session))
         if session.scene is not None:
             self.broadcast(session.scene)
+
+    async def _settings(self, client: Client, start: m.StartSession) -> SessionConfig | None:
+        """The session's settings: the operator's, or the planner's (None: refused)."""
+        if self.planner is not None:
+            planned = await self.planner.plan(start)
+            if isinstance(planned, Refusal):
+                client.refuse(planned.code, planned.message)
+                return None
+            return planned
+        try:
+            return from_mapping(SessionConfig, start.settings)
+        except ConfigError as error:
+            client.send(m.ConfigRejected(problems=field_problems(error)))
+            return None
+
+    @property
+    def starting(self) -> bool:
+        return self._starting
 
     def input(self, client: Client, message: m.Input) -> None:
         if client is not self.operator:
@@ -194,6 +224,14 @@ class Conductor:
         for and are ignored, as are reports while no session runs."""
         if client is self.operator and self.session is not None:
             self.session.report_frames(message)
+
+    def stop_by_admin(self) -> bool:
+        """The study's admin ends the running session (its trial ends interrupted:
+        ``admin_stop``); False when none runs."""
+        if self.session is None:
+            return False
+        self.session.request_stop("admin_stop")
+        return True
 
     def stop(self, client: Client) -> None:
         if client is not self.operator:

@@ -16,8 +16,8 @@ def diagnostics(seats: Seats, process_cpu_s: float) -> Diagnostics:
     ]
     everyone = seated + [(c, None) for c in seats.unseated]
     clients = tuple(_client(c, seat) for c, seat in sorted(everyone, key=lambda x: x[0].id))
-    sims = tuple(s for s in map(_sim, seats.conductors.values()) if s is not None)
-    first = _sim(seats.first)
+    sims = tuple(s for s in map(sim_diagnostics, seats.conductors.values()) if s is not None)
+    first = sim_diagnostics(seats.first)
     return Diagnostics(process_cpu_s=round(process_cpu_s, 6), clients=clients, sim=first, sims=sims)
 
 
@@ -33,7 +33,7 @@ def _client(client: Client, seat: str | None) -> ClientDiagnostics:
     )
 
 
-def _sim(conductor: Conductor) -> SimDiagnostics | None:
+def sim_diagnostics(conductor: Conductor) -> SimDiagnostics | None:
     session = conductor.session
     if session is None:
         return None

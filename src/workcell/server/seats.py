@@ -10,6 +10,11 @@ A client says who it wants to be in its hello; this module gives it a seat (a
   seat has an operator it watches instead, told so by a ``server_full`` error;
 - a spectator watches the seat its hello names, or the first.
 
+With a study (``workcell serve --study``), a participant's invite leads to the seat named
+by their participant id and to no other: they drive it (or watch it from a second tab), and
+its sessions follow their plan. Then ``max_sessions`` bounds the sessions running at once:
+a participant who would start one more hears ``server_full`` and may start again later.
+
 Seat "1" always exists (what a one-session server has); a later seat goes once it is idle
 (no client, no session, no operator's place kept), so seat names are not reused while
 anyone could still mean them. With more than one seat, every session records into a shard
@@ -23,15 +28,19 @@ import itertools
 import secrets
 
 from workcell.protocol import messages as m
+from workcell.server.auth import ADMIN, Principal
 from workcell.server.client import Client
 from workcell.server.conductor import Conductor
 from workcell.server.options import ServerOptions
 from workcell.server.shards import SessionShards
+from workcell.server.study_desk import Refusal, StudyDesk
+from workcell.session.config import SessionConfig
 
 
 class Seats:
-    def __init__(self, options: ServerOptions) -> None:
+    def __init__(self, options: ServerOptions, desk: StudyDesk | None = None) -> None:
         self.options = options
+        self.desk = desk
         self.shards = SessionShards(options.store) if options.max_sessions > 1 else None
         self.conductors: dict[str, Conductor] = {}
         self.unseated: set[Client] = set()
@@ -63,11 +72,19 @@ class Seats:
             conductor.disconnected(client)
         self._tidy()
 
-    async def hello(self, client: Client, hello: m.Hello) -> None:
+    @property
+    def running(self) -> int:
+        """Sessions running or starting."""
+        return sum(c.session is not None or c.starting for c in self.conductors.values())
+
+    async def hello(self, client: Client, hello: m.Hello, principal: Principal = ADMIN) -> None:
         if client.role is not None:
             client.refuse("protocol", "hello: already said; send it once per connection")
             return
         self._tidy()
+        if principal.participant is not None:
+            await self._participant_hello(client, hello, principal.participant)
+            return
         if hello.seat is not None and hello.seat not in self.conductors:
             seats = ", ".join(self.conductors)
             client.refuse(
@@ -82,21 +99,41 @@ class Seats:
         if hello.role == "operator" and granted == "spectator":
             client.send(m.Error(code="server_full", message=self._full_message(conductor)))
 
+    async def _participant_hello(self, client: Client, hello: m.Hello, participant: str) -> None:
+        if hello.seat not in (None, participant):
+            client.refuse(
+                "not_allowed",
+                f"hello.seat = {hello.seat!r}: your invite opens only your own seat, {participant}",
+            )
+            return
+        conductor = self.conductors.get(participant) or self._add(participant)
+        self.unseated.discard(client)
+        self._seat_of[client] = conductor
+        conductor.connected(client)
+        granted = await conductor.hello(client, hello)
+        if hello.role == "operator" and granted == "spectator":
+            message = (
+                "your session is driven from another connection (another tab or device); "
+                "you are watching it; close that one and reload to drive here"
+            )
+            client.send(m.Error(code="not_allowed", message=message))
+
     def _seat_for(self, hello: m.Hello) -> Conductor:
         named = self.conductors.get(hello.seat) if hello.seat is not None else None
         if hello.role != "operator":
             return named or self.first
+        own = [c for c in self.conductors.values() if c.planner is None]  # not a participant's
         if hello.resume_token is not None:
-            for conductor in self.conductors.values():
+            for conductor in own:
                 kept = conductor.resume_token
                 if kept is not None and secrets.compare_digest(
                     hello.resume_token.encode(), kept.encode()
                 ):
                     return conductor
-        for conductor in self.conductors.values():
+        for conductor in own:
             if conductor.operator is None and conductor.resume_token is None:
                 return conductor
-        if len(self.conductors) < self.options.max_sessions:
+        if len(own) < self.options.max_sessions:
             return self._add()
         return named or self.first
 
@@ -108,9 +145,12 @@ class Seats:
             f"watching seat {watched.seat}; connect again later to drive"
         )
 
-    def _add(self) -> Conductor:
-        seat = str(next(self._numbers))
-        conductor = Conductor(self.options, seat, self.shards)
+    def _add(self, participant: str | None = None) -> Conductor:
+        seat = participant or str(next(self._numbers))
+        planner = None
+        if participant is not None and self.desk is not None:
+            planner = ParticipantPlanner(self, self.desk, participant)
+        conductor = Conductor(self.options, seat, self.shards, planner)
         self.conductors[seat] = conductor
         return conductor
 
@@ -143,3 +183,24 @@ class Seats:
     def merge_leftovers(self) -> list[str]:
         """Shards an earlier run left (a killed server) into the store (blocking)."""
         return self.shards.merge_leftovers() if self.shards else []
+
+
+class ParticipantPlanner:
+    """A participant's seat: each session is the next of their plan, started while the
+    server runs fewer than ``max_sessions``."""
+
+    def __init__(self, seats: Seats, desk: StudyDesk, participant: str) -> None:
+        self.seats = seats
+        self.desk = desk
+        self.participant = participant
+
+    async def plan(self, start: m.StartSession) -> SessionConfig | Refusal:
+        most = self.seats.options.max_sessions
+        others = self.seats.running - 1  # this seat is starting
+        if others >= most:
+            return Refusal(
+                "server_full",
+                f"server full: {others} sessions are running, the most this server runs at "
+                f"once (workcell serve --sessions {most}); start again in a minute",
+            )
+        return await asyncio.to_thread(self.desk.next_session, self.participant, start.consent)

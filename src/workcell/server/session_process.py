@@ -169,6 +169,11 @@ class SessionProcess:
     def pacing(self) -> PacingStats:
         return self._pacing
 
+    @property
+    def outcomes(self) -> tuple[str, ...]:
+        """The outcome of each trial that has ended so far."""
+        return tuple(outcome for outcome, _ in self._results)
+
     def kill(self) -> None:
         """End the process at once, as a crash would (tests, a stuck simulation)."""
         self._process.kill()

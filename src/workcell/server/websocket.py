@@ -14,6 +14,7 @@ from starlette.websockets import WebSocket, WebSocketDisconnect
 
 from workcell.protocol import messages as m
 from workcell.protocol.codec import ProtocolError, decode_client, encode
+from workcell.server.auth import principal_of
 from workcell.server.client import Client
 from workcell.server.seats import Seats
 
@@ -38,7 +39,9 @@ async def serve_client(websocket: WebSocket, seats: Seats) -> None:
         return
     await websocket.accept(subprotocol=m.SUBPROTOCOL)
     options = seats.options
-    client = Client(websocket, options.max_messages_per_s, options.burst)
+    client = Client(
+        websocket, options.max_messages_per_s, options.burst, principal_of(websocket.scope)
+    )
     seats.connected(client)
     sender = asyncio.create_task(client.run_sender())
     try:
@@ -72,9 +75,10 @@ async def _handle(client: Client, seats: Seats, raw: str | bytes | None) -> None
         client.refuse(error.code, str(error), error.problem)
         return
     if isinstance(message, m.Ping):
+        client.stats.rtt_ms = message.rtt_ms
         client.send(m.Pong(t_client=message.t_client, t_server=time.time()))
     elif isinstance(message, m.Hello):
-        await seats.hello(client, message)
+        await seats.hello(client, message, client.principal)
     elif client.role is None or (conductor := seats.of(client)) is None:
         client.refuse("protocol", f"{message.type}: send hello first")
     elif isinstance(message, m.Input):

@@ -140,6 +140,13 @@ class SessionConfig:
         pattern=r"[\w.-]{0,64}",
         pattern_doc="up to 64 letters, digits, '.', '_' or '-'",
     )
+    consent: str = setting(
+        "",
+        "SHA-256 of the consent text the operator accepted for this session (empty: none "
+        "asked); workcell serve --study sets it",
+        pattern=r"([0-9a-f]{64})?",
+        pattern_doc="empty or 64 lower-case hex digits",
+    )
 
     def __post_init__(self) -> None:
         problems = declared_problems(self, "")

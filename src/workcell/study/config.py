@@ -26,9 +26,9 @@ from workcell.study.order import Order
 
 NAME_PATTERN = r"[\w.-]{1,64}"
 NAME_DOC = "1 to 64 letters, digits, '.', '_' or '-'"
-SET_BY_STUDY = ("operator_id", "condition", "seed", "task.mode", "task.trials")
+SET_BY_STUDY = ("operator_id", "condition", "consent", "seed", "task.mode", "task.trials")
 """Session settings the study sets itself for each session (participant, condition,
-seed, step)."""
+consent, seed, step)."""
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,8 @@ instructions = ""
 consent = ""
 
 # Settings every session of the study starts from, as `workcell config --defaults`
-# prints them (operator_id, condition, seed, task.mode and task.trials are the study's).
+# prints them (operator_id, condition, consent, seed, task.mode and task.trials are the
+# study's).
 [session]
 
 # One table per condition: its name and the session settings it changes.

@@ -24,6 +24,7 @@ InterruptionReason = Literal[
     "crash_recovered",
     "storage_error",
     "operator_restart",
+    "admin_stop",
 ]
 SessionEndReason = Literal["completed", "error", InterruptionReason]
 """Why a session ended: its campaign completed, it was interrupted (the reason its last

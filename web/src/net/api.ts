@@ -1,6 +1,7 @@
-// The server's HTTP API: setup defaults, the session list and recorded trials for replay.
+// The server's HTTP API: setup defaults, the session list, recorded trials for replay and
+// a study's views (the participant's progress, the admin's overview).
 
-import type { Defaults, SessionList, TrialReplay } from "../protocol";
+import type { Defaults, ParticipantStatus, SessionList, StudyOverview, TrialReplay } from "../protocol";
 import { serverUrl } from "../util/env";
 
 async function getJson<T>(path: string): Promise<T> {
@@ -23,4 +24,25 @@ export function fetchSessions(): Promise<SessionList> {
 export function fetchReplay(trialId: string, every: number): Promise<TrialReplay> {
   const id = encodeURIComponent(trialId);
   return getJson<TrialReplay>(`api/trials/${id}/frames?every=${every}`);
+}
+
+/** The participant's study status, or null when the page was not opened with a study
+ * participant's invite (no study, or the admin's link). */
+export async function fetchParticipant(): Promise<ParticipantStatus | null> {
+  const response = await fetch(serverUrl("api/study/me"), { headers: { Accept: "application/json" } });
+  if (response.status === 404) return null;
+  if (!response.ok) throw new Error(`api/study/me: HTTP ${response.status}`);
+  return (await response.json()) as ParticipantStatus;
+}
+
+export function fetchStudy(): Promise<StudyOverview> {
+  return getJson<StudyOverview>("api/study");
+}
+
+/** The admin ends a participant's running session; the server's answer as text. */
+export async function stopParticipant(participant: string): Promise<string> {
+  const id = encodeURIComponent(participant);
+  const response = await fetch(serverUrl(`api/study/participants/${id}/stop`), { method: "POST" });
+  const body = (await response.json().catch(() => ({}))) as { error?: string };
+  return response.ok ? `stopped ${participant}` : (body.error ?? `HTTP ${response.status}`);
 }

@@ -190,7 +190,7 @@ export class Connection {
         this.socket?.close(4998, "no message from the server");
         return;
       }
-      this.sendRaw({ type: "ping", t_client: performance.now() / 1000 });
+      this.sendRaw({ type: "ping", t_client: performance.now() / 1000, rtt_ms: this.info.rttMs });
     }, PING_EVERY_MS);
   }
 

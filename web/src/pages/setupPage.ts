@@ -13,6 +13,8 @@ import { el } from "../util/dom";
 const MODE_KEY = "task.mode";
 const OPERATOR_KEY = "operator_id";
 const CONDITION_KEY = "condition";
+/** Settings only `workcell serve --study` sets (a participant's accepted consent): not on the form. */
+const SET_BY_STUDY_SERVER: readonly string[] = ["consent"];
 const MODE_HELP: Record<string, string> = {
   practice: "one trial, one box, ends at delivery",
   collection: "repeated one-box trials with automatic reset",
@@ -55,7 +57,8 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
   const render = (defaults: Defaults): void => {
     status.textContent = "";
     const form = el("form", { className: "setup-form", noValidate: true });
-    controls = new Map(defaults.fields.map((info) => [info.key, buildControl(info)]));
+    const shown = defaults.fields.filter((info) => !SET_BY_STUDY_SERVER.includes(info.key));
+    controls = new Map(shown.map((info) => [info.key, buildControl(info)]));
     const built = controls;
     fetchSettingHints()
       .then((hints) => {

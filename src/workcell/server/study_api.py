@@ -1,0 +1,108 @@
+"""The study's HTTP API (``workcell serve --study``): ``GET /api/study/me`` for a
+participant, and for the admin ``GET /api/study`` (every participant, live) and
+``POST /api/study/participants/{id}/stop`` (end their running session)."""
+
+from __future__ import annotations
+
+from starlette.requests import Request
+from starlette.responses import Response
+from starlette.routing import Route
+
+from workcell.protocol.api import ParticipantRow, ParticipantState, StudyOverview
+from workcell.server.auth import principal_of
+from workcell.server.conductor import Conductor
+from workcell.server.diagnostics import sim_diagnostics
+from workcell.server.http_api import json_response, problem
+from workcell.server.seats import Seats
+from workcell.server.study_desk import Recorded, StudyDesk
+
+NO_STUDY = "this server runs no study (workcell serve --study FILE)"
+
+
+def study_routes(seats: Seats) -> list[Route]:
+    def me(request: Request) -> Response:
+        desk = seats.desk
+        if desk is None:
+            return problem(404, NO_STUDY)
+        participant = principal_of(request.scope).participant
+        if participant is None:
+            return problem(404, "a participant's view: open the page with a participant's invite")
+        return json_response(desk.status(participant))
+
+    def overview(request: Request) -> Response:
+        desk = seats.desk
+        if desk is None:
+            return problem(404, NO_STUDY)
+        return json_response(study_overview(seats, desk))
+
+    async def stop(request: Request) -> Response:
+        desk = seats.desk
+        if desk is None:
+            return problem(404, NO_STUDY)
+        participant = request.path_params["participant"]
+        if participant not in desk.plans:
+            return problem(404, f"participant {participant[:40]!r}: not one of the study's")
+        conductor = seats.conductors.get(participant)
+        if conductor is None or not conductor.stop_by_admin():
+            return problem(409, f"participant {participant}: no session is running")
+        return json_response({"stopped": participant})
+
+    return [
+        Route("/api/study/me", me),
+        Route("/api/study", overview),
+        Route("/api/study/participants/{participant}/stop", stop, methods=["POST"]),
+    ]
+
+
+def study_overview(seats: Seats, desk: StudyDesk) -> StudyOverview:
+    """Every participant as the admin page shows them (reads the store; blocking)."""
+    recorded = desk.recorded()
+    rows = tuple(
+        _row(desk, participant, seats.conductors.get(participant), recorded)
+        for participant in desk.plans
+    )
+    return StudyOverview(
+        study=desk.study.name,
+        running=seats.running,
+        max_sessions=seats.options.max_sessions,
+        participants=rows,
+    )
+
+
+def _row(
+    desk: StudyDesk, participant: str, seat: Conductor | None, recorded: Recorded
+) -> ParticipantRow:
+    session = seat.session if seat is not None else None
+    remaining = desk.remaining(participant, recorded)
+    operator = seat.operator if seat is not None else None
+    running_id = session.session_id if session is not None else None
+    theirs = {
+        s.session_id
+        for s in recorded.sessions
+        if s.operator_id == participant and s.session_id != running_id
+    }
+    outcomes = [t.outcome for t in recorded.trials if t.session_id in theirs and t.outcome]
+    outcomes += session.outcomes if session is not None else ()
+    state: ParticipantState
+    if session is not None:
+        state, condition = "running", session.config.condition
+    elif not remaining:
+        state, condition = "finished", None
+    else:
+        state = "waiting" if operator is not None else "offline"
+        condition = remaining[0].condition
+    sim = sim_diagnostics(seat) if seat is not None else None
+    plan = desk.plans[participant]
+    return ParticipantRow(
+        participant=participant,
+        invite=f"/?token={desk.invites.participants[participant]}",
+        state=state,
+        done=len(plan) - len(remaining),
+        total=len(plan),
+        condition=condition,
+        session_id=running_id,
+        rtt_ms=operator.stats.rtt_ms if operator is not None else None,
+        real_time_factor=sim.real_time_factor if sim is not None else None,
+        trials=len(outcomes),
+        successes=sum(outcome == "success" for outcome in outcomes),
+    )
