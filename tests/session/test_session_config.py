@@ -45,6 +45,7 @@ def test_default_toml_is_complete_commented_and_round_trips() -> None:
         "task",
         "recording",
         "world",
+        "input",
         "seed",
         "operator_id",
         "condition",

@@ -341,6 +341,31 @@ def test_in_vr_menu_recenters_switches_view_restarts_and_stops(server: Server) -
     assert result["snap_turned"] == pytest.approx(-math.pi / 6, abs=0.05)  # one flick right
 
 
+def test_hand_tracking_grabs_moves_and_pinches_in_the_emulated_quest(server: Server) -> None:
+    """Hands instead of controllers: a grab engages the arm, which follows the wrist; a
+    pinch closes the gripper. The frames record the hand as they record a controller."""
+    result = run_script("xr_hands", server)
+    assert result["moved"] > 0.08
+    (trial,) = _rows(
+        server.store, "SELECT * FROM trials WHERE session_id = ?", result["session_id"]
+    )
+    frames = _rows(
+        server.store,
+        "SELECT * FROM frames WHERE trial_id = ? ORDER BY frame_index",
+        trial["trial_id"],
+    )
+    grabbed = [f for f in frames if f["grip_l"] > 0.9 and f["follow_l"]]
+    assert grabbed, "no frame with the left hand grabbing and the arm following"
+    first = grabbed[0]
+    travel = max(
+        math.dist([f[f"target_l_{a}"] for a in "xyz"], [first[f"target_l_{a}"] for a in "xyz"])
+        for f in grabbed
+    )
+    assert travel > 0.08, f"the grabbed arm's target moved {travel:.3f} m"
+    assert any(f["trigger_l"] > 0.9 and not f["follow_l"] for f in frames), "no pinch recorded"
+    assert all(f["ctrl_l_x"] is not None for f in grabbed)  # the wrist pose, recorded raw
+
+
 STUDY = """name = "pilot"
 participants = 2
 instructions = "Move the box to the green zone."

@@ -8,7 +8,7 @@ export const SUBPROTOCOL = "workcell.v1" as const;
 
 export type Pose = readonly [number, number, number, number, number, number, number];
 export type Role = "operator" | "spectator";
-export type InputSource = "xr" | "desktop" | "gamepad";
+export type InputSource = "xr" | "xr_hands" | "desktop" | "gamepad";
 export type HudPhase = "countdown" | "running" | "finished";
 export type Mode = "practice" | "collection" | "challenge";
 export type Outcome = "success" | "timeout" | "interrupted";

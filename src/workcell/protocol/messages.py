@@ -36,7 +36,10 @@ SUBPROTOCOL = f"workcell.v{PROTOCOL_VERSION}"
 
 Pose = tuple[float, float, float, float, float, float, float]
 Role = Literal["operator", "spectator"]
-InputSource = Literal["xr", "desktop", "gamepad"]
+InputSource = Literal["xr", "xr_hands", "desktop", "gamepad"]
+"""Where an input came from: WebXR controllers, WebXR with at least one tracked hand (a hand
+reads as a controller: wrist pose, pinch as trigger, grab as grip), keyboard and mouse, or a
+gamepad."""
 ErrorCode = Literal[
     "malformed",
     "too_large",

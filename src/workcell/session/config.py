@@ -114,12 +114,56 @@ class RecordingConfig:
 
 
 @dataclass(frozen=True)
+class InputConfig:
+    """Jitter filtering of the operator's tracked poses (controllers, hands, headset): a
+    One-Euro filter (Casiez et al., CHI 2012) per pose, whose cutoff frequency rises with
+    the pose's speed, so a hand held still is smoothed and a fast motion keeps up. The raw
+    poses are recorded as they arrived; the filtered ones drive the arms and the head."""
+
+    pose_filter: bool = setting(True, "filter tracked poses (false: use them as they arrive)")
+    min_cutoff_hz: float = setting(
+        1.5,
+        "cutoff frequency of a pose held still: lower smooths more and lags more",
+        unit="Hz",
+        low=0.0,
+        low_open=True,
+        high=100.0,
+    )
+    beta_position: float = setting(
+        20.0,
+        "how fast the cutoff rises with the position's speed (Hz per m/s)",
+        unit="s/m",
+        low=0.0,
+        high=1000.0,
+    )
+    beta_rotation: float = setting(
+        5.0,
+        "how fast the cutoff rises with the rotation's angular speed (Hz per rad/s)",
+        unit="s/rad",
+        low=0.0,
+        high=1000.0,
+    )
+    d_cutoff_hz: float = setting(
+        1.0,
+        "cutoff frequency of the speed estimate",
+        unit="Hz",
+        low=0.0,
+        low_open=True,
+        high=100.0,
+    )
+
+    def __post_init__(self) -> None:
+        _raise_if(declared_problems(self, "input"))
+
+
+@dataclass(frozen=True)
 class SessionConfig:
     """One operator sitting: task, recording, world, seed, operator and study condition."""
 
     task: TaskConfig = section(TaskConfig, "the task mode, levels, limits and scoring")
     recording: RecordingConfig = section(RecordingConfig, "sampling and activity thresholds")
     world: WorldConfig = section(WorldConfig, "the factory workcell and the robot")
+    input: InputConfig = section(InputConfig, "jitter filtering of the operator's tracked poses")
     seed: int = setting(
         0,
         "session seed: every trial's start is derived from it",

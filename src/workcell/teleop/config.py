@@ -6,8 +6,8 @@ import math
 from dataclasses import dataclass
 
 from workcell.errors import ConfigError
-from workcell.session.config import RecordingConfig, SessionConfig
-from workcell.settings import declared_problems, same_as, setting
+from workcell.session.config import InputConfig, RecordingConfig, SessionConfig
+from workcell.settings import declared_problems, same_as, section, setting
 from workcell.sim.config import RobotConfig
 
 
@@ -79,6 +79,12 @@ class TeleopConfig:
         high=60.0,
     )
 
+    input: InputConfig = section(
+        lambda: InputConfig(pose_filter=False),
+        "pose filtering (off unless the session's input settings ask for it, as they do by "
+        "default)",
+    )
+
     def __post_init__(self) -> None:
         problems = declared_problems(self, "teleop")
         if problems:
@@ -92,4 +98,5 @@ class TeleopConfig:
             max_yaw_rate=robot.max_yaw_rate,
             yaw_accel=robot.yaw_accel,
             grip_threshold=config.recording.grip_threshold,
+            input=config.input,
         )

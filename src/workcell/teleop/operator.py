@@ -21,6 +21,7 @@ from workcell.sim.world import World
 from workcell.teleop.clutch import ArmClutch, Pose
 from workcell.teleop.config import TeleopConfig
 from workcell.teleop.mapping import base_twist, head_angles
+from workcell.teleop.one_euro import PoseFilter
 from workcell.teleop.rotation import conjugate, multiply
 from workcell.teleop.snap_turn import SnapTurn
 from workcell.teleop.soft_stop import SoftStop
@@ -74,6 +75,23 @@ class TeleopOperator:
         self._snap_asked = 0
         self.snap: SnapTurn | None = None
         """The snap turn under way, which drives the base's yaw instead of the stick."""
+        settings = config.input
+        self._filters = (
+            tuple(
+                PoseFilter(
+                    settings.min_cutoff_hz,
+                    settings.beta_position,
+                    settings.beta_rotation,
+                    settings.d_cutoff_hz,
+                )
+                for _ in range(3)
+            )
+            if settings.pose_filter
+            else None
+        )
+        """One-Euro filters of the left hand, the right hand and the headset (None: off)."""
+        self._poses: tuple[Pose | None, Pose | None, Pose | None] = (None, None, None)
+        """The newest input's left, right and headset poses, filtered."""
 
     # --- the socket side --------------------------------------------------------------------
 
@@ -86,12 +104,26 @@ class TeleopOperator:
             self._latest = message
             self._last_seq = message.seq
             self._arrived = self._clock()
+            self._poses = self._filtered(message, self._arrived)
             return True
 
+    def _filtered(self, message: Input, t: float) -> tuple[Pose | None, Pose | None, Pose | None]:
+        raw = (message.left.pose, message.right.pose, message.headset)
+        if self._filters is None:
+            return raw
+        poses: list[Pose | None] = []
+        for pose, pose_filter in zip(raw, self._filters, strict=True):
+            if pose is None:
+                pose_filter.reset()  # tracking lost: start afresh when it returns
+            poses.append(None if pose is None else pose_filter(t, pose))
+        return poses[0], poses[1], poses[2]
+
     def new_link(self) -> None:
-        """A (re)connected client numbers its inputs afresh."""
+        """A (re)connected client numbers its inputs afresh (and its poses start afresh)."""
         with self._lock:
             self._last_seq = -1
+            for pose_filter in self._filters or ():
+                pose_filter.reset()
 
     # --- the Operator protocol --------------------------------------------------------------
 
@@ -111,7 +143,7 @@ class TeleopOperator:
 
     def act(self, world: World) -> Command:
         with self._lock:
-            latest, arrived = self._latest, self._arrived
+            latest, arrived, poses = self._latest, self._arrived, self._poses
         age = self._clock() - arrived
         if latest is None or age > self.config.input_timeout_s:
             # No or stale input: stop the base, freeze the arms, keep the grippers; a held
@@ -123,7 +155,7 @@ class TeleopOperator:
                 side: clutch.hold() if hold else clutch.release()
                 for side, clutch in self.clutches.items()
             }
-            head = self.config.default_head if latest is None else self._head(latest)
+            head = self.config.default_head if latest is None else self._head(poses[2])
             return Command(
                 left=arms["l"],
                 right=arms["r"],
@@ -135,9 +167,9 @@ class TeleopOperator:
         threshold = self.config.grip_threshold
         arms = {
             side: self.clutches[side].update(
-                hand.grip >= threshold, hand.pose, functools.partial(self._tcp_source, world, side)
+                hand.grip >= threshold, pose, functools.partial(self._tcp_source, world, side)
             )
-            for side, hand in (("l", latest.left), ("r", latest.right))
+            for side, hand, pose in (("l", latest.left, poses[0]), ("r", latest.right, poses[1]))
         }
         self._grippers = (_unit(latest.left.trigger), _unit(latest.right.trigger))
         base = self._snapping(world, base_twist(latest.left.stick, latest.right.stick, self.config))
@@ -149,7 +181,7 @@ class TeleopOperator:
             right=arms["r"],
             close_left=self._grippers[0],
             close_right=self._grippers[1],
-            head=self._head(latest),
+            head=self._head(poses[2]),
         )
 
     def _snapping(self, world: World, base: BaseTwist) -> BaseTwist:
@@ -167,8 +199,8 @@ class TeleopOperator:
             return base
         return BaseTwist(vx=base.vx, vy=base.vy, wz=rate)
 
-    def _head(self, latest: Input) -> tuple[float, float]:
-        quat = latest.headset[3:] if latest.headset is not None else None
+    def _head(self, headset: Pose | None) -> tuple[float, float]:
+        quat = headset[3:] if headset is not None else None
         return head_angles(quat, self.config)
 
     # --- for the recorder -------------------------------------------------------------------

@@ -1,10 +1,12 @@
 // One XR frame → raw device state: the headset and both controllers' grip-space poses in
-// the local-floor reference space, and their buttons and thumbsticks (xr-standard mapping).
+// the local-floor reference space, and their buttons and thumbsticks (xr-standard mapping);
+// a tracked hand stands in for a controller (./handTracking).
 
 import type { ControllerState, Pose } from "../protocol";
 import { xrPose } from "../scene/frames";
 import { BUTTON, neutralHand } from "../input/hands";
 import type { DeviceFrame } from "../input/hands";
+import { handAsController } from "./handTracking";
 
 /** xr-standard gamepad: buttons[0] trigger, [1] squeeze, [3] thumbstick press, [4] A/X, [5] B/Y. */
 function handState(source: XRInputSource, frame: XRFrame, space: XRReferenceSpace): ControllerState {
@@ -38,13 +40,17 @@ export function readXrFrame(frame: XRFrame, space: XRReferenceSpace): XrReading 
   const headset = viewer !== undefined && viewer !== null ? xrPose(viewer.transform) : null;
   let left = neutralHand();
   let right = neutralHand();
+  let hands = false;
   for (const source of frame.session.inputSources) {
-    if (source.handedness === "left") left = handState(source, frame, space);
-    else if (source.handedness === "right") right = handState(source, frame, space);
+    const hand = source.hand;
+    hands ||= hand !== undefined;
+    const state = hand !== undefined ? handAsController(hand, frame, space) : handState(source, frame, space);
+    if (source.handedness === "left") left = state;
+    else if (source.handedness === "right") right = state;
   }
   const p = viewer?.transform.position;
   return {
-    source: "xr",
+    source: hands ? "xr_hands" : "xr",
     headset,
     left,
     right,

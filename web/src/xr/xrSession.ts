@@ -1,5 +1,6 @@
-// Entering and leaving immersive VR.
+// Entering and leaving immersive VR (hand tracking asked for, tracked hands drawn).
 
+import { XRHandModelFactory } from "three/examples/jsm/webxr/XRHandModelFactory.js";
 import type { Viewer } from "../scene/viewer";
 
 export type XrAvailability = "supported" | "unsupported" | "insecure";
@@ -20,7 +21,16 @@ export class XrController {
   referenceSpace: XRReferenceSpace | null = null;
   onChange: (() => void) | null = null;
 
-  constructor(private readonly viewer: Viewer) {}
+  constructor(private readonly viewer: Viewer) {
+    // Tracked hands are drawn as joint spheres (no model download), in the rig with the
+    // camera so they sit where the operator's hands are.
+    const factory = new XRHandModelFactory();
+    for (const index of [0, 1]) {
+      const hand = viewer.renderer.xr.getHand(index);
+      hand.add(factory.createHandModel(hand, "spheres"));
+      viewer.rig.add(hand);
+    }
+  }
 
   get presenting(): boolean {
     return this.session !== null;
@@ -33,6 +43,7 @@ export class XrController {
     if (this.session !== null) return;
     const session = await xr.requestSession("immersive-vr", {
       requiredFeatures: ["local-floor"],
+      optionalFeatures: ["hand-tracking"],
     });
     session.addEventListener("end", () => {
       this.session = null;
