@@ -97,6 +97,6 @@ def test_the_arm_follows_the_filtered_pose_and_the_record_keeps_the_raw() -> Non
 
     filtered, _ = target_jitter(TeleopConfig.for_session(SessionConfig()))
     unfiltered, _ = target_jitter(
-        TeleopConfig.for_session(SessionConfig(input=InputConfig(pose_filter=False)))
+        TeleopConfig.for_session(SessionConfig(input=InputConfig(filter="off")))
     )
     assert filtered < 0.35 * unfiltered, (filtered, unfiltered)

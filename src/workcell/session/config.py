@@ -19,6 +19,7 @@ from workcell.sim.config import WorldConfig
 
 Mode = Literal["practice", "collection", "challenge"]
 MODES: tuple[str, ...] = get_args(Mode)
+PoseFilterKind = Literal["one_euro", "off"]
 
 
 def _raise_if(problems: list[str]) -> None:
@@ -120,7 +121,9 @@ class InputConfig:
     the pose's speed, so a hand held still is smoothed and a fast motion keeps up. The raw
     poses are recorded as they arrived; the filtered ones drive the arms and the head."""
 
-    pose_filter: bool = setting(True, "filter tracked poses (false: use them as they arrive)")
+    filter: PoseFilterKind = setting(
+        "one_euro", "one_euro (filter tracked poses) or off (use them as they arrive)"
+    )
     min_cutoff_hz: float = setting(
         1.5,
         "cutoff frequency of a pose held still: lower smooths more and lags more",

@@ -80,7 +80,7 @@ class TeleopConfig:
     )
 
     input: InputConfig = section(
-        lambda: InputConfig(pose_filter=False),
+        lambda: InputConfig(filter="off"),
         "pose filtering (off unless the session's input settings ask for it, as they do by "
         "default)",
     )

@@ -86,7 +86,7 @@ class TeleopOperator:
                 )
                 for _ in range(3)
             )
-            if settings.pose_filter
+            if settings.filter == "one_euro"
             else None
         )
         """One-Euro filters of the left hand, the right hand and the headset (None: off)."""
