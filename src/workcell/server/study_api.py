@@ -4,6 +4,8 @@ participant, and for the admin ``GET /api/study`` (every participant, live) and
 
 from __future__ import annotations
 
+import asyncio
+
 from starlette.requests import Request
 from starlette.responses import Response
 from starlette.routing import Route
@@ -29,11 +31,12 @@ def study_routes(seats: Seats) -> list[Route]:
             return problem(404, "a participant's view: open the page with a participant's invite")
         return json_response(desk.status(participant))
 
-    def overview(request: Request) -> Response:
+    async def overview(request: Request) -> Response:
         desk = seats.desk
         if desk is None:
             return problem(404, NO_STUDY)
-        return json_response(study_overview(seats, desk))
+        recorded = await asyncio.to_thread(desk.recorded)  # the seats are read on the loop
+        return json_response(study_overview(seats, desk, recorded))
 
     async def stop(request: Request) -> Response:
         desk = seats.desk
@@ -54,9 +57,9 @@ def study_routes(seats: Seats) -> list[Route]:
     ]
 
 
-def study_overview(seats: Seats, desk: StudyDesk) -> StudyOverview:
-    """Every participant as the admin page shows them (reads the store; blocking)."""
-    recorded = desk.recorded()
+def study_overview(seats: Seats, desk: StudyDesk, recorded: Recorded) -> StudyOverview:
+    """Every participant as the admin page shows them, from the seats (read on the event
+    loop, which changes them) and what the store holds."""
     rows = tuple(
         _row(desk, participant, seats.conductors.get(participant), recorded)
         for participant in desk.plans
