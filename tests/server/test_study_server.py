@@ -302,3 +302,20 @@ def _get_when_up(url: str, timeout: float = 20.0) -> bytes:
             if time.monotonic() > deadline:
                 raise
             time.sleep(0.1)
+
+
+def test_an_unreadable_store_refuses_a_start_and_frees_the_seat(tmp_path: Path) -> None:
+    (tmp_path / "store.sqlite").write_bytes(b"not a database" * 100)
+
+    async def scenario(server: RunningServer) -> None:
+        async with client(server, query=f"?token={token_of(server, 'p01')}") as p01:
+            await p01.hello("operator")
+            for _ in range(2):  # the second start is refused the same way: nothing is stuck
+                refused = await start(p01, consent=True)
+                assert isinstance(refused, m.Error) and refused.code == "not_allowed"
+                assert refused.message.startswith("start_session: ")
+                assert "store.sqlite" in refused.message
+        assert server.seats.running == 0
+
+    with running_server(tmp_path, study=study()) as server:
+        asyncio.run(scenario(server))

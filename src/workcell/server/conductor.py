@@ -158,7 +158,11 @@ class Conductor:
             client.refuse("not_allowed", "start_session: a session is running; stop it first")
             return
         self._starting = True
-        config = await self._settings(client, start)
+        try:
+            config = await self._settings(client, start)
+        except WorkcellError as error:  # e.g. the store a plan's progress is read from
+            client.refuse("not_allowed", f"start_session: {error}")
+            config = None
         if config is None:
             self._starting = False
             return
