@@ -92,10 +92,7 @@ class Seats:
             )
             return
         conductor = self._seat_for(hello)
-        self.unseated.discard(client)
-        self._seat_of[client] = conductor
-        conductor.connected(client)
-        granted = await conductor.hello(client, hello)
+        granted = await self._seat(client, conductor, hello)
         if hello.role == "operator" and granted == "spectator":
             client.send(m.Error(code="server_full", message=self._full_message(conductor)))
 
@@ -107,16 +104,20 @@ class Seats:
             )
             return
         conductor = self.conductors.get(participant) or self._add(participant)
-        self.unseated.discard(client)
-        self._seat_of[client] = conductor
-        conductor.connected(client)
-        granted = await conductor.hello(client, hello)
+        granted = await self._seat(client, conductor, hello)
         if hello.role == "operator" and granted == "spectator":
             message = (
                 "your session is driven from another connection (another tab or device); "
                 "you are watching it; close that one and reload to drive here"
             )
             client.send(m.Error(code="not_allowed", message=message))
+
+    async def _seat(self, client: Client, conductor: Conductor, hello: m.Hello) -> m.Role | None:
+        """Put ``client`` at ``conductor``'s seat and welcome it there; the role granted."""
+        self.unseated.discard(client)
+        self._seat_of[client] = conductor
+        conductor.connected(client)
+        return await conductor.hello(client, hello)
 
     def _seat_for(self, hello: m.Hello) -> Conductor:
         named = self.conductors.get(hello.seat) if hello.seat is not None else None
