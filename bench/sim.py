@@ -3,10 +3,15 @@
 Prints, measured in one run:
 - the raw ``mj_step`` rate of the full scene (robot holding still, boxes on the belt),
 - the full loop rate (physics + IK + grasp logic + feeder + the expert), in physics steps/s,
-- their ratio, and the real-time factor of one expert trial.
+  at each IK rate of ``--ik-hz`` (0: the IK solves every control period, the default;
+  trials of each rate interleaved seed by seed),
+- their ratio, the real-time factor of the expert's trials, and how closely each arm
+  tracks its commanded TCP target while it follows (measured TCP against the target, base
+  frame; the time to compute it is not counted).
 
-Targets (issue 2): full loop >= 25x real time and >= 0.4 of the raw rate.
-Run: ``make bench`` or ``.venv/bin/python bench/sim.py [--trials N]``.
+Targets (issue 2): full loop >= 25x real time and >= 0.4 of the raw rate; (issue 19) >= 35x
+and >= 0.55, tracking unchanged.
+Run: ``make bench`` or ``.venv/bin/python bench/sim.py [--trials N] [--ik-hz 0,20]``.
 """
 
 from __future__ import annotations
@@ -14,13 +19,16 @@ from __future__ import annotations
 import argparse
 import os
 import time
+from dataclasses import dataclass, field
 
 import mujoco
+import numpy as np
 
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertConfig, ExpertOperator
-from workcell.sim.config import WorldConfig
+from workcell.sim.config import RobotConfig, WorldConfig
 from workcell.sim.events import BoxDelivered
+from workcell.teleop.operator import measured_tcp
 
 TRIAL_LIMIT_S = 120.0
 
@@ -40,51 +48,82 @@ def raw_step_rate(sim: Simulation, seconds: float) -> float:
     return float(steps / (time.perf_counter() - start))
 
 
-def expert_trial(sim: Simulation, seed: int) -> tuple[bool, float, float]:
-    """One expert delivery; returns (delivered, sim seconds, wall seconds)."""
+@dataclass
+class Run:
+    """One IK rate's trials: sim and wall seconds, deliveries, tracking errors (m)."""
+
+    sim_s: float = 0.0
+    wall_s: float = 0.0
+    delivered: int = 0
+    errors: list[float] = field(default_factory=list)
+
+
+def expert_trial(sim: Simulation, seed: int, run: Run) -> None:
+    """One expert delivery, added to ``run``."""
     sim.reset(seed)
     expert = ExpertOperator(ExpertConfig(), seed=seed)
     delivered = False
-    start = time.perf_counter()
+    wall = 0.0
     while sim.time < TRIAL_LIMIT_S and not delivered:
-        events = sim.step(expert.act(sim.world))
+        start = time.perf_counter()
+        command = expert.act(sim.world)
+        events = sim.step(command)
+        wall += time.perf_counter() - start
         delivered = any(isinstance(e, BoxDelivered) for e in events)
-    return delivered, sim.time, time.perf_counter() - start
+        for side, arm in (("l", command.left), ("r", command.right)):
+            if arm.follow:
+                measured = np.array(measured_tcp(sim.world, side)[:3])
+                run.errors.append(float(np.linalg.norm(measured - np.array(arm.position))))
+    run.sim_s += sim.time
+    run.wall_s += wall
+    run.delivered += delivered
 
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--trials", type=int, default=3, help="expert trials to time")
+    parser.add_argument("--trials", type=int, default=3, help="expert trials to time per rate")
     parser.add_argument("--grasp", choices=("assisted", "physical"), default="assisted")
+    parser.add_argument("--ik-hz", default="0,20", help="IK rates to compare (0: every period)")
     args = parser.parse_args()
     pin_to_one_core()
 
-    sim = Simulation(WorldConfig(grasp=args.grasp))
-    timestep = sim.world.model.opt.timestep
-    sim_total = wall_total = 0.0
-    delivered = 0
+    rates = [float(hz) for hz in args.ik_hz.split(",")]
+    sims = {
+        hz: Simulation(WorldConfig(grasp=args.grasp, robot=RobotConfig(ik_hz=hz))) for hz in rates
+    }
+    runs = {hz: Run() for hz in rates}
     for seed in range(args.trials):
-        ok, sim_s, wall_s = expert_trial(sim, seed)
-        delivered += ok
-        sim_total += sim_s
-        wall_total += wall_s
-    loop_rate = sim_total / timestep / wall_total
+        for hz in rates:
+            expert_trial(sims[hz], seed, runs[hz])
 
     # Raw physics on the same scene: reset and let boxes arrive, then time bare mj_step.
+    sim = sims[rates[0]]
     sim.reset(0)
     expert = ExpertOperator(ExpertConfig(), seed=0)
     while sim.time < 14.0:
         sim.step(expert.act(sim.world))
     raw_rate = raw_step_rate(sim, seconds=10.0)
+    timestep = sim.world.model.opt.timestep
+    control_hz = sim.world.config.robot.control_hz
 
-    rtf = sim_total / wall_total
     print(f"scene: nq={sim.world.model.nq} nv={sim.world.model.nv} timestep={timestep} s")
-    raw_rtf = raw_rate * timestep
-    print(f"raw mj_step rate   : {raw_rate:8.0f} steps/s  ({raw_rtf:.1f}x real time)")
-    print(f"full loop rate     : {loop_rate:8.0f} steps/s  ({rtf:.1f}x real time)")
-    print(f"full loop / raw    : {loop_rate / raw_rate:8.2f}          (target >= 0.40)")
-    print(f"expert trial RTF   : {rtf:8.1f}x         (target >= 25x)")
-    print(f"delivered          : {delivered}/{args.trials} expert trials")
+    print(f"raw mj_step rate   : {raw_rate:8.0f} steps/s  ({raw_rate * timestep:.1f}x real time)")
+    for hz in rates:
+        run = runs[hz]
+        loop_rate = run.sim_s / timestep / run.wall_s
+        errors = np.array(run.errors) * 1000
+        label = f"IK {hz or control_hz:g} Hz" + (" (every period)" if hz in (0, control_hz) else "")
+        print(f"\n{label}, control {control_hz:g} Hz")
+        rtf = run.sim_s / run.wall_s
+        ratio = loop_rate / raw_rate
+        print(f"  full loop rate   : {loop_rate:8.0f} steps/s  ({rtf:.1f}x real time)")
+        print(f"  full loop / raw  : {ratio:8.2f}          (target >= 0.40; issue 19: >= 0.55)")
+        print(f"  delivered        : {run.delivered}/{args.trials} expert trials")
+        p95 = np.percentile(errors, 95)
+        print(
+            f"  tracking error   : mean {errors.mean():.1f} mm, p95 {p95:.1f} mm "
+            "(measured TCP against its target while following)"
+        )
 
 
 if __name__ == "__main__":

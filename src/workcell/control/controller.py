@@ -25,6 +25,10 @@ class RobotController:
         self.base = BaseMotion(world.config.robot)
         self.ik = BimanualIK(world.config, home_spine=world.config.robot.start_spine)
         self._following = dict.fromkeys(SIDES, False)
+        self._ik_every = world.config.robot.ik_every
+        self._ik_phase = 0
+        """Control periods since the last IK solve (0: solve in this one)."""
+        self._ik_velocity = np.zeros(self.ik.model.nv)
         c = world.config.conveyor
         self._conveyor_center = np.array(
             [(c.start_x + c.end_x) / 2, c.center_y, (0.15 + c.height) / 2]
@@ -40,6 +44,7 @@ class RobotController:
         self.base.reset(base_pose)
         self.ik.reset(joints)
         self._following = dict.fromkeys(SIDES, False)
+        self._ik_phase = 0
 
     def apply(self, command: Command) -> None:
         """Write the controls for one control period."""
@@ -58,7 +63,10 @@ class RobotController:
             elif self._following[side]:
                 self.ik.hold(side)
             self._following[side] = arm.follow
-        joints = self.ik.step(dt)
+        if self._ik_phase == 0:  # solve for the periods until the next solve
+            self._ik_velocity = self.ik.solve(self._ik_every * dt)
+        self._ik_phase = (self._ik_phase + 1) % self._ik_every
+        joints = self.ik.advance(self._ik_velocity, dt)
         joints[_HEAD] = np.clip(command.head, self._head_range[:, 0], self._head_range[:, 1])
         world.data.ctrl[world.joint_ctrl] = joints
         world.set_gripper("l", command.close_left)

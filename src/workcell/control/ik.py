@@ -74,6 +74,8 @@ class BimanualIK:
         """Each TCP's site id in the IK model (``configuration.data.site_xpos`` rows)."""
         self.target_positions = np.zeros((len(SIDES), 3))
         """Each TCP's target position (rows in SIDES order), kept with the frame tasks."""
+        self.solves = 0
+        """IK solves so far (diagnostics: how often the QP ran)."""
         self.home = np.zeros(len(JOINT_ORDER))
         self.home[0] = home_spine
         self.home[3:10] = HOME_ARM
@@ -125,10 +127,20 @@ class BimanualIK:
 
     def step(self, dt: float) -> NDArray[np.float64]:
         """One differential IK step of length ``dt``; returns the joints (JOINT_ORDER)."""
+        return self.advance(self.solve(dt), dt)
+
+    def solve(self, horizon: float) -> NDArray[np.float64]:
+        """The joint velocity that moves toward the targets over ``horizon`` seconds, within
+        the joint, velocity and collision limits for that long."""
         tasks = [*self.frame_tasks.values(), self.posture]
-        velocity = mink.solve_ik(
-            self.configuration, tasks, dt, solver="daqp", damping=1e-3, limits=self.limits
+        self.solves += 1
+        velocity: NDArray[np.float64] = mink.solve_ik(
+            self.configuration, tasks, horizon, solver="daqp", damping=1e-3, limits=self.limits
         )
+        return velocity
+
+    def advance(self, velocity: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
+        """Move the configuration at ``velocity`` for ``dt``; returns the joints."""
         self.configuration.integrate_inplace(velocity, dt)
         return self.joints
 

@@ -174,9 +174,47 @@ class RobotConfig:
         high=200.0,
         constraint="must divide the physics rate 1/world.timestep evenly",
     )
+    ik_hz: float = setting(
+        0.0,
+        "how often the IK solves for the arms' joint targets (0: every control period); in "
+        "the periods between two solves the arms move on at the last solved joint "
+        "velocities, so a lower rate costs less CPU and follows new targets a little later",
+        unit="Hz",
+        low=0.0,
+        high=200.0,
+        constraint="0, or a rate that divides world.robot.control_hz evenly",
+    )
+    teleop_ik_hz: float = setting(
+        0.0,
+        "how often the IK solves while a person drives (workcell serve), as ik_hz (0: every "
+        "control period at teleop_control_hz)",
+        unit="Hz",
+        low=0.0,
+        high=200.0,
+        constraint="0, or a rate that divides world.robot.teleop_control_hz evenly",
+    )
 
     def __post_init__(self) -> None:
-        _raise_if(declared_problems(self, "robot"))
+        problems = declared_problems(self, "robot")
+        if not problems:
+            for ik, control in (("ik_hz", "control_hz"), ("teleop_ik_hz", "teleop_control_hz")):
+                if getattr(self, ik) > 0:
+                    problems += divides(
+                        f"world.robot.{ik}",
+                        getattr(self, ik),
+                        getattr(self, control),
+                        f"the control rate world.robot.{control}",
+                    )
+        _raise_if(problems)
+
+    @property
+    def ik_every(self) -> int:
+        """Control periods per IK solve: 1 when ``ik_hz`` is 0 (validated whole)."""
+        if self.ik_hz <= 0:
+            return 1
+        steps = steps_per(self.control_hz, self.ik_hz)
+        assert steps is not None, "validated in __post_init__"
+        return steps
 
 
 @dataclass(frozen=True)
