@@ -299,6 +299,8 @@ export interface GeomDescription {
   readonly pos: readonly [number, number, number];
   readonly quat: readonly [number, number, number, number];
   readonly rgba: readonly [number, number, number, number];
+  /** Index into :attr:`Scene.materials` of the geom's shading, or -1 for none (matte). */
+  readonly material: number;
 }
 
 /**
@@ -314,12 +316,37 @@ export interface BodyDescription {
 }
 
 /**
+ * A model's 2D texture, as pixels: ``width`` x ``height`` RGB bytes (row by row, the
+ * model's own rows subsampled to at most 64 a side), base64; ``repeat`` is how often it
+ * repeats across the geom's two sides (MuJoCo ``texrepeat``).
+ */
+export interface TextureDescription {
+  readonly width: number;
+  readonly height: number;
+  readonly rgb: string;
+  readonly repeat: readonly [number, number];
+}
+
+/**
+ * A MuJoCo material's shading (``specular``, ``shininess``, ``emission``: 0-1, as
+ * MuJoCo's renderer uses them) and its texture, if any. The geom's ``rgba`` is its colour.
+ */
+export interface MaterialDescription {
+  readonly name: string;
+  readonly specular: number;
+  readonly shininess: number;
+  readonly emission: number;
+  readonly texture: TextureDescription | null;
+}
+
+/**
  * Everything to draw, derived from the compiled MuJoCo model. Sent on connect and
  * when a session starts.
  */
 export interface Scene {
   readonly bodies: readonly BodyDescription[];
   readonly head_camera_body: string;
+  readonly materials: readonly MaterialDescription[];
   readonly type: "scene";
 }
 

@@ -180,6 +180,8 @@ class GeomDescription:
     pos: tuple[float, float, float]
     quat: tuple[float, float, float, float]
     rgba: tuple[float, float, float, float]
+    material: int = -1
+    """Index into :attr:`Scene.materials` of the geom's shading, or -1 for none (matte)."""
 
 
 @dataclass(frozen=True)
@@ -195,12 +197,37 @@ class BodyDescription:
 
 
 @dataclass(frozen=True)
+class TextureDescription:
+    """A model's 2D texture, as pixels: ``width`` x ``height`` RGB bytes (row by row, the
+    model's own rows subsampled to at most 64 a side), base64; ``repeat`` is how often it
+    repeats across the geom's two sides (MuJoCo ``texrepeat``)."""
+
+    width: int
+    height: int
+    rgb: str
+    repeat: tuple[float, float]
+
+
+@dataclass(frozen=True)
+class MaterialDescription:
+    """A MuJoCo material's shading (``specular``, ``shininess``, ``emission``: 0-1, as
+    MuJoCo's renderer uses them) and its texture, if any. The geom's ``rgba`` is its colour."""
+
+    name: str
+    specular: float
+    shininess: float
+    emission: float
+    texture: TextureDescription | None
+
+
+@dataclass(frozen=True)
 class Scene:
     """Everything to draw, derived from the compiled MuJoCo model. Sent on connect and
     when a session starts."""
 
     bodies: tuple[BodyDescription, ...]
     head_camera_body: str
+    materials: tuple[MaterialDescription, ...] = ()
     type: Literal["scene"] = "scene"
 
 

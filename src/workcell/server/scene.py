@@ -7,11 +7,20 @@ carry their fixed world pose. Geoms keep MuJoCo's type names and ``size`` semant
 
 from __future__ import annotations
 
+import base64
+
 import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
-from workcell.protocol.messages import BodyDescription, GeomDescription, Pose, Scene
+from workcell.protocol.messages import (
+    BodyDescription,
+    GeomDescription,
+    MaterialDescription,
+    Pose,
+    Scene,
+    TextureDescription,
+)
 
 HEAD_CAMERA_BODY = "head"
 _SHAPES = {
@@ -24,6 +33,11 @@ _SHAPES = {
 }
 DIGITS = 5
 """Decimals kept in streamed poses (10 µm, 1e-5 of a quaternion component)."""
+TEXTURE_SIDE = 64
+"""Textures travel subsampled to at most this many pixels a side (a 64 x 64 RGB texture is
+16 KiB of base64 in the scene message)."""
+_DEFAULT_GEOM_RGBA = (0.5, 0.5, 0.5, 1.0)
+"""MuJoCo's default geom colour: a geom that keeps it shows its material's colour."""
 
 
 def dynamic_bodies(model: mujoco.MjModel) -> list[int]:
@@ -55,15 +69,21 @@ def describe(model: mujoco.MjModel, data: mujoco.MjData) -> Scene:
         start, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
         for geom in range(start, start + count):
             shape = _SHAPES.get(int(model.geom_type[geom]))
-            rgba = model.geom_rgba[geom]
-            if shape is None or rgba[3] <= 0.0:
+            if shape is None or _colour(model, geom)[3] <= 0.0:
                 continue
             sx, sy, sz = _floats(model.geom_size[geom])
             px, py, pz = _floats(model.geom_pos[geom])
             qw, qx, qy, qz = _floats(model.geom_quat[geom])
-            r, g, b, a = _floats(rgba, 3)
+            r, g, b, a = _floats(_colour(model, geom), 3)
             geoms.append(
-                GeomDescription(shape, (sx, sy, sz), (px, py, pz), (qw, qx, qy, qz), (r, g, b, a))
+                GeomDescription(
+                    shape,
+                    (sx, sy, sz),
+                    (px, py, pz),
+                    (qw, qx, qy, qz),
+                    (r, g, b, a),
+                    material=int(model.geom_matid[geom]),
+                )
             )
         bodies.append(
             BodyDescription(
@@ -74,7 +94,53 @@ def describe(model: mujoco.MjModel, data: mujoco.MjData) -> Scene:
                 geoms=tuple(geoms),
             )
         )
-    return Scene(bodies=tuple(bodies), head_camera_body=HEAD_CAMERA_BODY)
+    materials = tuple(_material(model, i) for i in range(model.nmat))
+    return Scene(bodies=tuple(bodies), head_camera_body=HEAD_CAMERA_BODY, materials=materials)
+
+
+def _colour(model: mujoco.MjModel, geom: int) -> NDArray[np.float64]:
+    """The colour MuJoCo draws a geom in: its own, or its material's when it kept the
+    default."""
+    rgba: NDArray[np.float64] = model.geom_rgba[geom]
+    material = int(model.geom_matid[geom])
+    if material >= 0 and tuple(float(v) for v in rgba) == _DEFAULT_GEOM_RGBA:
+        mat_rgba: NDArray[np.float64] = model.mat_rgba[material]
+        return mat_rgba
+    return rgba
+
+
+def _material(model: mujoco.MjModel, material: int) -> MaterialDescription:
+    texture = int(model.mat_texid[material, int(mujoco.mjtTextureRole.mjTEXROLE_RGB)])
+    return MaterialDescription(
+        name=model.material(material).name,
+        specular=round(float(model.mat_specular[material]), 3),
+        shininess=round(float(model.mat_shininess[material]), 3),
+        emission=round(float(model.mat_emission[material]), 3),
+        texture=_texture(model, texture, model.mat_texrepeat[material]) if texture >= 0 else None,
+    )
+
+
+def _texture(
+    model: mujoco.MjModel, texture: int, repeat: NDArray[np.float64]
+) -> TextureDescription | None:
+    """A 2D texture's RGB pixels, every k-th row and column (k keeps both sides <= 64)."""
+    if int(model.tex_type[texture]) != int(mujoco.mjtTexture.mjTEXTURE_2D):
+        return None
+    width, height = int(model.tex_width[texture]), int(model.tex_height[texture])
+    channels, start = int(model.tex_nchannel[texture]), int(model.tex_adr[texture])
+    pixels = model.tex_data[start : start + width * height * channels].reshape(
+        height, width, channels
+    )
+    stride = max(1, -(-max(width, height) // TEXTURE_SIDE))
+    rgb = np.ascontiguousarray(pixels[::stride, ::stride, :3], dtype=np.uint8)
+    if channels < 3:  # grey: repeat the one channel
+        rgb = np.ascontiguousarray(np.repeat(pixels[::stride, ::stride, :1], 3, axis=2))
+    return TextureDescription(
+        width=int(rgb.shape[1]),
+        height=int(rgb.shape[0]),
+        rgb=base64.b64encode(rgb.tobytes()).decode("ascii"),
+        repeat=(round(float(repeat[0]), 3), round(float(repeat[1]), 3)),
+    )
 
 
 class PoseReader:

@@ -9,6 +9,7 @@ from __future__ import annotations
 import mujoco
 
 from workcell.sim.config import WorldConfig, longest_box
+from workcell.sim.looks import add_decor, add_looks
 from workcell.sim.spec_utils import set_env_collision, set_visual_only
 
 BOX = mujoco.mjtGeom.mjGEOM_BOX
@@ -62,6 +63,7 @@ def build_arena(spec: mujoco.MjSpec, config: WorldConfig) -> None:
     _add_conveyor(spec, config)
     _add_target(spec, config)
     _add_context(spec)
+    _add_floor_markings(spec, config)
     _add_boxes(spec, config)
 
 
@@ -70,13 +72,19 @@ def _add_visual_assets(spec: mujoco.MjSpec) -> None:
         name="floor_tex",
         type=mujoco.mjtTexture.mjTEXTURE_2D,
         builtin=mujoco.mjtBuiltin.mjBUILTIN_CHECKER,
-        rgb1=[0.42, 0.44, 0.46],
-        rgb2=[0.38, 0.4, 0.42],
+        rgb1=[0.45, 0.46, 0.47],
+        rgb2=[0.41, 0.42, 0.44],
+        # Joints between 2 m concrete slabs.
+        mark=mujoco.mjtMark.mjMARK_EDGE,
+        markrgb=[0.3, 0.31, 0.32],
         width=256,
         height=256,
     )
-    mat = spec.add_material(name="floor_mat", texrepeat=[8, 8], reflectance=0.0)
+    mat = spec.add_material(
+        name="floor_mat", texrepeat=[8, 8], reflectance=0.0, specular=0.15, shininess=0.2
+    )
     mat.textures[mujoco.mjtTextureRole.mjTEXROLE_RGB] = "floor_tex"
+    add_looks(spec, "painted_steel", "floor_paint", "rubber", "cardboard", "plaster")
     spec.visual.headlight.ambient = [0.35, 0.35, 0.35]
     spec.visual.headlight.diffuse = [0.5, 0.5, 0.5]
     spec.add_texture(
@@ -106,6 +114,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         size=[belt_length / 2, c.width / 2, BELT_THICKNESS / 2],
         pos=[-plate / 2, 0, c.height - BELT_THICKNESS / 2],
         rgba=list(BELT_RGBA),
+        material="rubber",
         friction=[1.0, 0.005, 0.0001],
     )
     belt.surfacevel = [c.speed, 0, 0, 0, 0, 0]
@@ -118,6 +127,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         size=[plate / 2, c.width / 2, BELT_THICKNESS / 2],
         pos=[c.length / 2 - plate / 2, 0, c.height - BELT_THICKNESS / 2],
         rgba=[0.3, 0.3, 0.32, 1],
+        material="painted_steel",
         friction=[1.0, 0.005, 0.0001],
     )
     set_env_collision(pickup)
@@ -128,6 +138,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         size=[c.length / 2, c.width / 2 + 0.03, frame_h / 2 - 0.15],
         pos=[0, 0, frame_h / 2 + 0.15],
         rgba=list(FRAME_RGBA),
+        material="painted_steel",
     )
     set_env_collision(frame)
     for sign in (1.0, -1.0):
@@ -137,6 +148,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
             size=[c.length / 2, 0.015, 0.02],
             pos=[0, sign * (c.width / 2 + 0.015), c.height + 0.01],
             rgba=list(SAFETY_RGBA),
+            material="painted_steel",
         )
         set_env_collision(rail)
         for x in (-c.length / 2 + 0.1, 0.0, c.length / 2 - 0.1):
@@ -145,6 +157,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
                 size=[0.03, 0.03, 0.075],
                 pos=[x, sign * (c.width / 2 - 0.01), 0.075],
                 rgba=list(FRAME_RGBA),
+                material="painted_steel",
             )
             set_visual_only(leg)
     stop = conveyor.add_geom(
@@ -153,6 +166,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         size=[STOP_THICKNESS / 2, c.width / 2 + 0.03, 0.05],
         pos=[c.length / 2 + STOP_THICKNESS / 2, 0, c.height + 0.01],
         rgba=list(SAFETY_RGBA),
+        material="painted_steel",
     )
     set_env_collision(stop)
     # The feeding zone: a gantry over the belt start where boxes appear.
@@ -162,6 +176,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
             size=[0.03, 0.03, (c.height + 0.55) / 2],
             pos=[-c.length / 2 + 0.25, sign * (c.width / 2 + 0.08), (c.height + 0.55) / 2],
             rgba=list(SAFETY_RGBA),
+            material="painted_steel",
         )
         set_visual_only(post)
     beam = conveyor.add_geom(
@@ -170,6 +185,7 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         size=[0.05, c.width / 2 + 0.11, 0.04],
         pos=[-c.length / 2 + 0.25, 0, c.height + 0.55],
         rgba=list(SAFETY_RGBA),
+        material="painted_steel",
     )
     set_visual_only(beam)
 
@@ -183,6 +199,7 @@ def _add_target(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         size=[t.zone[0] / 2 + 0.05, t.zone[1] / 2 + 0.05, 0.02],
         pos=[0, 0, t.table_height - 0.02],
         rgba=list(TABLE_RGBA),
+        material="painted_steel",
         friction=[1.0, 0.005, 0.0001],
     )
     set_env_collision(top)
@@ -201,6 +218,7 @@ def _add_target(spec: mujoco.MjSpec, config: WorldConfig) -> None:
                 size=[0.03, 0.03, (t.table_height - 0.04) / 2],
                 pos=[sx * t.zone[0] / 2, sy * t.zone[1] / 2, (t.table_height - 0.04) / 2],
                 rgba=list(FRAME_RGBA),
+                material="painted_steel",
             )
             set_env_collision(leg)
 
@@ -214,7 +232,12 @@ def _add_context(spec: mujoco.MjSpec) -> None:
         ("wall_front", (5.0, 0.0, 1.5), (0.05, 5.0, 1.5)),
     ):
         wall = spec.worldbody.add_geom(
-            name=name, type=BOX, pos=list(pos), size=list(size), rgba=list(WALL_RGBA)
+            name=name,
+            type=BOX,
+            pos=list(pos),
+            size=list(size),
+            rgba=list(WALL_RGBA),
+            material="plaster",
         )
         set_visual_only(wall)
     for k, (x, y) in enumerate(((-2.5, 4.3), (-0.5, 4.3), (-2.5, -4.3), (3.5, -4.3))):
@@ -226,11 +249,16 @@ def _add_context(spec: mujoco.MjSpec) -> None:
                     size=[0.03, 0.03, 1.1],
                     pos=[sx * 0.8, sy * 0.3, 1.1],
                     rgba=[0.2, 0.35, 0.7, 1],
+                    material="painted_steel",
                 )
                 set_visual_only(upright)
         for level in (0.4, 1.1, 1.8):
             shelf = rack.add_geom(
-                type=BOX, size=[0.82, 0.32, 0.015], pos=[0, 0, level], rgba=[0.8, 0.45, 0.1, 1]
+                type=BOX,
+                size=[0.82, 0.32, 0.015],
+                pos=[0, 0, level],
+                rgba=[0.8, 0.45, 0.1, 1],
+                material="painted_steel",
             )
             set_visual_only(shelf)
             for j in (-0.45, 0.1, 0.5):
@@ -239,10 +267,15 @@ def _add_context(spec: mujoco.MjSpec) -> None:
                     size=[0.15, 0.15, 0.12],
                     pos=[j, 0, level + 0.135],
                     rgba=[0.7, 0.55, 0.35, 1],
+                    material="cardboard",
                 )
                 set_visual_only(crate)
     pole = spec.worldbody.add_geom(
-        type=CYLINDER, size=[0.12, 1.5, 0], pos=[3.2, 3.2, 1.5], rgba=list(SAFETY_RGBA)
+        type=CYLINDER,
+        size=[0.12, 1.5, 0],
+        pos=[3.2, 3.2, 1.5],
+        rgba=list(SAFETY_RGBA),
+        material="painted_steel",
     )
     set_visual_only(pole)
     stripe = spec.worldbody.add_geom(
@@ -250,8 +283,56 @@ def _add_context(spec: mujoco.MjSpec) -> None:
         size=[2.5, 0.04, 0.001],
         pos=[1.5, -1.0, 0.001],
         rgba=list(SAFETY_RGBA),
+        material="floor_paint",
     )
     set_visual_only(stripe)
+
+
+def _add_floor_markings(spec: mujoco.MjSpec, config: WorldConfig) -> None:
+    """Safety-yellow lines on the floor: a keep-clear frame around the conveyor, one around
+    the delivery table, and hatching under the feeder where boxes arrive."""
+    c, t = config.conveyor, config.target
+    line = 0.04
+
+    def frame(name: str, x0: float, x1: float, y0: float, y1: float) -> None:
+        for i, (cx, cy, hx, hy) in enumerate(
+            (
+                ((x0 + x1) / 2, y0, (x1 - x0) / 2 + line, line / 2),
+                ((x0 + x1) / 2, y1, (x1 - x0) / 2 + line, line / 2),
+                (x0, (y0 + y1) / 2, line / 2, (y1 - y0) / 2),
+                (x1, (y0 + y1) / 2, line / 2, (y1 - y0) / 2),
+            )
+        ):
+            add_decor(
+                spec.worldbody,
+                f"{name}_line_{i}",
+                BOX,
+                [hx, hy, 0.001],
+                rgba=SAFETY_RGBA,
+                material="floor_paint",
+                pos=[cx, cy, 0.002],
+            )
+
+    margin = 0.25
+    half_w = c.width / 2 + 0.11 + margin
+    frame(
+        "conveyor", c.start_x - margin, c.end_x + margin, c.center_y - half_w, c.center_y + half_w
+    )
+    hx, hy = t.zone[0] / 2 + 0.05 + margin, t.zone[1] / 2 + 0.05 + margin
+    frame("table", t.center[0] - hx, t.center[0] + hx, t.center[1] - hy, t.center[1] + hy)
+    # Hatching: diagonal bars beside the feeder gantry, on the side the robot never needs.
+    diagonal = [0.9238795, 0.0, 0.0, 0.3826834]  # 45 degrees about z
+    for k in range(4):
+        add_decor(
+            spec.worldbody,
+            f"feeder_hatch_{k}",
+            BOX,
+            [0.2, 0.03, 0.001],
+            rgba=SAFETY_RGBA,
+            material="floor_paint",
+            pos=[c.start_x + 0.05 + 0.22 * k, c.center_y - half_w + 0.22, 0.002],
+            quat=diagonal,
+        )
 
 
 def _add_boxes(spec: mujoco.MjSpec, config: WorldConfig) -> None:
@@ -266,6 +347,7 @@ def _add_boxes(spec: mujoco.MjSpec, config: WorldConfig) -> None:
             size=half,
             mass=b.mass,
             rgba=list(b.rgba),
+            material="cardboard",
             friction=[0.9, 0.02, 0.002],
             condim=4,
         )
@@ -275,6 +357,7 @@ def _add_boxes(spec: mujoco.MjSpec, config: WorldConfig) -> None:
             size=[half[0] + 0.001, 0.03, 0.002],
             pos=[0, 0, half[2]],
             rgba=[0.85, 0.75, 0.55, 1],
+            material="plaster",
             mass=0.001,
         )
         set_visual_only(tape)

@@ -158,7 +158,7 @@ class RobotConfig:
     )
     control_hz: float = setting(
         40.0,
-        "control and IK rate",
+        "control rate (and the IK's, unless ik_hz says otherwise)",
         unit="Hz",
         low=10.0,
         high=200.0,
@@ -166,7 +166,7 @@ class RobotConfig:
     )
     teleop_control_hz: float = setting(
         100.0,
-        "control and IK rate while a person drives (workcell serve): their input acts "
+        "control rate while a person drives (workcell serve): their input acts "
         "within one period of arriving, 10 ms at 100 Hz; the expert and policies run at "
         "control_hz",
         unit="Hz",

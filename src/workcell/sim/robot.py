@@ -23,6 +23,7 @@ from workcell.sim.joints import (
     SPINE_JOINT,
     arm_joint_names,
 )
+from workcell.sim.looks import add_decor, add_looks
 from workcell.sim.spec_utils import (
     Quat,
     Vec3,
@@ -43,6 +44,7 @@ BODY_RGBA = (0.93, 0.93, 0.95, 1.0)
 ACCENT_RGBA = (0.16, 0.32, 0.62, 1.0)
 DARK_RGBA = (0.18, 0.18, 0.2, 1.0)
 PAD_RGBA = (0.15, 0.55, 0.25, 1.0)
+SIGNAL_RGBA = (0.25, 0.8, 1.0, 1.0)
 
 
 @dataclass(frozen=True)
@@ -70,6 +72,7 @@ TCP_OFFSET_Z = GEOMETRY.pad_center_z + GEOMETRY.pad_half[2]
 def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
     """Add the robot to ``spec``'s world body, with actuators when ``mobile``."""
     g = GEOMETRY
+    add_looks(spec, "robot_shell", "rubber", "signal")
     base = spec.worldbody.add_body(name="base")
     if mobile:
         base.add_joint(name=BASE_JOINTS[0], type=SLIDE, axis=[1, 0, 0], armature=1.0)
@@ -81,6 +84,7 @@ def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
         size=list(g.base_half),
         pos=[0, 0, g.base_clearance + g.base_half[2]],
         rgba=list(BODY_RGBA),
+        material="robot_shell",
         mass=45.0,
     )
     set_robot_collision(chassis)
@@ -90,6 +94,7 @@ def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
         size=[g.base_half[0] + 0.01, g.base_half[1] + 0.01, 0.03],
         pos=[0, 0, g.base_clearance + 0.04],
         rgba=list(DARK_RGBA),
+        material="rubber",
         mass=1.0,
     )
     set_visual_only(bumper)
@@ -101,10 +106,12 @@ def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
             pos=[wx * (g.base_half[0] - 0.08), wy * (g.base_half[1] + 0.005), 0.06],
             quat=list(quat_axis_angle((1, 0, 0), math.pi / 2)),
             rgba=list(DARK_RGBA),
+            material="rubber",
             mass=0.5,
         )
         set_visual_only(wheel)
 
+    _add_base_decor(base)
     torso = base.add_body(name="torso", pos=[0, 0, g.torso_z], gravcomp=1.0)
     torso.add_joint(
         name=SPINE_JOINT,
@@ -121,6 +128,7 @@ def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
         size=[0.09, 0.12, 0.24],
         pos=[-0.05, 0, 0.24],
         rgba=list(BODY_RGBA),
+        material="robot_shell",
         mass=8.0,
     )
     set_robot_collision(column)
@@ -130,6 +138,7 @@ def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
         size=[0.07, g.shoulder_y + 0.05, 0.035],
         pos=[g.shoulder_x - 0.03, 0, g.shoulder_z - 0.035],
         rgba=list(ACCENT_RGBA),
+        material="robot_shell",
         mass=3.0,
     )
     set_robot_collision(shoulders)
@@ -139,6 +148,30 @@ def build_robot(spec: mujoco.MjSpec, *, mobile: bool) -> None:
         _add_arm(torso, side, (g.shoulder_x, sign * g.shoulder_y, g.shoulder_z))
     if mobile:
         _add_actuators(spec)
+
+
+def _add_base_decor(base: mujoco.MjsBody) -> None:
+    """A lit status strip around the chassis and a lidar on its nose."""
+    g = GEOMETRY
+    top = g.base_clearance + 2 * g.base_half[2]
+    add_decor(
+        base,
+        "status_strip",
+        BOX,
+        [g.base_half[0] + 0.003, g.base_half[1] + 0.003, 0.008],
+        rgba=SIGNAL_RGBA,
+        material="signal",
+        pos=[0, 0, top - 0.03],
+    )
+    add_decor(
+        base,
+        "lidar",
+        CYLINDER,
+        [0.045, 0.025, 0],
+        rgba=DARK_RGBA,
+        material="rubber",
+        pos=[g.base_half[0] - 0.07, 0, top + 0.025],
+    )
 
 
 def _add_head(torso: mujoco.MjsBody) -> None:
@@ -154,7 +187,12 @@ def _add_head(torso: mujoco.MjsBody) -> None:
         damping=0.5,
     )
     stem = neck.add_geom(
-        type=CYLINDER, size=[0.03, 0.05, 0], pos=[0, 0, -0.05], rgba=list(DARK_RGBA), mass=0.3
+        type=CYLINDER,
+        size=[0.03, 0.05, 0],
+        pos=[0, 0, -0.05],
+        rgba=list(DARK_RGBA),
+        material="rubber",
+        mass=0.3,
     )
     set_visual_only(stem)
     head = neck.add_body(name="head", pos=[0, 0, 0.04], gravcomp=1.0)
@@ -168,11 +206,21 @@ def _add_head(torso: mujoco.MjsBody) -> None:
         damping=0.5,
     )
     skull = head.add_geom(
-        name="head_shell", type=BOX, size=[0.07, 0.11, 0.06], rgba=list(BODY_RGBA), mass=1.0
+        name="head_shell",
+        type=BOX,
+        size=[0.07, 0.11, 0.06],
+        rgba=list(BODY_RGBA),
+        material="robot_shell",
+        mass=1.0,
     )
     set_visual_only(skull)
     visor = head.add_geom(
-        type=BOX, size=[0.01, 0.09, 0.025], pos=[0.07, 0, 0.005], rgba=list(DARK_RGBA), mass=0.05
+        type=BOX,
+        size=[0.01, 0.09, 0.025],
+        pos=[0.07, 0, 0.005],
+        rgba=list(DARK_RGBA),
+        material="rubber",
+        mass=0.05,
     )
     set_visual_only(visor)
     # Camera looks along the head's +x with +z up (MuJoCo cameras look down their -z).
@@ -183,7 +231,12 @@ def _add_arm(torso: mujoco.MjsBody, side: str, mount: Vec3) -> None:
     names = arm_joint_names(side)
     parent = torso.add_body(name=f"arm_{side}_link0", pos=list(mount), gravcomp=1.0)
     plinth = parent.add_geom(
-        type=CYLINDER, size=[0.06, 0.03, 0], pos=[0, 0, 0.03], rgba=list(DARK_RGBA), mass=1.0
+        type=CYLINDER,
+        size=[0.06, 0.03, 0],
+        pos=[0, 0, 0.03],
+        rgba=list(DARK_RGBA),
+        material="rubber",
+        mass=1.0,
     )
     set_visual_only(plinth)
     for i, link in enumerate(panda.DH):
@@ -204,6 +257,16 @@ def _add_arm(torso: mujoco.MjsBody, side: str, mount: Vec3) -> None:
             damping=1.0,
         )
         _add_link_geom(parent, pos, side, i, mass=panda.LINK_MASSES[i])
+        # A dark collar around each joint's axis, as on the real arm: the links read as
+        # links, the joints as joints.
+        add_decor(
+            body,
+            f"arm_{side}_collar{i + 1}",
+            CYLINDER,
+            [0.068 - 0.002 * i, 0.032, 0],
+            rgba=DARK_RGBA,
+            material="rubber",
+        )
         parent = body
     _add_link_geom(parent, np.array([0.0, 0.0, panda.FLANGE_D]), side, 7, mass=0.2)
     _add_hand(parent, side)
@@ -231,6 +294,7 @@ def _add_link_geom(
             mass=mass,
         )
     geom.rgba = list(rgba)
+    geom.material = "robot_shell"
     set_robot_collision(geom)
 
 
@@ -248,11 +312,17 @@ def _add_hand(link7: mujoco.MjsBody, side: str) -> None:
         size=[0.03, 0.07, 0.03],
         pos=[0, 0, 0.03],
         rgba=list(DARK_RGBA),
+        material="rubber",
         mass=0.6,
     )
     set_robot_collision(housing)
     post = hand.add_geom(
-        type=CYLINDER, size=[0.02, 0.03, 0], pos=[0, 0, 0.08], rgba=list(DARK_RGBA), mass=0.05
+        type=CYLINDER,
+        size=[0.02, 0.03, 0],
+        pos=[0, 0, 0.08],
+        rgba=list(DARK_RGBA),
+        material="rubber",
+        mass=0.05,
     )
     set_visual_only(post)
     pad = hand.add_geom(
@@ -261,6 +331,7 @@ def _add_hand(link7: mujoco.MjsBody, side: str) -> None:
         size=list(g.pad_half),
         pos=[0, 0, g.pad_center_z],
         rgba=list(PAD_RGBA),
+        material="rubber",
         mass=0.1,
         friction=[1.0, 0.02, 0.002],
         condim=4,
@@ -290,6 +361,7 @@ def _add_hand(link7: mujoco.MjsBody, side: str) -> None:
             size=[0.012, 0.008, 0.028],
             pos=[0, sign * 0.014, 0.03],
             rgba=list(DARK_RGBA),
+            material="rubber",
             mass=0.02,
         )
         set_visual_only(jaw)

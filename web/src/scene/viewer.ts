@@ -47,9 +47,11 @@ export class Viewer {
     this.renderer.domElement.tabIndex = 0;
     this.scene.background = new THREE.Color(0xcfd8e3);
     this.scene.fog = new THREE.Fog(0xcfd8e3, 18, 45);
-    this.scene.add(new THREE.HemisphereLight(0xf4f7ff, 0x5d5140, 1.6));
-    const sun = new THREE.DirectionalLight(0xffffff, 1.8);
-    sun.position.set(4, 10, 3);
+    // The model's lights, roughly: an ambient sky (MuJoCo's headlight ambient) and the
+    // sun from the model's sun direction (0.2, 0.3, -1) in the world, z-up; no shadows.
+    this.scene.add(new THREE.HemisphereLight(0xf4f7ff, 0x5d5140, 1.25));
+    const sun = new THREE.DirectionalLight(0xfffaf0, 2.4);
+    sun.position.set(-2, 10, 3);
     this.scene.add(sun);
     this.scene.add(this.world.root);
     this.rig.name = "rig";

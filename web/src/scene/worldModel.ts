@@ -9,7 +9,14 @@
 
 import * as THREE from "three";
 import { mergeGeometries } from "three/examples/jsm/utils/BufferGeometryUtils.js";
-import type { BodyDescription, GeomDescription, Pose, Scene } from "../protocol";
+import type {
+  BodyDescription,
+  GeomDescription,
+  MaterialDescription,
+  Pose,
+  Scene,
+  TextureDescription,
+} from "../protocol";
 import { WORLD_TO_THREE, applyPose } from "./frames";
 
 /** A plane of size 0 is infinite in MuJoCo; draw it this big (half extent, m). */
@@ -40,19 +47,64 @@ function geometryFor(geom: GeomDescription): THREE.BufferGeometry | null {
   }
 }
 
-function materialFor(geom: GeomDescription, cache: Map<string, THREE.Material>): THREE.Material {
+/** MuJoCo's shininess (0-1) as an OpenGL/three.js Phong exponent. */
+const SHININESS_SCALE = 128;
+
+/** A model texture's pixels (RGB, base64) as a repeating three.js texture. */
+export function textureFor(description: TextureDescription): THREE.DataTexture {
+  const rgb = Uint8Array.from(atob(description.rgb), (c) => c.charCodeAt(0));
+  const texels = description.width * description.height;
+  const rgba = new Uint8Array(4 * texels);
+  for (let i = 0; i < texels; i += 1) {
+    rgba[4 * i] = rgb[3 * i] ?? 0;
+    rgba[4 * i + 1] = rgb[3 * i + 1] ?? 0;
+    rgba[4 * i + 2] = rgb[3 * i + 2] ?? 0;
+    rgba[4 * i + 3] = 255;
+  }
+  const texture = new THREE.DataTexture(rgba, description.width, description.height, THREE.RGBAFormat);
+  texture.colorSpace = THREE.SRGBColorSpace;
+  texture.wrapS = THREE.RepeatWrapping;
+  texture.wrapT = THREE.RepeatWrapping;
+  texture.repeat.set(description.repeat[0], description.repeat[1]);
+  texture.magFilter = THREE.LinearFilter;
+  texture.minFilter = THREE.LinearMipmapLinearFilter;
+  texture.generateMipmaps = true;
+  texture.needsUpdate = true;
+  return texture;
+}
+
+/** The three.js material for a geom: its colour, shaded as its MuJoCo material says
+ * (Phong highlights, glow, texture), or matte (Lambert) when it has none. One material per
+ * (model material, colour), so that geoms sharing both share a draw call. */
+export function materialFor(
+  geom: GeomDescription,
+  materials: readonly MaterialDescription[],
+  cache: Map<string, THREE.Material>,
+): THREE.Material {
   const [r, g, b, alpha] = geom.rgba;
-  const key = `${geom.shape === "plane" ? "p" : "m"}:${geom.rgba.join(",")}`;
+  const key = `${geom.shape === "plane" ? "p" : "m"}:${geom.material}:${geom.rgba.join(",")}`;
   const cached = cache.get(key);
   if (cached !== undefined) return cached;
-  // Lambert shading: per-vertex cheap enough for software rendering and standalone
-  // headsets, and plenty for flat-coloured primitives.
-  const material = new THREE.MeshLambertMaterial({
-    color: new THREE.Color(r, g, b),
+  const colour = new THREE.Color(r, g, b);
+  const common = {
+    color: colour,
     transparent: alpha < 0.999,
     opacity: alpha,
     side: geom.shape === "plane" ? THREE.DoubleSide : THREE.FrontSide,
-  });
+  };
+  const look = materials[geom.material];
+  // Lambert for matte primitives: cheapest for software rendering and standalone headsets;
+  // Phong where the model asks for highlights or glow.
+  const material =
+    look === undefined
+      ? new THREE.MeshLambertMaterial(common)
+      : new THREE.MeshPhongMaterial({
+          ...common,
+          specular: new THREE.Color(look.specular, look.specular, look.specular),
+          shininess: Math.max(1, look.shininess * SHININESS_SCALE),
+          emissive: colour.clone().multiplyScalar(look.emission),
+          map: look.texture === null ? null : textureFor(look.texture),
+        });
   cache.set(key, material);
   return material;
 }
@@ -118,7 +170,7 @@ export class WorldModel {
     const fixed = new Map<THREE.Material, THREE.BufferGeometry[]>();
     const moving = new Map<THREE.Material, { body: string; geometry: THREE.BufferGeometry }[]>();
     for (const body of scene.bodies) {
-      const group = this.buildBody(body, body.dynamic ? null : fixed, moving);
+      const group = this.buildBody(body, scene.materials, body.dynamic ? null : fixed, moving);
       this.root.add(group);
       this.bodies.set(body.name, group);
       if (body.dynamic) maxIndex = Math.max(maxIndex, body.index);
@@ -190,6 +242,7 @@ export class WorldModel {
    * frame (a static body: `fixed` given) or into `moving` in the body's frame. */
   private buildBody(
     body: BodyDescription,
+    materials: readonly MaterialDescription[],
     fixed: Map<THREE.Material, THREE.BufferGeometry[]> | null,
     moving: Map<THREE.Material, { body: string; geometry: THREE.BufferGeometry }[]>,
   ): THREE.Group {
@@ -200,7 +253,7 @@ export class WorldModel {
     for (const geom of body.geoms) {
       const geometry = geometryFor(geom);
       if (geometry === null || geom.rgba[3] <= 0.001) continue;
-      const material = materialFor(geom, this.materials);
+      const material = materialFor(geom, materials, this.materials);
       const local = new THREE.Matrix4().compose(
         new THREE.Vector3(geom.pos[0], geom.pos[1], geom.pos[2]),
         new THREE.Quaternion(geom.quat[1], geom.quat[2], geom.quat[3], geom.quat[0]),
@@ -272,7 +325,10 @@ export class WorldModel {
     this.batches.length = 0;
     this.parts = [];
     this.partsByBody.clear();
-    for (const material of this.materials.values()) material.dispose();
+    for (const material of this.materials.values()) {
+      if (material instanceof THREE.MeshPhongMaterial) material.map?.dispose();
+      material.dispose();
+    }
     this.materials.clear();
     this.bodies.clear();
     this.dynamic = [];
