@@ -121,7 +121,8 @@ def test_recorded_and_rendered_images_show_the_same_frames(
         return np.abs(a - b).mean(axis=(1, 2, 3))
 
     same = distance(recorded, rendered)
-    assert same.max() < 8.0  # H.264 at 64x48 costs a few levels per pixel
+    # H.264 at 64x48 costs several levels per pixel (the floor's slab joints and markings most)
+    assert same.max() < 10.0
     after = distance(recorded[:-1], rendered[1:])  # recorded i against rendered i + 1
     before = distance(recorded[1:], rendered[:-1])  # recorded i + 1 against rendered i
     moving = np.flatnonzero(distance(rendered[1:], rendered[:-1]) > 3.0)  # i to i + 1

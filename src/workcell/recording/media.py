@@ -7,6 +7,8 @@ in a media folder beside the store (``<store>.media/<trial_id>/<camera>.mp4``); 
 ``media`` event names each file with its frame count and sha256. They are encoded as the
 exports encode their videos (:class:`workcell.render.VideoWriter`'s defaults: a keyframe
 every 2 frames), so an export copies them as they are (:mod:`workcell.export.camera_sources`).
+Rendering happens at the frame; encoding in a thread beside the simulation
+(:mod:`workcell.recording.encoder_thread`), which :meth:`MediaRecorder.end` waits for.
 """
 
 from __future__ import annotations
@@ -20,6 +22,7 @@ from typing import Any, cast
 import mujoco
 
 from workcell.errors import ConfigError
+from workcell.recording.encoder_thread import EncoderThread
 from workcell.render import (
     CAMERA_QUALITY,
     RENDER_QUALITIES,
@@ -79,6 +82,7 @@ class MediaRecorder:
         )
         self._writers: dict[str, VideoWriter] = {}
         self._folder: Path | None = None
+        self._encoder = EncoderThread()
 
     def start(self, trial_id: str) -> None:
         self._folder = self.media_dir / trial_id
@@ -90,11 +94,16 @@ class MediaRecorder:
         }
 
     def frame(self, data: mujoco.MjData) -> None:
-        for camera, writer in self._writers.items():
-            writer.write(self._renderer.render(data, camera))
+        """Render every camera now; the images are encoded in the encoder thread."""
+        renderer = self._renderer
+        self._encoder.put(
+            [(writer, renderer.render(data, camera)) for camera, writer in self._writers.items()]
+        )
 
     def end(self) -> dict[str, Any]:
-        """Close the trial's videos; the payload of its ``media`` event."""
+        """Close the trial's videos (once every frame is encoded); the payload of its
+        ``media`` event."""
+        self._encoder.drain()
         files = []
         for camera, writer in self._writers.items():
             writer.close()
@@ -118,6 +127,7 @@ class MediaRecorder:
         }
 
     def close(self) -> None:
+        self._encoder.close()
         for writer in self._writers.values():
             writer.close()
         self._renderer.close()

@@ -23,6 +23,10 @@ from workcell.errors import RenderError
 MAX_FPS = 240
 KEYFRAME_INTERVAL = 2
 """Frames from one keyframe to the next (the GOP size); see the module's docstring."""
+PRESET = "veryfast"
+"""libx264's speed preset. Measured on 128x128 head-camera frames of an expert trial
+(crf 23, a keyframe every 2 frames): 0.53 ms per frame against 0.90 ms with the default
+``medium``, files 3 % smaller, mean absolute error 4.20 against 4.08 levels (0-255)."""
 
 
 def read_frames(path: str | Path) -> Generator[NDArray[np.uint8], None, None]:
@@ -93,7 +97,7 @@ class VideoWriter(Closing):
         self._stream.height = height
         self._stream.pix_fmt = "yuv420p"
         self._stream.time_base = 1 / self.fps
-        options = {"crf": str(crf)}
+        options = {"crf": str(crf), "preset": PRESET}
         if keyframe_interval is not None:
             options["g"] = str(keyframe_interval)
         self._stream.codec_context.options = options
