@@ -14,6 +14,7 @@ import mink
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.control.collision_limit import StepCollisionLimit
 from workcell.control.ik_residual import residuals
 from workcell.sim import panda
 from workcell.sim.config import WorldConfig
@@ -23,6 +24,8 @@ from workcell.sim.scene import CONVEYOR_PROXY, build_ik_model
 HOME_ARM: tuple[float, ...] = (0.0, 0.2, 0.0, -1.9, 0.0, 2.1, 0.785)
 """A relaxed arm posture with the hand in front of the shoulder."""
 HOME_ARM_RIGHT: tuple[float, ...] = HOME_ARM
+ARM_DETECTION_DISTANCE = 0.2
+"""How close (m) two geoms of different arms get before the IK limits their approach."""
 
 
 def arm_geoms(side: str) -> list[str]:
@@ -56,14 +59,20 @@ class BimanualIK:
         self.limits: list[mink.Limit] = [
             mink.ConfigurationLimit(self.model),
             mink.VelocityLimit(self.model, velocities),
-            mink.CollisionAvoidanceLimit(
+            StepCollisionLimit(
                 self.model,
-                geom_pairs=[
-                    (arm_geoms("l"), arm_geoms("r")),
-                    ([*arm_geoms("l"), *arm_geoms("r")], [proxy_geom]),
-                ],
+                geom_pairs=[([*arm_geoms("l"), *arm_geoms("r")], [proxy_geom])],
                 minimum_distance_from_collisions=0.015,
                 collision_detection_distance=0.08,
+            ),
+            # The hands can close on each other at up to ~6 m/s together (both arms at
+            # their joint speed limits), 15 cm in one 25 ms period: the arm-arm limit must
+            # see them coming from farther than that.
+            StepCollisionLimit(
+                self.model,
+                geom_pairs=[(arm_geoms("l"), arm_geoms("r"))],
+                minimum_distance_from_collisions=0.015,
+                collision_detection_distance=ARM_DETECTION_DISTANCE,
             ),
         ]
         self._qadr = np.array(

@@ -7,7 +7,7 @@ import mujoco
 from workcell.sim.arena import build_arena
 from workcell.sim.config import WorldConfig
 from workcell.sim.robot import build_robot
-from workcell.sim.spec_utils import set_env_collision
+from workcell.sim.spec_utils import ROBOT_CONAFFINITY, ROBOT_CONTYPE, set_env_collision
 
 CONVEYOR_PROXY = "conveyor_proxy"
 """Mocap body of the IK model standing in for the conveyor, in the base frame."""
@@ -40,6 +40,12 @@ def build_ik_model(config: WorldConfig) -> mujoco.MjModel:
     spec.modelname = "workcell_ik"
     spec.compiler.degree = False
     build_robot(spec, mobile=False)
+    # In the world the robot's geoms never touch each other (arm-arm clearance is the IK's
+    # job); here they must pass MuJoCo's contype/conaffinity test with each other, or the
+    # IK's collision limit (mink) leaves every arm-arm pair out.
+    for geom in spec.geoms:
+        if geom.contype == ROBOT_CONTYPE:
+            geom.conaffinity = ROBOT_CONAFFINITY | ROBOT_CONTYPE
     c = config.conveyor
     proxy = spec.worldbody.add_body(name=CONVEYOR_PROXY, mocap=True, pos=[0, 0, -10])
     geom = proxy.add_geom(
