@@ -13,7 +13,11 @@ merging are included. Run: ``.venv/bin/python bench/generate.py [--trials N]``.
 runs (1 worker then 2 workers, the order alternating between pairs so that a drift in the
 machine's load does not favour one side), and prints each pair's ratio with their mean and
 its 95 % interval (Student's t over the pairs): issue 19's "2 workers >= 1.8x one, stable
-across runs".
+across runs". Each of the 2 workers simulates and writes its shard in one process (one
+core); ``--one-writer inline`` (the default) makes the single worker the same, so the pairs
+compare one core against two. ``--one-writer process`` gives the single worker
+``collect``'s default writer process on the other core (about 1.3 cores in use), against
+which 2 workers can gain at most about 2 / 1.3 = 1.5x on a 2-core machine.
 """
 
 from __future__ import annotations
@@ -44,8 +48,9 @@ def per_minute(trials: int, seconds: float) -> float:
     return 60.0 * trials / seconds
 
 
-def scaling(trials: int, repeats: int) -> None:
+def scaling(trials: int, repeats: int, one_writer: str = "inline") -> None:
     """Paired runs of 1 and 2 workers; each pair's ratio, their mean and 95 % interval."""
+    print(f"1 worker: --writer {one_writer}; 2 workers: each writes its shard inline")
     ratios = []
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
@@ -54,7 +59,7 @@ def scaling(trials: int, repeats: int) -> None:
             seconds = {}
             for side in order:
                 workers = 1 if side == "one" else 2
-                extra = ("--workers", "2") if workers == 2 else ()
+                extra = ("--workers", "2") if workers == 2 else ("--writer", one_writer)
                 seconds[side] = collect(folder, f"{side}-{k}", workers * trials, *extra)
             one = per_minute(trials, seconds["one"])
             two = per_minute(2 * trials, seconds["two"])
@@ -79,10 +84,16 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=6, help="trials per worker")
     parser.add_argument("--part", choices=("all", "scaling"), default="all")
     parser.add_argument("--repeats", type=int, default=5, help="paired runs (--part scaling)")
+    parser.add_argument(
+        "--one-writer",
+        choices=("inline", "process"),
+        default="inline",
+        help="the single worker's store writer (--part scaling; see the docstring)",
+    )
     args = parser.parse_args()
     n = args.trials
     if args.part == "scaling":
-        scaling(n, args.repeats)
+        scaling(n, args.repeats, args.one_writer)
         return
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
