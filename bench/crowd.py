@@ -73,18 +73,25 @@ class Operator(latency.Operator):
     """Starts its own session, then sends inputs (see the module's docstring) and times
     when states show them applied."""
 
-    def __init__(self, ws: ClientConnection, phase: float) -> None:
+    def __init__(self, ws: ClientConnection, phase: float, robot: dict[str, float]) -> None:
         super().__init__(ws, INPUT_HZ)
         self.phase = phase
+        self.robot = robot
+        """``world.robot`` settings of the session (e.g. ``teleop_control_hz``)."""
 
     async def start(self, index: int) -> str:
         await self.ws.send(encode(m.Hello(role="operator")))
         settings = {"task": TASK, "operator_id": f"crowd-{index:02d}", "seed": index}
+        if self.robot:
+            settings["world"] = {"robot": self.robot}
         await self.ws.send(encode(m.StartSession(settings=settings)))
         while True:
             message = json.loads(await asyncio.wait_for(self.ws.recv(), 60))
             if message["type"] == "error":
                 raise SystemExit(f"operator {index}: {message['code']}: {message['message']}")
+            if message["type"] == "config_rejected":
+                problems = "; ".join(p["message"] for p in message["problems"])
+                raise SystemExit(f"operator {index}: settings refused: {problems}")
             if message["type"] == "session_started":
                 return str(message["session_id"])
 
@@ -147,7 +154,9 @@ def sim_clock(sims: list[dict[str, Any]]) -> dict[str, float]:
     return {s["session_id"]: s["steps"] * s["control_period_s"] for s in sims}
 
 
-async def crowd(port: int, n: int, seconds: float, server: int) -> dict[str, Any]:
+async def crowd(
+    port: int, n: int, seconds: float, server: int, robot: dict[str, float]
+) -> dict[str, Any]:
     base, url = f"http://127.0.0.1:{port}", f"ws://127.0.0.1:{port}/ws"
     async with contextlib.AsyncExitStack() as stack:
         sockets = [
@@ -156,7 +165,7 @@ async def crowd(port: int, n: int, seconds: float, server: int) -> dict[str, Any
             )
             for _ in range(n)
         ]
-        operators = [Operator(ws, 2 * math.pi * i / n) for i, ws in enumerate(sockets)]
+        operators = [Operator(ws, 2 * math.pi * i / n, robot) for i, ws in enumerate(sockets)]
         for i, operator in enumerate(operators):
             await operator.start(i)
         stop = asyncio.Event()
@@ -203,7 +212,7 @@ def frames_recorded(store: Path) -> tuple[int, int, int]:
     return sessions, frames, lost
 
 
-def measure(n: int, seconds: float) -> Figures:
+def measure(n: int, seconds: float, robot: dict[str, float]) -> Figures:
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "crowd.sqlite"
         port = free_port()
@@ -225,7 +234,7 @@ def measure(n: int, seconds: float) -> Figures:
                     if time.monotonic() > deadline or process.poll() is not None:
                         raise SystemExit("the server did not start") from None
                     time.sleep(0.1)
-            result = asyncio.run(crowd(port, n, seconds, process.pid))
+            result = asyncio.run(crowd(port, n, seconds, process.pid, robot))
         finally:
             process.terminate()
             process.wait(60)
@@ -277,13 +286,26 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sessions", default="1,4,8,16", help="values of N")
     parser.add_argument("--seconds", type=float, default=20.0, help="measured window per N")
+    parser.add_argument(
+        "--control-hz", type=float, help="world.robot.teleop_control_hz of every session"
+    )
+    parser.add_argument("--ik-hz", type=float, help="world.robot.teleop_ik_hz of every session")
     args = parser.parse_args()
     counts = [int(n) for n in args.sessions.split(",")]
+    robot = {
+        key: value
+        for key, value in (("teleop_control_hz", args.control_hz), ("teleop_ik_hz", args.ik_hz))
+        if value is not None
+    }
+    if robot:
+        print(
+            "sessions run with world.robot " + ", ".join(f"{k} = {v:g}" for k, v in robot.items())
+        )
     print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
     rows = []
     for n in counts:
         print(f"N = {n} ...", flush=True)
-        rows.append(measure(n, args.seconds))
+        rows.append(measure(n, args.seconds, robot))
     report(rows, args.seconds)
 
 

@@ -14,6 +14,7 @@ from workcell.errors import ConfigError
 from workcell.expert import ExpertConfig, ExpertOperator
 from workcell.expert.episode import deliver_one_box
 from workcell.session.config import SessionConfig
+from workcell.session.toml_io import from_mapping
 from workcell.sim.config import RobotConfig, WorldConfig
 from workcell.teleop.rate import at_teleop_rate
 
@@ -26,10 +27,16 @@ def test_an_ik_rate_that_does_not_divide_the_control_rate_is_refused() -> None:
     with pytest.raises(ConfigError) as caught:
         RobotConfig(ik_hz=30.0)
     message = str(caught.value)
-    assert "world.robot.ik_hz = 30" in message
-    assert "the control rate world.robot.control_hz = 40 Hz" in message
-    with pytest.raises(ConfigError, match=r"world\.robot\.teleop_ik_hz = 30"):
+    assert "robot.ik_hz = 30" in message
+    assert "must divide the control rate control_hz = 40 Hz" in message
+    with pytest.raises(ConfigError, match=r"robot\.teleop_ik_hz = 30"):
         RobotConfig(teleop_ik_hz=30.0)
+    # In session settings the problem is named by its full path, once.
+    with pytest.raises(ConfigError) as nested:
+        from_mapping(SessionConfig, {"world": {"robot": {"teleop_ik_hz": 30.0}}})
+    assert [str(p).split(":")[0] for p in nested.value.problems] == [
+        "world.robot.teleop_ik_hz = 30"
+    ]
     assert RobotConfig(ik_hz=20.0).ik_every == 2
     assert RobotConfig().ik_every == 1  # 0: every control period
 

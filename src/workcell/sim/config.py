@@ -199,11 +199,11 @@ class RobotConfig:
         if not problems:
             for ik, control in (("ik_hz", "control_hz"), ("teleop_ik_hz", "teleop_control_hz")):
                 if getattr(self, ik) > 0:
-                    problems += divides(
-                        f"world.robot.{ik}",
+                    problems += divides(  # named within the section, as the others
+                        f"robot.{ik}",
                         getattr(self, ik),
                         getattr(self, control),
-                        f"the control rate world.robot.{control}",
+                        f"the control rate {control}",
                     )
         _raise_if(problems)
 
