@@ -69,12 +69,13 @@ def describe(model: mujoco.MjModel, data: mujoco.MjData) -> Scene:
         start, count = int(model.body_geomadr[body]), int(model.body_geomnum[body])
         for geom in range(start, start + count):
             shape = _SHAPES.get(int(model.geom_type[geom]))
-            if shape is None or _colour(model, geom)[3] <= 0.0:
+            rgba = _colour(model, geom)
+            if shape is None or rgba[3] <= 0.0:
                 continue
             sx, sy, sz = _floats(model.geom_size[geom])
             px, py, pz = _floats(model.geom_pos[geom])
             qw, qx, qy, qz = _floats(model.geom_quat[geom])
-            r, g, b, a = _floats(_colour(model, geom), 3)
+            r, g, b, a = _floats(rgba, 3)
             geoms.append(
                 GeomDescription(
                     shape,
@@ -132,9 +133,9 @@ def _texture(
         height, width, channels
     )
     stride = max(1, -(-max(width, height) // TEXTURE_SIDE))
-    rgb = np.ascontiguousarray(pixels[::stride, ::stride, :3], dtype=np.uint8)
-    if channels < 3:  # grey: repeat the one channel
-        rgb = np.ascontiguousarray(np.repeat(pixels[::stride, ::stride, :1], 3, axis=2))
+    kept = pixels[::stride, ::stride]
+    # A grey texture repeats its one channel.
+    rgb = np.ascontiguousarray(kept[..., :3] if channels >= 3 else np.repeat(kept, 3, axis=2))
     return TextureDescription(
         width=int(rgb.shape[1]),
         height=int(rgb.shape[0]),
