@@ -16,7 +16,7 @@ from numpy.typing import NDArray
 
 from workcell.record import SessionInfo, Store, StoredMetrics, TrialEnd, TrialStart
 from workcell.record.batch import RowBatch, frames_from_columns
-from workcell.record.columns import FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
+from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
 from workcell.record.schema import FRAME_INTEGER_COLUMNS, FRAMES
 
 RATE_HZ = 20.0
@@ -57,8 +57,9 @@ def trial_end(n_frames: int) -> TrialEnd:
     )
 
 
-def frames(start: int, n: int, seed: int = 0) -> dict[str, NDArray[Any]]:
-    """Frames ``start .. start+n-1`` as columns (without the id columns)."""
+def frames(start: int, n: int, seed: int = 0, *, filtered: bool = True) -> dict[str, NDArray[Any]]:
+    """Frames ``start .. start+n-1`` as columns (without the id columns); without the
+    filtered poses (as schema version 2 wrote frames) unless ``filtered``."""
     index = np.arange(start, start + n)
     columns: dict[str, NDArray[Any]] = {"frame_index": index}
     values = np.stack([np.random.default_rng([seed, int(i)]).normal(size=64) for i in index])
@@ -84,12 +85,17 @@ def frames(start: int, n: int, seed: int = 0) -> dict[str, NDArray[Any]]:
         ],
         dtype=object,
     )
-    return {name: columns[name] for name in FRAME_COLUMNS if name in columns}
+    left_out = () if filtered else FILTERED_POSE_COLUMNS
+    return {
+        name: columns[name] for name in FRAME_COLUMNS if name in columns and name not in left_out
+    }
 
 
-def frame_rows(start: int, n: int, seed: int = 0) -> list[dict[str, object]]:
+def frame_rows(
+    start: int, n: int, seed: int = 0, *, filtered: bool = True
+) -> list[dict[str, object]]:
     """The same frames as one mapping per frame, with NULL device state as None."""
-    columns = frames(start, n, seed)
+    columns = frames(start, n, seed, filtered=filtered)
     rows: list[dict[str, object]] = []
     for i in range(n):
         row: dict[str, object] = {}
@@ -112,8 +118,9 @@ def batch(
     return frames_from_columns(frames, session_id, trial_id, next_index)
 
 
-def fill_store(path: Path) -> dict[str, list[str]]:
-    """A closed store: two sessions, trials of every kind of end, events, an annotation.
+def fill_store(path: Path, *, filtered: bool = True) -> dict[str, list[str]]:
+    """A closed store: two sessions, trials of every kind of end, events, an annotation;
+    frames without filtered poses (as schema version 2 wrote them) unless ``filtered``.
 
     Returns the ids: ``sessions`` and ``trials`` in creation order.
     """
@@ -128,8 +135,10 @@ def fill_store(path: Path) -> dict[str, list[str]]:
                 ids["trials"].append(trial_id)
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
                 seed = 10 * s + k
-                store.add_frames(trial_id, batch(store, trial_id, frames(0, 5, seed)))
-                store.add_frames(trial_id, batch(store, trial_id, frame_rows(5, n - 5, seed)))
+                first = frames(0, 5, seed, filtered=filtered)
+                rest = frame_rows(5, n - 5, seed, filtered=filtered)
+                store.add_frames(trial_id, batch(store, trial_id, first))
+                store.add_frames(trial_id, batch(store, trial_id, rest))
                 store.commit()
                 store.add_event(
                     session_id, "delivery", {"box": 0}, trial_id=trial_id, t_sim=n / RATE_HZ

@@ -8,7 +8,8 @@ import numpy as np
 
 from tests.record import synthetic
 from workcell.record.batch import RowBatch
-from workcell.record.schema import FRAMES, TRIALS
+from workcell.record.columns import FILTERED_POSE_COLUMNS
+from workcell.record.schema import FRAMES, TRIALS, TableLayout
 
 
 def _one(**changes: object) -> str:
@@ -44,3 +45,27 @@ def test_every_input_form_gives_the_same_checksums() -> None:
 def test_tables_do_not_share_checksums() -> None:
     batch = RowBatch.from_grouped(TRIALS, [])
     assert batch.checksums() == []
+
+
+def test_appended_columns_count_only_where_a_row_holds_them() -> None:
+    # frame 4 of seed 0 has device state (frames 0, 3, 6 ... have none)
+    fixed = {"session_id": "s", "trial_id": "t"}
+    row = synthetic.frame_rows(4, 1)[0]
+    without = {k: v for k, v in row.items() if k not in FILTERED_POSE_COLUMNS}
+    v2_form = RowBatch.from_mappings(VERSION_2_FRAMES, [without], fixed).checksums()[0]
+    absent = RowBatch.from_mappings(FRAMES, [without], fixed).checksums()[0]
+    nulls = {name: None for name in FILTERED_POSE_COLUMNS}
+    held_as_null = RowBatch.from_mappings(FRAMES, [{**without, **nulls}], fixed).checksums()[0]
+    assert absent == held_as_null == v2_form  # a row written before version 3 keeps its sum
+    held = RowBatch.from_mappings(FRAMES, [row], fixed).checksums()[0]
+    one_changed = _one(headset_filtered_qz=0.25)
+    only_one = _one(**{**nulls, "ctrl_r_filtered_y": 0.0})
+    assert len({held, one_changed, only_one, v2_form}) == 4
+
+
+VERSION_2_FRAMES = TableLayout(
+    "frames",
+    tuple(c for c in FRAMES.columns if c.name not in FRAMES.appended),
+    FRAMES.key,
+)
+"""The frames table as schema version 2 had it."""

@@ -1,5 +1,5 @@
-"""Schema version 2: tables, column names, ids, migrating version 1, and refusing what is not
-a readable store."""
+"""Schema version 3: tables, column names, ids, migrating versions 1 and 2, and refusing what
+is not a readable store."""
 
 from __future__ import annotations
 
@@ -9,11 +9,12 @@ from pathlib import Path
 
 import pytest
 
+import workcell.record.store
 from tests.record import synthetic
 from workcell.cli.main import main
 from workcell.record import RecordError, Store, StoreError, rowio
-from workcell.record.columns import FRAME_COLUMNS, TRIAL_COLUMNS
-from workcell.record.schema import APPLICATION_ID, SCHEMA_VERSION, SESSIONS
+from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_COLUMNS, TRIAL_COLUMNS
+from workcell.record.schema import APPLICATION_ID, FRAMES, SCHEMA_VERSION, SESSIONS
 from workcell.record.verify import verify_store, verify_store_report
 
 
@@ -21,23 +22,25 @@ def _columns(conn: sqlite3.Connection, table: str) -> list[str]:
     return [row[1] for row in conn.execute(f"PRAGMA table_info({table})")]
 
 
-def test_new_store_has_the_version_2_schema(tmp_path: Path) -> None:
+def test_new_store_has_the_version_3_schema(tmp_path: Path) -> None:
     path = tmp_path / "s.db"
     synthetic.fill_store(path)
     conn = sqlite3.connect(path)
-    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 2
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 3
     assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
     assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     meta = dict(conn.execute("SELECT key, value FROM meta"))
-    assert meta["schema_version"] == "2"
+    assert meta["schema_version"] == "3"
     assert meta["software_version"]
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
     assert {"meta", "sessions", "trials", "events", "frames", "annotations", "chain"} <= tables
     # the contract's names, in the contract's order, first
-    assert _columns(conn, "frames")[: len(FRAME_COLUMNS)] == list(FRAME_COLUMNS)
+    assert _columns(conn, "frames")[: len(FRAME_COLUMNS) - 21] == list(FRAME_COLUMNS[:-21])
     assert _columns(conn, "trials")[: len(TRIAL_COLUMNS)] == list(TRIAL_COLUMNS)
-    for table in ("sessions", "trials", "events", "frames", "annotations"):
+    for table in ("sessions", "trials", "events", "annotations"):
         assert _columns(conn, table)[-1] == "checksum"
+    # version 3's filtered poses come after the checksum, as ALTER TABLE appends them
+    assert _columns(conn, "frames")[-22:] == ["checksum", *FILTERED_POSE_COLUMNS]
     children = {
         table: {row[2] for row in conn.execute(f"PRAGMA foreign_key_list({table})")}
         for table in ("trials", "events", "frames", "annotations")
@@ -128,11 +131,14 @@ def test_a_second_writer_is_refused_and_readers_are_not(tmp_path: Path) -> None:
 
 
 def _as_version_1(path: Path) -> None:
-    """Turn a store into what schema version 1 wrote: no chain table, version 1 in the
-    pragma, the meta table and every session row (its checksum kept consistent)."""
+    """Turn a store into what schema version 1 wrote: no chain table, no filtered poses,
+    version 1 in the pragma, the meta table and every session row (its checksum kept
+    consistent)."""
     conn = sqlite3.connect(path, isolation_level=None)
     conn.execute("BEGIN")
     conn.execute("DROP TABLE chain")
+    for name in FRAMES.appended:
+        conn.execute(f'ALTER TABLE frames DROP COLUMN "{name}"')
     conn.execute("UPDATE meta SET value = '1' WHERE key = 'schema_version'")
     for (session_id,) in conn.execute("SELECT session_id FROM sessions").fetchall():
         rowio.update(conn, SESSIONS, {"session_id": session_id}, {"schema_version": 1})
@@ -145,28 +151,73 @@ def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
     path = tmp_path / "old.db"
-    ids = synthetic.fill_store(path)
+    ids = synthetic.fill_store(path, filtered=False)
     _as_version_1(path)
     with pytest.raises(StoreError) as refused:
         Store.open(path, writer=False)
     message = str(refused.value)
-    assert "schema version 1" in message and "migrating it to version 2" in message
+    assert "schema version 1" in message and "migrating it to version 3" in message
     assert f"workcell verify --recover --store {path}" in message
     with pytest.raises(StoreError, match="schema version 1"):
         verify_store(path)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
     out = capsys.readouterr().out
-    assert f"migrated: {path} from schema version 1 to 2" in out
+    assert f"migrated: {path} from schema version 1 to 3" in out
     assert "2 sessions were chained when the store was migrated" in out
     with Store.open(path, writer=True) as store:
         meta = store.meta()
         sessions = store.sessions()
         links = store.chain()
         counts = store.counts()
-    assert meta["schema_version"] == "2" and "migrated_wall" in meta
+    assert meta["schema_version"] == "3" and "migrated_wall" in meta
     assert [s.schema_version for s in sessions] == [1, 1]  # as they were recorded
     assert counts.trials == len(ids["trials"]) and counts.frames == 38  # every row kept
     assert len(links) == 8 and all(link.signature is None for link in links)
     assert verify_store(path) == []
     findings, stats = verify_store_report(path)
     assert findings == [] and stats.migrated_sessions == 2
+
+
+def _as_version_2(path: Path) -> None:
+    """Turn a store whose sessions were recorded as version 2 (see the test) into what
+    schema version 2 wrote: no filtered poses in the frames, version 2 in the pragma and
+    the meta table."""
+    conn = sqlite3.connect(path, isolation_level=None)
+    conn.execute("BEGIN")
+    for name in FRAMES.appended:
+        conn.execute(f'ALTER TABLE frames DROP COLUMN "{name}"')
+    conn.execute("UPDATE meta SET value = '2' WHERE key = 'schema_version'")
+    conn.execute("PRAGMA user_version = 2")
+    conn.execute("COMMIT")
+    conn.close()
+
+
+def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "v2.db"
+    with monkeypatch.context() as recorded_by_version_2:
+        recorded_by_version_2.setattr(workcell.record.store, "SCHEMA_VERSION", 2)
+        synthetic.fill_store(path, filtered=False)
+    _as_version_2(path)
+    conn = sqlite3.connect(path)
+    before = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
+    heads = conn.execute("SELECT head FROM chain ORDER BY session_id, position").fetchall()
+    conn.close()
+    with pytest.raises(StoreError, match="migrating it to version 3"):
+        Store.open(path, writer=False)
+    assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
+    assert f"migrated: {path} from schema version 2 to 3" in capsys.readouterr().out
+    conn = sqlite3.connect(path)
+    after = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
+    assert after == before and len(after) == 38
+    assert conn.execute("SELECT head FROM chain ORDER BY session_id, position").fetchall() == heads
+    filtered = conn.execute(f'SELECT "{FILTERED_POSE_COLUMNS[0]}" FROM frames').fetchall()
+    assert filtered == [(None,)] * 38
+    conn.close()
+    findings, stats = verify_store_report(path)
+    assert findings == []
+    assert stats.migrated_sessions == 0  # the chains were not recomputed: nothing to qualify
+    with Store.open(path, writer=True) as store:
+        assert store.meta()["schema_version"] == "3" and "migrated_wall" not in store.meta()
+        assert [s.schema_version for s in store.sessions()] == [2, 2]

@@ -83,7 +83,7 @@ def test_the_arm_follows_the_filtered_pose_and_the_record_keeps_the_raw() -> Non
     def target_jitter(config: TeleopConfig) -> tuple[float, list[Pose]]:
         clock = Clock()
         operator = TeleopOperator(config, tcp_source=lambda world, side: CURRENT, clock=clock)
-        targets, raws = [], []
+        targets, raws, recorded_z = [], [], []
         for seq in range(1, int(3 * RATE_HZ)):
             z = -0.3 + rng.normal(0.0, 0.002)
             pose = (0.2, 1.1, z, 1.0, 0.0, 0.0, 0.0)
@@ -92,8 +92,15 @@ def test_the_arm_follows_the_filtered_pose_and_the_record_keeps_the_raw() -> Non
             targets.append(operator.act(WORLD).left.position[0])
             recorded = operator.operator_input()
             assert recorded is not None and recorded.controller_l == pose  # raw, as it came
+            assert recorded.filtered_l is not None  # and beside it what the arm followed
+            recorded_z.append(recorded.filtered_l[2])
             raws.append(pose)
-        return statistics.pstdev(targets[int(RATE_HZ) :]), raws
+        settled = int(RATE_HZ)
+        # the recorded filtered pose is the one the arm's target moved with
+        assert statistics.pstdev(recorded_z[settled:]) == pytest.approx(
+            statistics.pstdev(targets[settled:]), rel=0.05
+        )
+        return statistics.pstdev(targets[settled:]), raws
 
     filtered, _ = target_jitter(TeleopConfig.for_session(SessionConfig()))
     unfiltered, _ = target_jitter(

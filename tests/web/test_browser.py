@@ -255,6 +255,15 @@ def check_operator_inputs(frames: list[sqlite3.Row]) -> None:
     with_poses = [f for f in frames if f["ctrl_l_x"] is not None and f["ctrl_r_x"] is not None]
     assert len(with_poses) > len(frames) // 2, "controller poses missing from the frames"
     assert all(f["headset_qw"] is not None for f in with_poses)
+    # ...and beside the raw poses the filtered ones the arms and the view acted on
+    assert all(
+        f[f"{pose}_filtered_{axis}"] is not None
+        for f in with_poses
+        for pose in ("ctrl_l", "ctrl_r", "headset")
+        for axis in ("x", "qw")
+    )
+    lagging = [f for f in with_poses if abs(f["ctrl_l_filtered_y"] - f["ctrl_l_y"]) > 1e-4]
+    assert lagging, "the filtered left controller never differs from the raw one"
     gripped = [f for f in frames if f["grip_l"] > 0.5 and f["grip_r"] > 0.5]
     assert len(gripped) > 10, "no frames with both grips held"
     assert any(f["trigger_l"] > 0.5 and f["trigger_r"] > 0.5 for f in frames)
@@ -364,6 +373,7 @@ def test_hand_tracking_grabs_moves_and_pinches_in_the_emulated_quest(server: Ser
     assert travel > 0.08, f"the grabbed arm's target moved {travel:.3f} m"
     assert any(f["trigger_l"] > 0.9 and not f["follow_l"] for f in frames), "no pinch recorded"
     assert all(f["ctrl_l_x"] is not None for f in grabbed)  # the wrist pose, recorded raw
+    assert all(f["ctrl_l_filtered_x"] is not None for f in grabbed)  # and as filtered
 
 
 STUDY = """name = "pilot"

@@ -26,7 +26,7 @@ from workcell.audit.source import (
 )
 from workcell.audit.task_stages import STAGE_COLUMNS, StageFrames, stage_frames, started_conditions
 from workcell.metrics import FrameArrays
-from workcell.record.csv_format import FILES, MANIFEST, parse_row
+from workcell.record.csv_format import FILES, MANIFEST, known_header, parse_row
 from workcell.record.entries import AnnotationRecord
 
 Rows = list[tuple[str, ...]]
@@ -96,7 +96,7 @@ class CsvSource:
         try:
             with path.open(newline="") as file:
                 reader = csv.reader(file)
-                if tuple(next(reader, [])) != layout.names:
+                if not known_header(layout, next(reader, [])):
                     raise AuditError(f"{path}: the header is not the contract's columns")
                 return [
                     dict(zip(layout.grouped, parse_row(layout, r), strict=True)) for r in reader

@@ -97,6 +97,7 @@ def _recover(path: Path, key: Any) -> None:
     import sqlite3  # noqa: PLC0415
     from urllib.parse import quote  # noqa: PLC0415
 
+    from workcell.record.migrate import CHAINED_BY  # noqa: PLC0415
     from workcell.record.schema import SCHEMA_VERSION  # noqa: PLC0415
     from workcell.record.store import Store  # noqa: PLC0415
 
@@ -112,10 +113,12 @@ def _recover(path: Path, key: Any) -> None:
         for trial_id in store.recovered:
             print(f"recovered: trial {trial_id} closed as interrupted (crash_recovered)")
     if 0 < version < SCHEMA_VERSION:
-        print(
-            f"migrated: {path} from schema version {version} to {SCHEMA_VERSION}; the hash "
-            "chains of its sessions were computed from their rows as they are now"
+        chained = (
+            "; the hash chains of its sessions were computed from their rows as they are now"
+            if version <= CHAINED_BY
+            else "; every row, checksum and chain link kept"
         )
+        print(f"migrated: {path} from schema version {version} to {SCHEMA_VERSION}{chained}")
 
 
 def _store_summary(path: Path, stats: ChainStats, key: Any) -> str:

@@ -76,13 +76,15 @@ class RowBatch:
         fixed: Mapping[str, str] | None = None,
     ) -> RowBatch:
         """Rows as mappings with every column of ``layout``; ``fixed`` columns (ids the
-        store fills in) may be left out, and must match where given."""
+        store fills in) may be left out, and must match where given; appended columns
+        (:class:`~workcell.record.schema.TableLayout`) may be left out too (NULL)."""
         fixed = fixed or {}
         table = layout.name
         _check_names(layout, rows[0].keys() if rows else (), fixed)
         text_names = layout.of_kind("text")
         real_names = layout.of_kind("real")
         int_names = layout.of_kind("integer")
+        optional = set(layout.appended)
         text = []
         integer = []
         real_rows = []
@@ -98,7 +100,7 @@ class RowBatch:
                     )
                 )
                 integer.append(tuple(as_int(row[n], f"{table}.{n}") for n in int_names))
-                real_rows.append([row[n] for n in real_names])
+                real_rows.append([row.get(n) if n in optional else row[n] for n in real_names])
             except KeyError as missing:
                 raise RecordError(f"{table} row {i} has no column {missing}") from None
         return cls(layout, text, _real_matrix(layout, real_rows, real_names), integer)
@@ -130,9 +132,16 @@ class RowBatch:
             for name in layout.of_kind("integer")
         ]
         real_names = layout.of_kind("real")
+        absent = np.full(n, np.nan)
         try:
             real = (
-                np.array([columns[c] for c in real_names], dtype=np.float64).T
+                np.array(
+                    [
+                        columns[c] if c in columns or c not in layout.appended else absent
+                        for c in real_names
+                    ],
+                    dtype=np.float64,
+                ).T
                 if real_names
                 else np.zeros((n, 0))
             )
@@ -162,7 +171,12 @@ class RowBatch:
         null = np.array([[v is None for v in row] for row in self.integer], dtype=np.bool_)
         ints = np.array([[v or 0 for v in row] for row in self.integer], dtype=np.int64)
         return row_checksums(
-            self.layout.name, self.text, self.real, ints.reshape(n, k), null.reshape(n, k)
+            self.layout.name,
+            self.text,
+            self.real,
+            ints.reshape(n, k),
+            null.reshape(n, k),
+            appended=len(self.layout.appended),
         )
 
     def sql_rows(self, checksums: Sequence[str]) -> list[tuple[object, ...]]:
@@ -201,7 +215,8 @@ class RowBatch:
 
 def _check_names(layout: TableLayout, given: Any, fixed: Mapping[str, str]) -> None:
     names = set(given)
-    missing = [n for n in layout.names if n not in names and n not in fixed]
+    optional = set(layout.appended)  # columns a later version added may be left out
+    missing = [n for n in layout.names if n not in names and n not in fixed and n not in optional]
     unknown = sorted(names - set(layout.names))
     problems = []
     if missing:

@@ -10,7 +10,12 @@ real, then integer columns, each group in table order):
   NULL) as the single quiet NaN ``7ff8000000000000``; -0.0 as +0.0 (SQLite keeps no sign
   on zero);
 - each integer value as int64, little-endian (NULL as 0), then one byte per integer
-  column: 1 where the value is NULL, 0 otherwise.
+  column: 1 where the value is NULL, 0 otherwise;
+- a table's appended columns (real columns a later schema version added, see
+  :class:`~workcell.record.schema.TableLayout`) are left out of the real values above and
+  follow at the end, only where the row holds one of them: the marker
+  ``b"\0appended\0"``, then their values as reals. A row that holds none of them (every
+  row written before they existed) has the form it had before.
 
 This is exact for every value SQLite stores, so a checksum recomputed from a row read back
 equals the one computed before the write. Aggregates hash the hex checksums of children in
@@ -26,6 +31,8 @@ import numpy as np
 from numpy.typing import NDArray
 
 NULL_TEXT = b"\xff\xff\xff\xff"
+APPENDED = b"\0appended\0"
+"""Marks the start of a row's appended columns in its canonical form."""
 
 
 def canonical_reals(real: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -41,14 +48,22 @@ def row_checksums(
     real: NDArray[np.float64],
     integer: NDArray[np.int64],
     integer_null: NDArray[np.bool_],
+    *,
+    appended: int = 0,
 ) -> list[str]:
     """Hex sha256 of each row's canonical form (see the module docstring).
 
-    ``real`` is (n, n_real) with NaN for NULL; ``integer`` (n, n_integer) with anything
-    where ``integer_null`` is True.
+    ``real`` is (n, n_real) with NaN for NULL, its last ``appended`` columns the table's
+    appended ones; ``integer`` (n, n_integer) with anything where ``integer_null`` is True.
     """
     n = len(text)
     reals = canonical_reals(real).reshape(n, -1) if n else real
+    tails: list[bytes | None] = [None] * n
+    if appended and n:
+        tail = reals[:, reals.shape[1] - appended :]
+        present = [not np.isnan(row).all() for row in tail]
+        tails = [APPENDED + tail[i].tobytes() if present[i] else None for i in range(n)]
+        reals = np.ascontiguousarray(reals[:, : reals.shape[1] - appended])
     ints = np.where(integer_null, 0, integer).astype("<i8").reshape(n, -1) if n else integer
     nulls = np.asarray(integer_null, dtype=np.uint8).reshape(n, -1) if n else integer_null
     real_bytes, int_bytes, null_bytes = reals.tobytes(), ints.tobytes(), nulls.tobytes()
@@ -69,6 +84,9 @@ def row_checksums(
         h.update(real_bytes[i * real_stride : (i + 1) * real_stride])
         h.update(int_bytes[i * int_stride : (i + 1) * int_stride])
         h.update(null_bytes[i * null_stride : (i + 1) * null_stride])
+        appended_bytes = tails[i]
+        if appended_bytes is not None:
+            h.update(appended_bytes)
         out.append(h.hexdigest())
     return out
 

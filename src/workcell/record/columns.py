@@ -93,7 +93,19 @@ FRAME_EXTRA_COLUMNS: tuple[str, ...] = (
 ``follow_*`` 0/1; ``buttons_*`` a bit mask; ``step_wall_ms`` the wall time of the control
 step that produced the frame; ``input_age_s`` how old the operator input was."""
 
-FRAME_COLUMNS: tuple[str, ...] = FRAME_CONTRACT_COLUMNS + FRAME_EXTRA_COLUMNS
+FILTERED_POSE_COLUMNS: tuple[str, ...] = (
+    *pose_columns("ctrl_l_filtered"),
+    *pose_columns("ctrl_r_filtered"),
+    *pose_columns("headset_filtered"),
+)
+"""The device poses the teleoperation acted on: ``ctrl_l``, ``ctrl_r`` and ``headset`` after
+the session's pose filter (``input.filter``, a One-Euro filter by default), in the same
+tracking frame; equal to the raw poses when the filter is off, NULL where the raw pose is.
+Added by schema version 3, after every earlier column (frames recorded before it hold NULL)."""
+
+FRAME_COLUMNS: tuple[str, ...] = (
+    FRAME_CONTRACT_COLUMNS + FRAME_EXTRA_COLUMNS + FILTERED_POSE_COLUMNS
+)
 
 TRIAL_COLUMNS: tuple[str, ...] = (
     "session_id",
@@ -123,9 +135,13 @@ result as much as a metric, stands beside ``elapsed_s``)."""
 OUTCOMES: tuple[str, ...] = get_args(Outcome)
 INTERRUPTION_REASONS: tuple[str, ...] = get_args(InterruptionReason)
 
-FRAME_DEVICE_COLUMNS: tuple[str, ...] = (*_DEVICE_STATE_COLUMNS, "input_age_s")
-"""Raw device state and its age: the only frame columns that may be NULL (empty in CSV),
-for operators without that device (the scripted expert, replay)."""
+FRAME_DEVICE_COLUMNS: tuple[str, ...] = (
+    *_DEVICE_STATE_COLUMNS,
+    "input_age_s",
+    *FILTERED_POSE_COLUMNS,
+)
+"""Device state (raw and filtered) and its age: the only frame columns that may be NULL
+(empty in CSV), for operators without that device (the scripted expert, replay)."""
 
 SESSION_COLUMNS: tuple[str, ...] = (
     "session_id",

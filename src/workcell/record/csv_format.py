@@ -28,7 +28,12 @@ FORMAT_VERSION = 1
 
 def _sub_layout(layout: TableLayout, names: tuple[str, ...]) -> TableLayout:
     """``layout`` restricted to the exported ``names`` (in that order)."""
-    return TableLayout(layout.name, tuple(layout.column(n) for n in names), layout.key)
+    return TableLayout(
+        layout.name,
+        tuple(layout.column(n) for n in names),
+        layout.key,
+        appended=tuple(n for n in layout.appended if n in names),
+    )
 
 
 FILES: dict[str, TableLayout] = {
@@ -46,12 +51,24 @@ def format_row(row: Sequence[Any]) -> list[str]:
     return ["" if v is None else repr(v) if isinstance(v, float) else str(v) for v in row]
 
 
+def known_header(layout: TableLayout, header: Sequence[str]) -> bool:
+    """Whether ``header`` is the file's columns: the contract's, or those of an export made
+    before the layout's appended columns existed (they then read as NULL)."""
+    names = tuple(header)
+    return names == layout.names or (
+        bool(layout.appended) and names == layout.names[: -len(layout.appended)]
+    )
+
+
 def parse_row(layout: TableLayout, cells: Sequence[str]) -> list[Any]:
-    """Typed values of one CSV row, in the layout's grouped order (see ``RowBatch``)."""
-    values = dict(zip(layout.names, cells, strict=True))
+    """Typed values of one CSV row, in the layout's grouped order (see ``RowBatch``); a row
+    of an export made before the appended columns existed holds none of them (NULL)."""
+    if len(cells) not in (len(layout.names), len(layout.names) - len(layout.appended)):
+        raise ValueError(f"a row of {len(cells)} cells, not {len(layout.names)}")
+    values = dict(zip(layout.names, cells, strict=False))
     out: list[Any] = []
     for name in layout.grouped:
-        cell = values[name]
+        cell = values.get(name, "")
         kind = layout.column(name).kind
         if cell == "":
             out.append(None)

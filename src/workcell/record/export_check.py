@@ -8,7 +8,7 @@ import os
 from pathlib import Path
 from typing import Any
 
-from workcell.record.csv_format import FILES, MANIFEST, file_sha256
+from workcell.record.csv_format import FILES, MANIFEST, file_sha256, known_header
 from workcell.record.findings import IntegrityFinding
 
 
@@ -52,7 +52,7 @@ def verify_export(out_dir: str | os.PathLike[str]) -> list[IntegrityFinding]:
         if layout is None:
             continue
         header, rows = _header_and_rows(path)
-        if tuple(header) != layout.names:
+        if not known_header(layout, header):
             add(
                 name,
                 "header is not the contract's columns "

@@ -36,6 +36,7 @@ from workcell.record.csv_format import (
     MANIFEST,
     file_sha256,
     format_row,
+    known_header,
     parse_row,
 )
 from workcell.record.entries import SessionRecord
@@ -158,7 +159,7 @@ def read_csv_export(out_dir: str | os.PathLike[str]) -> CsvExport:
         with (out / name).open(newline="") as file:
             reader = csv.reader(file)
             header = next(reader, [])
-            if tuple(header) != layout.names:
+            if not known_header(layout, header):
                 raise ExportError(f"{out / name}: the header is not the contract's columns")
             values = [parse_row(layout, cells) for cells in reader]
         tables[name] = RowBatch.from_grouped(layout, values).to_columns()

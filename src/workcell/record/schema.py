@@ -1,12 +1,15 @@
-"""Schema version 2 of a store: the five tables, their column types, and the DDL.
+"""Schema version 3 of a store: the five tables, their column types, and the DDL.
 
 Every table's columns are the interchange contract's names (:mod:`workcell.record.columns`)
 followed by the store's own (``checksum``, ``content_checksum``, ...). The version lives in
 ``PRAGMA user_version`` and in the ``meta`` table; ``PRAGMA application_id`` marks the file
 as a Workcell store. Tables are STRICT, so a column holds only its declared type.
 
-Version 2 added the ``chain`` table (:mod:`workcell.record.chain`); a writer migrates a
-version-1 store (:mod:`workcell.record.migrate`).
+Version 2 added the ``chain`` table (:mod:`workcell.record.chain`); version 3 the frames'
+filtered device poses (:data:`~workcell.record.columns.FILTERED_POSE_COLUMNS`), appended
+after the ``checksum`` column as ``ALTER TABLE`` appends them, so that a new store and a
+migrated one have the same tables. A writer migrates an older store
+(:mod:`workcell.record.migrate`).
 """
 
 from __future__ import annotations
@@ -18,13 +21,14 @@ from typing import Literal
 from workcell.record.columns import (
     ANNOTATION_COLUMNS,
     EVENT_COLUMNS,
+    FILTERED_POSE_COLUMNS,
     FRAME_COLUMNS,
     FRAME_DEVICE_COLUMNS,
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
 )
 
-SCHEMA_VERSION = 2
+SCHEMA_VERSION = 3
 APPLICATION_ID = 0x57434C31
 """``PRAGMA application_id`` of every Workcell store: ASCII "WCL1"."""
 
@@ -44,17 +48,41 @@ class Column:
 
 @dataclass(frozen=True, eq=False)
 class TableLayout:
-    """One table: its columns in table order, its primary key and its row-checksum column."""
+    """One table: its columns in table order, its primary key and its row-checksum column.
+
+    ``appended`` names the real columns a later schema version added: the last columns,
+    stored after ``checksum`` and last among the real columns, and hashed into a row's
+    checksum only where the row holds one of them (:func:`~workcell.record.checksum.row_checksums`),
+    so the rows written before they existed keep their checksums."""
 
     name: str
     columns: tuple[Column, ...]
     key: tuple[str, ...]
     constraints: tuple[str, ...] = ()
+    appended: tuple[str, ...] = ()
+
+    def __post_init__(self) -> None:
+        tail = tuple(c.name for c in self.columns[len(self.columns) - len(self.appended) :])
+        if self.appended and (
+            tail != self.appended or any(self.column(n).kind != "real" for n in tail)
+        ):
+            raise ValueError(f"{self.name}: appended columns must be the last, real columns")
 
     @cached_property
     def names(self) -> tuple[str, ...]:
         """Column names in table order, without the ``checksum`` column."""
         return tuple(c.name for c in self.columns)
+
+    @cached_property
+    def stored(self) -> tuple[tuple[str, Kind], ...]:
+        """(name, kind) of every column as the table stores them: the columns, the
+        ``checksum`` column, then the appended columns."""
+        first = len(self.columns) - len(self.appended)
+        return (
+            *((c.name, c.kind) for c in self.columns[:first]),
+            (CHECKSUM, "text"),
+            *((c.name, c.kind) for c in self.columns[first:]),
+        )
 
     def of_kind(self, kind: Kind) -> tuple[str, ...]:
         return self._kinds[kind]
@@ -123,6 +151,7 @@ FRAMES = TableLayout(
     ),
     key=("trial_id", "frame_index"),
     constraints=("FOREIGN KEY (session_id, trial_id) REFERENCES trials (session_id, trial_id)",),
+    appended=FILTERED_POSE_COLUMNS,
 )
 
 TRIAL_EXTRA_COLUMNS: tuple[str, ...] = (
@@ -234,7 +263,8 @@ LAYOUTS: tuple[TableLayout, ...] = (SESSIONS, TRIALS, EVENTS, FRAMES, ANNOTATION
 """Every row table, parents before children."""
 
 CHECKSUM = "checksum"
-"""Every row table's last column: sha256 (hex) of the row's canonical serialization."""
+"""Every row table's last column (but for appended columns): sha256 (hex) of the row's
+canonical serialization."""
 
 INDEXES: tuple[str, ...] = (
     "CREATE INDEX events_by_trial ON events (trial_id, seq)",
@@ -252,11 +282,13 @@ def column_list(names: tuple[str, ...]) -> str:
 
 
 def create_table_sql(layout: TableLayout) -> str:
-    lines = [
-        f"{quote(c.name)} {c.kind.upper()}{' NOT NULL' if c.not_null else ''}"
-        for c in layout.columns
-    ]
+    def definition(c: Column) -> str:
+        return f"{quote(c.name)} {c.kind.upper()}{' NOT NULL' if c.not_null else ''}"
+
+    first = len(layout.columns) - len(layout.appended)
+    lines = [definition(c) for c in layout.columns[:first]]
     lines.append(f"{quote(CHECKSUM)} TEXT NOT NULL")
+    lines.extend(definition(c) for c in layout.columns[first:])
     lines.append(f"PRIMARY KEY ({column_list(layout.key)})")
     lines.extend(layout.constraints)
     body = ",\n    ".join(lines)

@@ -35,7 +35,6 @@ from workcell.record.findings import IntegrityFinding
 from workcell.record.frame_check import check_trial_frames
 from workcell.record.schema import (
     ANNOTATIONS,
-    CHECKSUM,
     EVENTS,
     LAYOUTS,
     SCHEMA_VERSION,
@@ -133,7 +132,7 @@ class _Verifier:
         for layout in LAYOUTS:
             info = self.conn.execute(f"PRAGMA table_info({quote(layout.name)})").fetchall()
             found = [(row[1], row[2]) for row in info]
-            expected = [(c.name, c.kind.upper()) for c in layout.columns] + [(CHECKSUM, "TEXT")]
+            expected = [(name, kind.upper()) for name, kind in layout.stored]
             if found != expected:
                 whole = False
                 missing = [n for n, _ in expected if (n, _) not in found]

@@ -41,10 +41,13 @@ _STATE_NUMBER = {
 
 @dataclass(frozen=True)
 class OperatorInput:
-    """Raw device state of a human operator (VR or desktop), as it arrived.
+    """Raw device state of a human operator (VR or desktop), as it arrived, and the poses
+    the teleoperation acted on.
 
     Poses are (x, y, z, qw, qx, qy, qz) in the operator's tracking frame; None when the
     device has no such part. ``age_s`` is how old the input was when the frame was taken.
+    ``filtered_*`` are the controller and headset poses after the session's pose filter
+    (the raw ones when it is off).
     """
 
     grip: tuple[float, float]
@@ -56,6 +59,9 @@ class OperatorInput:
     stick_r: tuple[float, float] | None = None
     buttons: tuple[int, int] | None = None
     age_s: float | None = None
+    filtered_l: Pose | None = None
+    filtered_r: Pose | None = None
+    filtered_headset: Pose | None = None
 
 
 def input_from_command(command: Command) -> OperatorInput:
@@ -81,10 +87,10 @@ class FrameLayout:
       attached (-1 for none);
     - each box's state (its position in :data:`BOX_STATES`);
     - :data:`DEVICE_VALUES` values of the operator's device: grip (2), trigger (2), both
-      controllers and the headset (3 x 7), both thumbsticks (2 x 2), input age, buttons
-      (2); NaN where the device has no such part, and all NaN without a device (a
-      command-only operator: grip and trigger then read from the command, as
-      :func:`input_from_command` says).
+      controllers and the headset (3 x 7), both thumbsticks (2 x 2), input age, the
+      three poses filtered (3 x 7), buttons (2); NaN where the device has no such part,
+      and all NaN without a device (a command-only operator: grip and trigger then read
+      from the command, as :func:`input_from_command` says).
     """
 
     nq: int
@@ -156,9 +162,9 @@ COMMAND_REALS = 24
 """t_sim, t_wall, the command's 21 real columns and step_wall_ms."""
 CAPTURED_INTEGERS = 5
 """follow_l, follow_r, contact_l, contact_r, attached."""
-DEVICE_VALUES = 32
+DEVICE_VALUES = 53
 """grip (2), trigger (2), controller_l, controller_r, headset (7 each), stick_l, stick_r
-(2 each), age_s, buttons (2)."""
+(2 each), age_s, the three poses filtered (7 each), buttons (2)."""
 
 NAN = math.nan
 _NO_POSE: tuple[float, ...] = (NAN,) * 7
@@ -177,6 +183,9 @@ def device_values(device: OperatorInput) -> tuple[float, ...]:
         *(device.stick_l or _NO_PAIR),
         *(device.stick_r or _NO_PAIR),
         NAN if device.age_s is None else device.age_s,
+        *(device.filtered_l or _NO_POSE),
+        *(device.filtered_r or _NO_POSE),
+        *(device.filtered_headset or _NO_POSE),
         *(device.buttons or _NO_PAIR),
     )
 

@@ -91,6 +91,7 @@ def real_matrix(
     ik_tcp, ik_target = rows[:n, at + 24 : at + 30], rows[:n, at + 30 : at + 36]
     real[:, 109:111] = residuals(ik_tcp.reshape(-1, 3), ik_target.reshape(-1, 3)).reshape(n, 2)
     real[:, 111] = device[:, 29]
+    real[:, 112:133] = device[:, 30:51]
     return real
 
 

@@ -206,9 +206,10 @@ class TeleopOperator:
     # --- for the recorder -------------------------------------------------------------------
 
     def operator_input(self) -> OperatorInput | None:
-        """The newest raw input as the recorder stores it; None before any input."""
+        """The newest raw input as the recorder stores it, with the poses the arms and
+        the view act on (filtered); None before any input."""
         with self._lock:
-            latest, arrived = self._latest, self._arrived
+            latest, arrived, poses = self._latest, self._arrived, self._poses
         if latest is None:
             return None
         left, right = latest.left, latest.right
@@ -222,6 +223,9 @@ class TeleopOperator:
             stick_r=right.stick,
             buttons=(left.buttons, right.buttons),
             age_s=self._clock() - arrived,
+            filtered_l=poses[0],
+            filtered_r=poses[1],
+            filtered_headset=poses[2],
         )
 
 
