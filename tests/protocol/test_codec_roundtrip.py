@@ -2,8 +2,12 @@
 
 from __future__ import annotations
 
+import dataclasses
 import json
+import math
+from typing import Any
 
+import numpy as np
 import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
@@ -11,8 +15,9 @@ from hypothesis import strategies as st
 from tests.protocol.strategies import for_message
 from workcell.protocol import messages as m
 from workcell.protocol.api import API_TYPES
-from workcell.protocol.codec import decode_client, decode_server, encode
+from workcell.protocol.codec import decode_client, decode_server, encode, to_json_value
 from workcell.protocol.validation import build
+from workcell.task.hud import Hud, HudPhase
 
 
 @pytest.mark.parametrize("cls", m.CLIENT_MESSAGES, ids=lambda c: c.__name__)
@@ -61,3 +66,37 @@ def test_directions_are_separate() -> None:
 def test_api_bodies_round_trip(cls: type, data: st.DataObject) -> None:
     body = data.draw(for_message(cls))
     assert build(cls, json.loads(encode(body)), cls.__name__) == body
+
+
+def _converted(message: object) -> str:
+    """The JSON of the message converted as a whole first (what encode writes)."""
+    return json.dumps(to_json_value(message), separators=(",", ":"), allow_nan=False)
+
+
+@pytest.mark.parametrize(
+    "cls", (*m.CLIENT_MESSAGES, *m.SERVER_MESSAGES, *API_TYPES), ids=lambda c: c.__name__
+)
+@settings(max_examples=25, deadline=None)
+@given(data=st.data())
+def test_encoding_in_one_pass_writes_the_converted_json(cls: type, data: st.DataObject) -> None:
+    message = data.draw(for_message(cls))
+    assert encode(message) == _converted(message)
+
+
+def test_a_state_with_numpy_values_and_a_non_finite_float_is_written_as_converted() -> None:
+    pose: Any = (np.float64(0.5), 1.0, np.float32(0.25), 1.0, 0.0, 0.0, 0.0)
+    hud = Hud(HudPhase.RUNNING, "practice", 0, None, None, None, 0, 1, 0.0, 39.79, 40)
+    state = m.State(
+        seq=np.int64(3),  # type: ignore[arg-type]  # what a careless builder might pass
+        t_sim=1.5,
+        poses=(pose, (math.nan, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0)),
+        hud=hud,
+        input_seq=2,
+        tcp_targets=(pose, pose),
+        following=(True, False),
+    )
+    text = encode(state)
+    assert text == _converted(state)
+    assert '"phase":"running"' in text and "[null,0.0" in text and '"seq":3' in text
+    finite = dataclasses.replace(state, poses=(pose,))
+    assert encode(finite) == _converted(finite)

@@ -204,8 +204,9 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     before = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     heads = conn.execute("SELECT head FROM chain ORDER BY session_id, position").fetchall()
     conn.close()
-    with pytest.raises(StoreError, match="migrating it to version 3"):
+    with pytest.raises(StoreError, match="migrating it to version 3") as refused:
         Store.open(path, writer=False)
+    assert "from before the frames' filtered poses" in str(refused.value)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
     assert f"migrated: {path} from schema version 2 to 3" in capsys.readouterr().out
     conn = sqlite3.connect(path)

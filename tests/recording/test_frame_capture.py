@@ -36,6 +36,8 @@ VR_INPUT = OperatorInput(
     stick_r=(0.5, -0.5),
     buttons=(3, 0),
     age_s=0.012,
+    filtered_l=(0.11, 0.21, 0.31, 0.5, 0.5, 0.5, 0.5),
+    filtered_headset=(0.01, 0.02, 1.59, 0.0, 0.0, 0.0, 1.0),
 )
 
 
@@ -75,7 +77,11 @@ def test_a_frame_holds_the_world_the_command_and_the_device(sim: Simulation) -> 
     assert (row["grip_l"], row["trigger_r"], row["stick_r_y"]) == (0.25, 1.0, -0.5)
     assert (row["ctrl_l_z"], row["headset_qz"], row["input_age_s"]) == (0.3, 1.0, 0.012)
     assert (row["buttons_l"], row["buttons_r"]) == (3, 0)
+    filtered_l = [row[f"ctrl_l_filtered_{a}"] for a in ("x", "y", "z", "qw", "qx", "qy", "qz")]
+    assert filtered_l == [0.11, 0.21, 0.31, 0.5, 0.5, 0.5, 0.5]  # beside the raw pose
+    assert (row["headset_filtered_z"], row["headset_filtered_qz"]) == (1.59, 1.0)
     assert row["ctrl_r_x"] is None and row["stick_l_x"] is None  # no such device part
+    assert row["ctrl_r_filtered_x"] is None
     assert row["ik_residual_l"] == sim.controller.ik.residual("l")
     boxes = json.loads(row["boxes"])
     assert [b[0] for b in boxes] == [s.index for s in world.boxes.slots]
@@ -98,7 +104,15 @@ def test_an_expert_frame_has_no_device_values(sim: Simulation) -> None:
         step_wall_ms=0.0,
     )
     assert (row["grip_l"], row["grip_r"], row["trigger_l"]) == (1.0, 0.0, 1.0)
-    for name in ("ctrl_l_x", "headset_qw", "stick_r_x", "buttons_l", "input_age_s"):
+    for name in (
+        "ctrl_l_x",
+        "headset_qw",
+        "stick_r_x",
+        "buttons_l",
+        "input_age_s",
+        "ctrl_l_filtered_x",
+        "headset_filtered_qz",
+    ):
         assert row[name] is None, name
 
 

@@ -61,7 +61,8 @@ def row_checksums(
     tails: list[bytes | None] = [None] * n
     if appended and n:
         tail = reals[:, reals.shape[1] - appended :]
-        present = [not np.isnan(row).all() for row in tail]
+        held: NDArray[np.bool_] = np.any(~np.isnan(tail), axis=1)
+        present = [bool(v) for v in held]
         tails = [APPENDED + tail[i].tobytes() if present[i] else None for i in range(n)]
         reals = np.ascontiguousarray(reals[:, : reals.shape[1] - appended])
     ints = np.where(integer_null, 0, integer).astype("<i8").reshape(n, -1) if n else integer

@@ -19,7 +19,7 @@ from workcell import __version__
 from workcell.record.diagnose import storage_advice
 from workcell.record.errors import StorageError, StoreError
 from workcell.record.ids import new_id
-from workcell.record.migrate import MIGRATIONS, migrate
+from workcell.record.migrate import MIGRATION_NOTES, MIGRATIONS, migrate
 from workcell.record.schema import (
     APPLICATION_ID,
     FRAME_BLOCKS_SQL,
@@ -148,7 +148,7 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
             f"store {path} has schema version {version}, which this Workcell reads only "
             f"after migrating it to version {SCHEMA_VERSION}"
             + (
-                f" (from before hash chains): open it for writing once, e.g. "
+                f" ({MIGRATION_NOTES[version]}): open it for writing once, e.g. "
                 f"'workcell verify --recover --store {path}'; every row is kept"
                 if version in MIGRATIONS
                 else ""

@@ -36,6 +36,11 @@ def _v2_to_v3(conn: sqlite3.Connection) -> None:
 
 MIGRATIONS = {1: _v1_to_v2, 2: _v2_to_v3}
 """Version → the step that takes a store of that version to the next."""
+MIGRATION_NOTES = {
+    1: "from before hash chains and filtered poses",
+    2: "from before the frames' filtered poses",
+}
+"""Version → what a store of that version lacks, for the message that asks to migrate it."""
 CHAINED_BY = 1
 """Migrating from this version (or older) computes the chains of the sessions in the store."""
 
