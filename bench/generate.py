@@ -17,7 +17,10 @@ across runs". Each of the 2 workers simulates and writes its shard in one proces
 core); ``--one-writer inline`` (the default) makes the single worker the same, so the pairs
 compare one core against two. ``--one-writer process`` gives the single worker
 ``collect``'s default writer process on the other core (about 1.3 cores in use), against
-which 2 workers can gain at most about 2 / 1.3 = 1.5x on a 2-core machine.
+which 2 workers can gain at most about 2 / 1.3 = 1.5x on a 2-core machine. Each pair
+also measures the machine's own scaling in the same run: raw ``mj_step`` of the world in
+one process, then in two at once (a host whose second core is shared gives less than 2x
+to any two processes).
 """
 
 from __future__ import annotations
@@ -48,10 +51,37 @@ def per_minute(trials: int, seconds: float) -> float:
     return 60.0 * trials / seconds
 
 
+PHYSICS_STEPS = 20_000
+_PHYSICS = f"""
+import mujoco
+from workcell.session.config import SessionConfig
+from workcell.sim.world import World
+world = World(SessionConfig().world)
+for _ in range({PHYSICS_STEPS}):
+    mujoco.mj_step(world.model, world.data)
+"""
+
+
+def machine_scaling() -> float:
+    """What the machine gives 2 processes against 1: raw ``mj_step`` of the world in one
+    process, then in two at once (2 x the one's time over the pair's); 2.0 ideal."""
+    command = [sys.executable, "-c", _PHYSICS]
+    start = time.perf_counter()
+    subprocess.run(command, check=True)
+    one = time.perf_counter() - start
+    start = time.perf_counter()
+    pair = [subprocess.Popen(command) for _ in range(2)]
+    for process in pair:
+        if process.wait() != 0:
+            raise SystemExit("the raw mj_step baseline failed")
+    return 2 * one / (time.perf_counter() - start)
+
+
 def scaling(trials: int, repeats: int, one_writer: str = "inline") -> None:
     """Paired runs of 1 and 2 workers; each pair's ratio, their mean and 95 % interval."""
     print(f"1 worker: --writer {one_writer}; 2 workers: each writes its shard inline")
-    ratios = []
+    print(f"machine: raw mj_step, {PHYSICS_STEPS} steps in 1 process, then in 2 at once")
+    ratios, machine = [], []
     with tempfile.TemporaryDirectory() as name:
         folder = Path(name)
         for k in range(repeats):
@@ -64,11 +94,16 @@ def scaling(trials: int, repeats: int, one_writer: str = "inline") -> None:
             one = per_minute(trials, seconds["one"])
             two = per_minute(2 * trials, seconds["two"])
             ratios.append(two / one)
+            machine.append(machine_scaling())
             print(
                 f"pair {k + 1}: 1 worker {one:6.1f}, 2 workers {two:6.1f} trials/min: "
-                f"{two / one:.2f}x"
+                f"{two / one:.2f}x (the machine, raw mj_step: {machine[-1]:.2f}x)"
             )
     mean = statistics.fmean(ratios)
+    print(
+        f"the machine's own 1 -> 2 (raw mj_step): {statistics.fmean(machine):.2f}x; "
+        f"collect reaches {mean / statistics.fmean(machine):.0%} of it"
+    )
     if len(ratios) > 1:
         half = T_975.get(len(ratios) - 1, 1.96) * statistics.stdev(ratios) / len(ratios) ** 0.5
         print(
