@@ -13,16 +13,18 @@ import pytest
 from numpy.typing import NDArray
 
 from tests.record import synthetic
+from workcell.audit.csv_source import CsvSource
 from workcell.record import ExportError, Store
 from workcell.record.batch import RowBatch
 from workcell.record.columns import (
     EVENT_COLUMNS,
+    FILTERED_POSE_COLUMNS,
     FRAME_COLUMNS,
     FRAME_CONTRACT_COLUMNS,
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
 )
-from workcell.record.csv_format import FILES
+from workcell.record.csv_format import FILES, file_sha256
 from workcell.record.export_csv import columns_equal, export_csv, read_csv_export
 from workcell.record.schema import SCHEMA_VERSION, TableLayout, column_list
 from workcell.record.verify import verify_export
@@ -134,3 +136,38 @@ def _order(layout: TableLayout, columns: dict[str, NDArray[Any]]) -> NDArray[np.
         for k in reversed(layout.key)
     ]
     return np.lexsort(keys)
+
+
+def test_an_export_made_before_the_filtered_poses_still_reads(exported: tuple[Path, Path]) -> None:
+    """A version-2 export's frames.csv has no filtered-pose columns: it reads, with those
+    columns NULL, and verifies against its own manifest (whose sha256 is rewritten here as
+    version 2 wrote it for that file)."""
+    store, out = exported
+    frames = out / "frames.csv"
+    with frames.open(newline="") as file:
+        rows = list(csv.reader(file))
+    keep = len(FRAME_COLUMNS) - len(FILTERED_POSE_COLUMNS)
+    assert rows[0][keep:] == list(FILTERED_POSE_COLUMNS)
+    with frames.open("w", newline="") as file:
+        csv.writer(file).writerows(row[:keep] for row in rows)
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest["files"]["frames.csv"]["sha256"] = file_sha256(frames)
+    (out / "manifest.json").write_text(json.dumps(manifest))
+    assert verify_export(out) == []
+    back = read_csv_export(out).tables["frames.csv"]
+    assert all(np.isnan(back[name]).all() for name in FILTERED_POSE_COLUMNS)
+    with Store.open(store, writer=False) as reader:
+        trial = reader.trials()[0]
+        recorded = reader.frames(trial.trial_id)
+    mine = back["trial_id"] == trial.trial_id
+    for column in FRAME_COLUMNS[:keep]:
+        assert columns_equal(back[column][mine], recorded[column]), column
+    source = CsvSource(out)
+    try:
+        assert trial.trial_id in dict(source.frames())
+    finally:
+        source.close()
+    with frames.open("w", newline="") as file:  # any other header is still refused
+        csv.writer(file).writerows(row[: keep - 1] for row in rows)
+    with pytest.raises(ExportError, match="header is not the contract's columns"):
+        read_csv_export(out)
