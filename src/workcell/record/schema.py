@@ -282,13 +282,13 @@ def column_list(names: tuple[str, ...]) -> str:
 
 
 def create_table_sql(layout: TableLayout) -> str:
-    def definition(c: Column) -> str:
+    def definition(name: str) -> str:
+        if name == CHECKSUM:
+            return f"{quote(CHECKSUM)} TEXT NOT NULL"
+        c = layout.column(name)
         return f"{quote(c.name)} {c.kind.upper()}{' NOT NULL' if c.not_null else ''}"
 
-    first = len(layout.columns) - len(layout.appended)
-    lines = [definition(c) for c in layout.columns[:first]]
-    lines.append(f"{quote(CHECKSUM)} TEXT NOT NULL")
-    lines.extend(definition(c) for c in layout.columns[first:])
+    lines = [definition(name) for name, _ in layout.stored]  # checksum, appended in place
     lines.append(f"PRIMARY KEY ({column_list(layout.key)})")
     lines.extend(layout.constraints)
     body = ",\n    ".join(lines)
