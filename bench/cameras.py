@@ -6,10 +6,14 @@ against ``fine``, the quality the model asks for):
   recorded with no cameras, with the three robot cameras at 128x128 in ``fine`` quality
   and in ``fast`` quality, each a real ``workcell collect`` (recording, rendering, H.264);
 - the render cost of one three-camera frame in each quality (rendering alone);
-- how far ``fast`` pictures are from ``fine`` ones (mean absolute difference, 0-255).
+- how far ``fast`` pictures are from ``fine`` ones (mean absolute difference, 0-255);
+- the three cameras drawn into one framebuffer side by side (three viewports, one
+  read-back) against three separate draws and read-backs, at ``fast`` quality: issue 19's
+  "batch the three cameras' renders", and whether its pictures are the same.
 
 Runs alternate between the variants (``--rounds`` rounds) and the medians are reported.
 ``--picture PATH`` writes the three cameras in both qualities side by side (PNG).
+``--rounds 0`` times the rendering alone (no collect runs).
 Run: ``.venv/bin/python bench/cameras.py [--rounds 3] [--trials 2] [--picture PATH]``.
 """
 
@@ -24,6 +28,7 @@ import sys
 import tempfile
 import time
 from pathlib import Path
+from typing import Any
 
 os.environ.setdefault("MUJOCO_GL", "egl")
 
@@ -50,9 +55,52 @@ def collect_rtf(folder: Path, name: str, trials: int, quality: str | None) -> fl
     return simulated / wall
 
 
+def one_buffer(model: Any, data: Any, frames: int) -> tuple[float, list[np.ndarray]]:
+    """Seconds per three-camera frame drawn at ``fast`` quality into one framebuffer (three
+    viewports side by side, one read-back), and the three pictures."""
+    import mujoco  # noqa: PLC0415
+
+    from workcell.render.quality import applied  # noqa: PLC0415
+
+    width = SIZE * len(CAMERAS)
+    model.vis.global_.offwidth = max(int(model.vis.global_.offwidth), width)
+    with applied(model, "fast"):
+        renderer = mujoco.Renderer(model, height=SIZE, width=width)
+    try:
+        scene, context = renderer.scene, renderer._mjr_context
+        scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
+        scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = 0
+        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, context)
+        option, cameras = mujoco.MjvOption(), []
+        for name in CAMERAS:
+            camera = mujoco.MjvCamera()
+            camera.type, camera.fixedcamid = mujoco.mjtCamera.mjCAMERA_FIXED, model.camera(name).id
+            cameras.append(camera)
+        pixels = np.empty((SIZE, width, 3), dtype=np.uint8)
+
+        def draw() -> None:
+            for k, camera in enumerate(cameras):
+                mujoco.mjv_updateScene(
+                    model, data, option, None, camera, mujoco.mjtCatBit.mjCAT_ALL, scene
+                )
+                mujoco.mjr_render(mujoco.MjrRect(SIZE * k, 0, SIZE, SIZE), scene, context)
+            mujoco.mjr_readPixels(pixels, None, mujoco.MjrRect(0, 0, width, SIZE), context)
+
+        draw()
+        start = time.perf_counter()
+        for _ in range(frames):
+            draw()
+        cost = (time.perf_counter() - start) / frames
+        image = np.flipud(pixels)
+        return cost, [image[:, SIZE * k : SIZE * (k + 1)].copy() for k in range(len(CAMERAS))]
+    finally:
+        renderer.close()
+
+
 def render_costs(frames: int) -> tuple[dict[str, float], float, dict[str, list[np.ndarray]]]:
-    """Seconds per three-camera frame in each quality, the mean absolute difference of the
-    fast pictures from the fine ones, and the pictures."""
+    """Seconds per three-camera frame in each quality (and ``one buffer``: fast, drawn
+    into one framebuffer), the mean absolute difference of the fast pictures from the
+    fine ones, and the pictures."""
     from workcell.control.command import Command  # noqa: PLC0415
     from workcell.control.simulation import Simulation  # noqa: PLC0415
     from workcell.render import OffscreenRenderer  # noqa: PLC0415
@@ -71,6 +119,9 @@ def render_costs(frames: int) -> tuple[dict[str, float], float, dict[str, list[n
                 for camera in CAMERAS:
                     renderer.render(sim.world.data, camera)
             costs[quality] = (time.perf_counter() - start) / frames
+    costs["one buffer"], pictures["one buffer"] = one_buffer(
+        sim.world.model, sim.world.data, frames
+    )
     difference = float(
         np.mean(
             [
@@ -108,21 +159,33 @@ def main() -> None:
                 rtf[variant].append(collect_rtf(folder, f"{variant}-{k}", args.trials, quality))
             print(f"  round {k + 1}/{args.rounds} done", flush=True)
     costs, difference, pictures = render_costs(args.frames)
-    median = {v: statistics.median(values) for v, values in rtf.items()}
-    none = median["none"]
-    lines = [("collect, no cameras", f"{none:6.2f}x real time")]
-    for quality in ("fine", "fast"):
-        share = median[quality] / none
-        lines.append(
-            (
-                f"collect, 3 cameras {SIZE}x{SIZE}, {quality}",
-                f"{median[quality]:6.2f}x real time ({share:.3f} of no cameras)",
+    lines = []
+    if args.rounds > 0:
+        median = {v: statistics.median(values) for v, values in rtf.items()}
+        none = median["none"]
+        lines.append(("collect, no cameras", f"{none:6.2f}x real time"))
+        for quality in ("fine", "fast"):
+            share = median[quality] / none
+            lines.append(
+                (
+                    f"collect, 3 cameras {SIZE}x{SIZE}, {quality}",
+                    f"{median[quality]:6.2f}x real time ({share:.3f} of no cameras)",
+                )
             )
-        )
-    lines.append(("fast / fine (collect)", f"{median['fast'] / median['fine']:6.2f}x"))
-    for quality in ("fine", "fast"):
+        lines.append(("fast / fine (collect)", f"{median['fast'] / median['fine']:6.2f}x"))
+    for quality in ("fine", "fast", "one buffer"):
         lines.append((f"render, 3 cameras, {quality}", f"{costs[quality] * 1e3:6.2f} ms per frame"))
     lines.append(("fine / fast (render)", f"{costs['fine'] / costs['fast']:6.2f}x"))
+    same = all(
+        np.array_equal(a, b) for a, b in zip(pictures["fast"], pictures["one buffer"], strict=True)
+    )
+    lines.append(
+        (
+            "fast / one buffer (render)",
+            f"{costs['fast'] / costs['one buffer']:6.2f}x; pictures "
+            + ("identical" if same else "differ"),
+        )
+    )
     lines.append(("fast vs fine pictures", f"{difference:6.2f} mean absolute difference (0-255)"))
     for label, value in lines:
         print(f"{label:34s}: {value}")

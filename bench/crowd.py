@@ -1,10 +1,14 @@
 """Many operators at once against one ``workcell serve --sessions N`` (issue 16).
 
 For each N, a fresh server in its own process on a free localhost port, and N emulated
-remote operators, each a real WebSocket client that starts a session of its own and sends
-Input messages at a headset's 72 Hz: the left stick drives the base back and forth while
-turning, the right hand is gripped and moves along a 10 cm circle (so the arm's IK and the
-base controller work in every control period). Per N, measured together:
+remote operators, each a real WebSocket client that starts a collection session of its own
+(repeated one-box trials) and sends Input messages at a headset's 72 Hz. With the default
+``--behaviour expert`` each operator has the expert's behaviour, decided from what the
+socket shows (``bench/crowd_operator.py``): it drives up to the box, reaches around it,
+squeezes, carries it to the table and sets it down, so every session does a person's work
+(driving, grasp contacts, a carried box) and its deliveries count. ``--behaviour circle``
+is the older load: the left stick drives back and forth while turning and the right hand
+is gripped and moves along a 10 cm circle. Per N, measured together:
 
 - sessions held at real time: each session's real-time factor over the window (sim
   seconds per wall second from ``/api/diagnostics``; held: >= 0.98), its late steps and
@@ -13,11 +17,11 @@ base controller work in every control period). Per N, measured together:
   whose ``input_seq`` reaches it, p50/p99 (target p99 <= 100 ms);
 - frames lost: gaps in each recorded trial's sim clock, read back from the store after
   the sessions were stopped and merged (target 0), and the recorded frames per session;
+- successes: trials the store records as delivered, of the trials that ended;
 - server CPU: the server process and its store writer processes, cores in use and per
   session.
 
-The baseline, measured in the same run, is N = 1. The operators do not deliver boxes (the
-expert's behaviour is not yet turned into Input messages), so successes are not measured.
+The baseline, measured in the same run, is N = 1.
 
 Run: ``.venv/bin/python -m bench.crowd [--sessions 1,4,8,16] [--seconds S]`` from the
 project root on an otherwise idle machine; every figure is a wall-clock measurement.
@@ -44,13 +48,15 @@ import numpy as np
 from websockets.asyncio.client import ClientConnection, connect
 
 from bench import latency
+from bench.crowd_operator import ExpertLikeHeadset
 from bench.latency import LAUNCH, free_port, percentile
 from workcell.protocol import messages as m
 from workcell.protocol.codec import encode
 from workcell.record import Store
 
 INPUT_HZ = 72.0
-TASK: dict[str, object] = {"countdown_s": 0.0, "time_limit_s": 900.0}
+TASK: dict[str, object] = {"mode": "collection", "countdown_s": 0.0, "time_limit_s": 120.0}
+BEHAVIOURS = ("expert", "circle")
 HELD_RTF = 0.98
 
 
@@ -65,6 +71,8 @@ class Figures:
     p99_ms: float
     frames: int
     frames_lost: int
+    trials: int
+    successes: int
     cores: float
     load: float
 
@@ -73,11 +81,17 @@ class Operator(latency.Operator):
     """Starts its own session, then sends inputs (see the module's docstring) and times
     when states show them applied."""
 
-    def __init__(self, ws: ClientConnection, phase: float, robot: dict[str, float]) -> None:
+    def __init__(
+        self, ws: ClientConnection, phase: float, robot: dict[str, float], behaviour: str
+    ) -> None:
         super().__init__(ws, INPUT_HZ)
         self.phase = phase
         self.robot = robot
         """``world.robot`` settings of the session (e.g. ``teleop_control_hz``)."""
+        self.headset = ExpertLikeHeadset() if behaviour == "expert" else None
+        self.lead_s = 0.0
+        """The loop's latency as it goes (a low-passed input -> state time), which the
+        expert-like operator anticipates."""
 
     async def start(self, index: int) -> str:
         await self.ws.send(encode(m.Hello(role="operator")))
@@ -96,6 +110,8 @@ class Operator(latency.Operator):
                 return str(message["session_id"])
 
     def input(self, seq: int, t: float) -> m.Input:
+        if self.headset is not None:
+            return self.headset.input(seq, self.lead_s)
         w = 2 * math.pi * 0.25 * t + self.phase
         stick = (0.4 * math.sin(w / 2), 0.5 * math.cos(w))  # drive back and forth, turning
         x, y, z = 0.25 + 0.1 * math.cos(w), 1.1 + 0.1 * math.sin(w), -0.35
@@ -123,6 +139,12 @@ class Operator(latency.Operator):
 
     async def stop(self) -> None:
         await self.ws.send(encode(m.Stop()))
+
+    def on_message(self, message: dict[str, Any], now: float, sent: float | None) -> None:
+        if self.headset is not None:
+            self.headset.view.take(message)
+        if sent is not None:
+            self.lead_s += 0.1 * (now - sent - self.lead_s)
 
 
 def diagnostics(base: str) -> dict[str, Any]:
@@ -155,7 +177,7 @@ def sim_clock(sims: list[dict[str, Any]]) -> dict[str, float]:
 
 
 async def crowd(
-    port: int, n: int, seconds: float, server: int, robot: dict[str, float]
+    port: int, n: int, seconds: float, server: int, *, robot: dict[str, float], behaviour: str
 ) -> dict[str, Any]:
     base, url = f"http://127.0.0.1:{port}", f"ws://127.0.0.1:{port}/ws"
     async with contextlib.AsyncExitStack() as stack:
@@ -165,7 +187,9 @@ async def crowd(
             )
             for _ in range(n)
         ]
-        operators = [Operator(ws, 2 * math.pi * i / n, robot) for i, ws in enumerate(sockets)]
+        operators = [
+            Operator(ws, 2 * math.pi * i / n, robot, behaviour) for i, ws in enumerate(sockets)
+        ]
         for i, operator in enumerate(operators):
             await operator.start(i)
         stop = asyncio.Event()
@@ -198,21 +222,36 @@ async def crowd(
     }
 
 
-def frames_recorded(store: Path) -> tuple[int, int, int]:
-    """Sessions, frames and frames lost (gaps in a trial's sim clock) in ``store``."""
+@dataclass(frozen=True)
+class Recorded:
+    """What the store holds after the run."""
+
+    sessions: int
+    frames: int
+    lost: int
+    """Frames missing: gaps in a trial's sim clock."""
+    trials: int
+    """Trials that ended on their own (not stopped by the end of the run)."""
+    successes: int
+
+
+def recorded(store: Path) -> Recorded:
     frames = lost = 0
     with Store.open(store, writer=False) as reader:
         sessions = len(reader.sessions())
-        for trial in reader.trials():
+        trials = reader.trials()
+        ended = [t for t in trials if t.outcome in ("success", "timeout")]
+        for trial in trials:
             t = np.asarray(reader.frames(trial.trial_id)["t_sim"], dtype=float)
             frames += len(t)
             if len(t) > 2:
                 step = float(np.median(np.diff(t)))
                 lost += int(np.sum(np.round(np.diff(t) / step) - 1))
-    return sessions, frames, lost
+    successes = sum(t.outcome == "success" for t in ended)
+    return Recorded(sessions, frames, lost, len(ended), successes)
 
 
-def measure(n: int, seconds: float, robot: dict[str, float]) -> Figures:
+def measure(n: int, seconds: float, robot: dict[str, float], behaviour: str) -> Figures:
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "crowd.sqlite"
         port = free_port()
@@ -234,15 +273,17 @@ def measure(n: int, seconds: float, robot: dict[str, float]) -> Figures:
                     if time.monotonic() > deadline or process.poll() is not None:
                         raise SystemExit("the server did not start") from None
                     time.sleep(0.1)
-            result = asyncio.run(crowd(port, n, seconds, process.pid, robot))
+            result = asyncio.run(
+                crowd(port, n, seconds, process.pid, robot=robot, behaviour=behaviour)
+            )
         finally:
             process.terminate()
             process.wait(60)
-        sessions, frames, lost = frames_recorded(store)
+        record = recorded(store)
     if result["errors"]:
         print(f"  errors the operators heard: {sorted(set(result['errors']))[:5]}")
     rtf, latencies = result["rtf"], result["latencies"]
-    assert sessions == n, f"{sessions} sessions recorded, {n} driven"
+    assert record.sessions == n, f"{record.sessions} sessions recorded, {n} driven"
     return Figures(
         sessions=n,
         held=sum(r >= HELD_RTF for r in rtf),
@@ -251,8 +292,10 @@ def measure(n: int, seconds: float, robot: dict[str, float]) -> Figures:
         dropped_s=result["dropped"],
         p50_ms=1000 * percentile(latencies, 0.5),
         p99_ms=1000 * percentile(latencies, 0.99),
-        frames=frames // n,
-        frames_lost=lost,
+        frames=record.frames // n,
+        frames_lost=record.lost,
+        trials=record.trials,
+        successes=record.successes,
         cores=result["cores"],
         load=os.getloadavg()[0],
     )
@@ -262,7 +305,7 @@ def report(rows: list[Figures], seconds: float) -> None:
     print(f"\n{seconds:g} s per N, operators at {INPUT_HZ:g} Hz; ratios against N = 1")
     print(
         "sessions  held at RT  min RTF  late steps  dropped s   input->state p50 (ratio)"
-        "   p99 (ratio)   frames/session  lost   cores (per session)  load"
+        "   p99 (ratio)   frames/session  lost   delivered/trials   cores (per session)  load"
     )
     base = rows[0]
     for r in rows:
@@ -270,7 +313,8 @@ def report(rows: list[Figures], seconds: float) -> None:
             f"{r.sessions:8d}  {r.held:4d}/{r.sessions:<5d}  {r.min_rtf:7.3f}  {r.late_steps:10d}"
             f"  {r.dropped_s:9.2f}   {r.p50_ms:8.1f} ms ({r.p50_ms / base.p50_ms:4.2f})"
             f"   {r.p99_ms:6.1f} ms ({r.p99_ms / base.p99_ms:4.2f})   {r.frames:14d}"
-            f"  {r.frames_lost:4d}   {r.cores:5.2f} ({r.cores / r.sessions:5.3f})"
+            f"  {r.frames_lost:4d}   {r.successes:7d}/{r.trials:<8d}"
+            f"   {r.cores:5.2f} ({r.cores / r.sessions:5.3f})"
             f"    {r.load:4.1f}"
         )
     held = [
@@ -285,7 +329,13 @@ def report(rows: list[Figures], seconds: float) -> None:
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--sessions", default="1,4,8,16", help="values of N")
-    parser.add_argument("--seconds", type=float, default=20.0, help="measured window per N")
+    parser.add_argument("--seconds", type=float, default=60.0, help="measured window per N")
+    parser.add_argument(
+        "--behaviour",
+        choices=BEHAVIOURS,
+        default="expert",
+        help="expert: deliver boxes as the expert does; circle: drive and wave a hand",
+    )
     parser.add_argument(
         "--control-hz", type=float, help="world.robot.teleop_control_hz of every session"
     )
@@ -301,11 +351,12 @@ def main() -> None:
         print(
             "sessions run with world.robot " + ", ".join(f"{k} = {v:g}" for k, v in robot.items())
         )
+    print(f"operators: {args.behaviour}")
     print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
     rows = []
     for n in counts:
         print(f"N = {n} ...", flush=True)
-        rows.append(measure(n, args.seconds, robot))
+        rows.append(measure(n, args.seconds, robot, args.behaviour))
     report(rows, args.seconds)
 
 

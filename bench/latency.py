@@ -106,13 +106,17 @@ class Operator:
                 if message["type"] == "error":
                     self.errors.append(f"{message['code']}: {message['message']}")
                 applied = message.get("input_seq", -1) if message["type"] == "state" else -1
-                if applied <= self.seen:
-                    continue
+                newest: float | None = None
                 for seq in range(self.seen + 1, applied + 1):
-                    sent = self.sent.pop(seq, None)
-                    if sent is not None and self.measuring:
-                        self.latencies.append(now - sent)
-                self.seen = applied
+                    newest = self.sent.pop(seq, None)
+                    if newest is not None and self.measuring:
+                        self.latencies.append(now - newest)
+                self.seen = max(self.seen, applied)
+                self.on_message(message, now, newest)
+
+    def on_message(self, message: dict[str, Any], now: float, sent: float | None) -> None:
+        """Every message as it arrives; ``sent``: when the newest input it shows applied
+        was sent (None: it shows none newly)."""
 
 
 async def spectator(url: str, stop: asyncio.Event) -> None:

@@ -151,3 +151,28 @@ def test_fast_quality_draws_nearly_the_same_picture_and_leaves_the_model_as_it_w
             assert 0.0 < difference < 8.0, (camera, difference)  # edges and plane lighting
     with pytest.raises(RenderError, match="quality 'ugly': must be one of fast, fine"):
         OffscreenRenderer(model, 32, 32, quality="ugly")  # type: ignore[arg-type]
+
+
+@pytest.mark.parametrize("quality", ["fast", "fine"])
+@pytest.mark.parametrize("cameras", [ROBOT_CAMERAS, ("wrist_r_cam", "head_cam")])
+def test_render_all_gives_each_camera_the_picture_render_gives(
+    sim: Simulation, quality: str, cameras: tuple[str, ...]
+) -> None:
+    with OffscreenRenderer(sim.world.model, WIDTH, HEIGHT, quality=quality) as renderer:  # type: ignore[arg-type]
+        together = renderer.render_all(sim.world.data, cameras)
+        assert list(together) == list(cameras)
+        for camera in cameras:
+            alone = renderer.render(sim.world.data, camera)
+            assert together[camera].shape == (HEIGHT, WIDTH, 3)
+            assert together[camera].flags.c_contiguous
+            difference = np.abs(together[camera].astype(int) - alone.astype(int))
+            assert int(difference.max()) <= 1, camera  # an edge pixel may round the other way
+            assert float(np.mean(difference > 0)) < 1e-3, camera
+        # A narrower set afterwards reuses the wide framebuffer.
+        again = renderer.render_all(sim.world.data, cameras[:2])
+        np.testing.assert_array_equal(again[cameras[0]], together[cameras[0]])
+
+
+def test_render_all_names_an_unknown_camera(sim: Simulation, renderer: OffscreenRenderer) -> None:
+    with pytest.raises(RenderError, match=r"unknown camera 'nope'.*head_cam"):
+        renderer.render_all(sim.world.data, ("head_cam", "nope"))

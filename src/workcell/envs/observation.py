@@ -80,7 +80,7 @@ class ObservationBuilder:
                 model, self.size.width, self.size.height, quality=CAMERA_QUALITY
             )
         data = self.sim.world.data
-        return {camera: self._renderer.render(data, camera) for camera in self.cameras}
+        return self._renderer.render_all(data, self.cameras)
 
     def close(self) -> None:
         """Free the renderer (if any); observing again makes a new one."""

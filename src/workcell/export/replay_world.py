@@ -61,7 +61,7 @@ class ReplayWorld:
         renderer = self._open_renderer()
         for i in range(len(states)):
             self.restorer.restore(states, i)
-            yield {camera: renderer.render(self.world.data, camera) for camera in cameras}
+            yield renderer.render_all(self.world.data, cameras)
 
     def _open_renderer(self) -> OffscreenRenderer:
         if self._renderer is None:

@@ -95,10 +95,8 @@ class MediaRecorder:
 
     def frame(self, data: mujoco.MjData) -> None:
         """Render every camera now; the images are encoded in the encoder thread."""
-        renderer = self._renderer
-        self._encoder.put(
-            [(writer, renderer.render(data, camera)) for camera, writer in self._writers.items()]
-        )
+        images = self._renderer.render_all(data, tuple(self._writers))
+        self._encoder.put([(writer, images[camera]) for camera, writer in self._writers.items()])
 
     def end(self) -> dict[str, Any]:
         """Close the trial's videos (once every frame is encoded); the payload of its
