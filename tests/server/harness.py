@@ -25,6 +25,8 @@ from workcell.server.conductor import Conductor
 from workcell.server.http_config import uvicorn_config
 from workcell.server.options import ServerOptions
 from workcell.server.seats import Seats
+from workcell.server.session_process import SessionProcess
+from workcell.server.session_relay import SessionFactory
 from workcell.server.study_desk import StudyDesk
 from workcell.server.tls import Certificate
 from workcell.study.config import StudyConfig
@@ -76,17 +78,19 @@ def running_server(
     tmp_path: Path,
     tls: Certificate | None = None,
     study: StudyConfig | None = None,
+    launch: SessionFactory = SessionProcess,
     **overrides: Any,
 ) -> Iterator[RunningServer]:
     """A server on ``tmp_path/store.sqlite``; with ``study``, running it as ``workcell serve
-    --study`` does (its invites beside the store, the admin token as the server's)."""
+    --study`` does (its invites beside the store, the admin token as the server's); its
+    sessions made by ``launch`` (Ray actors: a RaySessions)."""
     options = replace(ServerOptions(store=tmp_path / "store.sqlite", grace_s=1.0), **overrides)
     desk = None
     if study is not None:
         invites = load_or_create(invites_path(options.store, study), study)
         desk = StudyDesk(study, invites, options.store)
         options = replace(options, token=options.token or invites.admin)
-    seats = Seats(options, desk)
+    seats = Seats(options, desk, launch)
     config = uvicorn_config(
         create_app(options, seats),
         options,

@@ -76,6 +76,13 @@ def register(subparsers: Subparsers) -> None:
         "N operators watch, told the server is full (default: %(default)s)",
     )
     parser.add_argument(
+        "--ray",
+        metavar="ADDRESS",
+        help="run every session in a Ray actor instead of a local process: 'local' starts "
+        "Ray on this machine, HOST:PORT (or ray://HOST:PORT, auto) connects to a running "
+        "cluster, whose nodes need workcell installed; needs --sessions 2 or more",
+    )
+    parser.add_argument(
         "--study",
         type=Path,
         metavar="FILE",
@@ -120,6 +127,7 @@ def options_from(
         allow_origins=tuple(args.allow_origin),
         key_file=args.key,
         max_sessions=args.sessions,
+        ray=args.ray,
     )
     return options, generated
 
@@ -130,6 +138,7 @@ def run(args: argparse.Namespace) -> int:
     from workcell.server.app import create_app  # noqa: PLC0415
     from workcell.server.http_config import uvicorn_config  # noqa: PLC0415
     from workcell.server.seats import Seats  # noqa: PLC0415
+    from workcell.server.session_process import SessionProcess  # noqa: PLC0415
     from workcell.server.tls import lan_address, self_signed  # noqa: PLC0415
 
     ssl: dict[str, str] = {}
@@ -137,22 +146,41 @@ def run(args: argparse.Namespace) -> int:
         cert = self_signed(options.cert_dir, options.host)
         ssl = {"ssl_certfile": str(cert.cert_file), "ssl_keyfile": str(cert.key_file)}
         print(f"TLS certificate {cert.cert_file}\n  SHA-256 fingerprint {cert.fingerprint}")
-    seats = Seats(options, desk)
-    for line in seats.merge_leftovers():
-        print(line)
-    config = uvicorn_config(create_app(options, seats), options, **ssl)
-    server = quit_first_server(config, seats)
-    shown = options.host if options.host not in ("0.0.0.0", "::") else lan_address() or "HOST"
-    scheme = "https" if options.tls else "http"
-    query = f"/?token={options.token}" if options.token else "/"
-    if generated:
-        print("generated an access token (pass --token to choose one)")
-    base = f"{scheme}://{shown}:{options.port}"
-    if desk is not None:
-        print_invites(desk, base, args.store)
-    print(f"workcell serve: open {base}{query}", flush=True)
-    at_once = f"; up to {options.max_sessions} sessions at once" if options.max_sessions > 1 else ""
-    print(f"recording into {options.store}{at_once}; Ctrl+C stops (running trials end interrupted)")
+    ray = None
+    if options.ray is not None:  # before anything is merged: a Ray not reached ends here
+        from workcell.server.session_actor import RaySessions  # noqa: PLC0415
+
+        ray = RaySessions.connect(options.ray, options.max_sessions)
+    try:
+        seats = Seats(options, desk, ray or SessionProcess)
+        for line in seats.merge_leftovers():
+            print(line)
+        config = uvicorn_config(create_app(options, seats), options, **ssl)
+        server = quit_first_server(config, seats)
+        shown = options.host if options.host not in ("0.0.0.0", "::") else lan_address() or "HOST"
+        scheme = "https" if options.tls else "http"
+        query = f"/?token={options.token}" if options.token else "/"
+        if generated:
+            print("generated an access token (pass --token to choose one)")
+        base = f"{scheme}://{shown}:{options.port}"
+        if desk is not None:
+            print_invites(desk, base, args.store)
+        print(f"workcell serve: open {base}{query}", flush=True)
+        at_once = ""
+        if options.max_sessions > 1:
+            at_once = f"; up to {options.max_sessions} sessions at once"
+            at_once += f", each in a Ray actor ({ray.where})" if ray else ""
+        print(f"recording into {options.store}{at_once}; Ctrl+C stops (running trials end "
+              "interrupted)")  # fmt: skip
+        return _serve(server, seats)
+    finally:  # after the sessions' ends: their actors are done with
+        if ray is not None:
+            ray.close()
+
+
+def _serve(server: uvicorn.Server, seats: Seats) -> int:
+    """Run until a signal; the exit status. However uvicorn ended, the running trials end
+    and their stores are closed."""
     # uvicorn handles SIGINT and SIGTERM (a graceful shutdown), then re-raises the signal
     # to the handler that was there before: Python's for SIGINT (KeyboardInterrupt), this
     # one for SIGTERM, so that both end here with the shells' status (130, 143).
@@ -163,7 +191,7 @@ def run(args: argparse.Namespace) -> int:
         return EXIT_INTERRUPTED
     except _TerminatedError:
         return EXIT_TERMINATED
-    finally:  # whatever uvicorn did, the running trial ends and the store is closed
+    finally:
         signal.signal(signal.SIGTERM, previous)
         seats.quit()
         seats.finish(30.0)

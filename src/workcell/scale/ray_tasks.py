@@ -19,12 +19,9 @@ from pathlib import Path
 
 from workcell.errors import WorkcellError
 from workcell.scale.processes import WorkerExit
+from workcell.scale.ray_cluster import start_ray
 from workcell.scale.worker import EXIT_ERROR, WorkerJob, collect_shard
 from workcell.task.runner import TrialResult
-
-
-class RayError(WorkcellError):
-    """Ray could not be reached or a task could not run."""
 
 
 @dataclass(frozen=True)
@@ -63,13 +60,7 @@ def run_ray_workers(
     each task's shard is written to its job's ``shard`` here."""
     import ray  # noqa: PLC0415
 
-    try:
-        if address == "local":
-            ray.init(num_cpus=max(1, len(jobs)), include_dashboard=False, log_to_driver=False)
-        else:
-            ray.init(address=address, log_to_driver=False)
-    except Exception as error:  # ray raises ConnectionError, RuntimeError, ValueError ...
-        raise RayError(f"cannot connect to Ray at {address!r}: {error}") from None
+    start_ray(address, max(1, len(jobs)))
     try:
         task = ray.remote(num_cpus=1)(_collect_in_task)
         pending = {task.remote(job): (worker, job) for worker, job in jobs}

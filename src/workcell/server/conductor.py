@@ -26,6 +26,7 @@ from workcell.server.client import Client
 from workcell.server.options import ServerOptions
 from workcell.server.scene import describe
 from workcell.server.session_process import SessionProcess
+from workcell.server.session_relay import RelayedSession, SessionFactory
 from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal
 from workcell.session.config import SessionConfig
@@ -59,10 +60,13 @@ class Conductor:
         seat: str = "1",
         shards: SessionShards | None = None,
         planner: SessionPlanner | None = None,
+        launch: SessionFactory = SessionProcess,
     ) -> None:
         self.options = options
         self.seat = seat
         self.planner = planner
+        self.launch = launch
+        """Makes the seat's sessions: each in a process of its own, or in a Ray actor."""
         self.shards = shards
         """Where sessions record when the server has several seats (None: the store)."""
         self.store: Path = options.store
@@ -70,7 +74,7 @@ class Conductor:
         self.clients: set[Client] = set()
         self.operator: Client | None = None
         self.resume_token: str | None = None
-        self.session: SessionProcess | None = None
+        self.session: RelayedSession | None = None
         self.quitting = False
         self._loop: asyncio.AbstractEventLoop | None = None
         self._grace: asyncio.TimerHandle | None = None
@@ -168,7 +172,7 @@ class Conductor:
             return
         self.store = self.shards.new_shard() if self.shards else self.options.store
         try:
-            session = SessionProcess(
+            session = self.launch(
                 config, self.store, _Listener(self), self.options.state_hz,
                 self.options.max_catch_up_s, key_file=self.options.key_file,
             )  # fmt: skip
@@ -299,7 +303,7 @@ class Conductor:
             and self.resume_token is None
         )
 
-    def _started_message(self, session: SessionProcess) -> m.SessionStarted:
+    def _started_message(self, session: RelayedSession) -> m.SessionStarted:
         settings: dict[str, Any] = dataclasses.asdict(session.config)
         return m.SessionStarted(
             session_id=session.session_id,

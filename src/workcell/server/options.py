@@ -58,6 +58,9 @@ class ServerOptions:
     max_sessions: int = 1
     """Sessions at once, each with its own operator and simulation (``--sessions``); with
     more than one, each session records into a shard merged into the store at its end."""
+    ray: str | None = None
+    """Run every session in a Ray actor (``--ray``): "local" starts Ray on this machine,
+    anything else is the address of a cluster to connect to; None: in local processes."""
     header_timeout_s: float = 10.0
     """How long a connection may take to send a request's headers (from connecting, or
     from the end of the previous response) before it is closed."""
@@ -75,6 +78,13 @@ class ServerOptions:
             problems.append("--token: must be 8 to 256 characters")
         if not 1 <= self.max_sessions <= MAX_SESSIONS:
             problems.append(f"--sessions = {self.max_sessions}: must be 1 to {MAX_SESSIONS}")
+        if self.ray is not None and not self.ray:
+            problems.append("--ray = '': give 'local' or a Ray cluster's address (HOST:PORT)")
+        elif self.ray is not None and self.max_sessions < 2:
+            problems.append(
+                f"--ray = {self.ray}: each session in a Ray actor records into a shard of "
+                "its own, which needs several seats; give --sessions 2 or more"
+            )
         if not (math.isfinite(self.grace_s) and 0 <= self.grace_s <= 3600):
             problems.append(f"--grace = {self.grace_s}: must be 0 to 3600 s")
         if not (math.isfinite(self.state_hz) and 1 <= self.state_hz <= 240):

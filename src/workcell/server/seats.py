@@ -18,7 +18,9 @@ a participant who would start one more hears ``server_full`` and may start again
 Seat "1" always exists (what a one-session server has); a later seat goes once it is idle
 (no client, no session, no operator's place kept), so seat names are not reused while
 anyone could still mean them. With more than one seat, every session records into a shard
-of its own, merged into the store when it ends (:mod:`workcell.server.shards`).
+of its own, merged into the store when it ends (:mod:`workcell.server.shards`). Each
+session runs in a process of its own, or in a Ray actor with ``--ray``
+(:mod:`workcell.server.session_actor`).
 """
 
 from __future__ import annotations
@@ -32,15 +34,25 @@ from workcell.server.auth import ADMIN, Principal
 from workcell.server.client import Client
 from workcell.server.conductor import Conductor
 from workcell.server.options import ServerOptions
+from workcell.server.session_process import SessionProcess
+from workcell.server.session_relay import SessionFactory
 from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal, StudyDesk
 from workcell.session.config import SessionConfig
 
 
 class Seats:
-    def __init__(self, options: ServerOptions, desk: StudyDesk | None = None) -> None:
+    def __init__(
+        self,
+        options: ServerOptions,
+        desk: StudyDesk | None = None,
+        launch: SessionFactory = SessionProcess,
+    ) -> None:
         self.options = options
         self.desk = desk
+        self.launch = launch
+        """Makes every seat's sessions: in processes of their own, or in Ray actors
+        (:class:`~workcell.server.session_actor.RaySessions`, ``--ray``)."""
         self.shards = SessionShards(options.store) if options.max_sessions > 1 else None
         self.conductors: dict[str, Conductor] = {}
         self.unseated: set[Client] = set()
@@ -151,7 +163,7 @@ class Seats:
         planner = None
         if participant is not None and self.desk is not None:
             planner = ParticipantPlanner(self, self.desk, participant)
-        conductor = Conductor(self.options, seat, self.shards, planner)
+        conductor = Conductor(self.options, seat, self.shards, planner, self.launch)
         self.conductors[seat] = conductor
         return conductor
 

@@ -1,0 +1,129 @@
+"""The child's side of a relayed session (:mod:`workcell.server.session_relay`): a
+LiveSession whose output goes down the pipe to the server, and which obeys what the server
+sends up it. The same body runs in a session's process and in a session's Ray actor.
+
+The pipe carries tuples. From the server: ``("input", Input)``, ``("new_link",)``,
+``("act", action, source)``, ``("frames", FrameStats)``, ``("stop", reason)``. From the
+child: first ``("ready", session_id, scene)`` or ``("failed", message)``, then
+``("state", text, pacing)``, ``("scene", scene)``, ``("message", text)``,
+``("log", level, logger, text)`` and last ``("ended", SessionEnded)``.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import logging
+import signal
+import threading
+from multiprocessing.connection import Connection
+from typing import Any
+
+from workcell.errors import WorkcellError
+from workcell.protocol.messages import Scene, SessionEnded
+from workcell.server.live import LiveSession
+from workcell.server.session_relay import SessionArgs
+from workcell.task.pacing import PacingStats
+
+
+class _PipeListener:
+    """The child's listener: everything goes down the pipe (from the simulation thread)."""
+
+    def __init__(self, conn: Connection) -> None:
+        self.conn = conn
+        self.lock = threading.Lock()
+        self.live: LiveSession | None = None
+        self._scene: Scene | None = None
+        self._held: list[tuple[Any, ...]] | None = []
+        """What the session said before the server heard it is ready (None: since)."""
+
+    def send(self, message: tuple[Any, ...]) -> None:
+        with self.lock, contextlib.suppress(OSError, ValueError):  # the server is gone
+            if self._held is not None:
+                self._held.append(message)
+            else:
+                self.conn.send(message)
+
+    def first(self, message: tuple[Any, ...]) -> None:
+        """``message`` ("ready" or "failed"), then whatever was held back."""
+        with self.lock, contextlib.suppress(OSError, ValueError):
+            held, self._held = self._held or [], None
+            for item in (message, *held):
+                self.conn.send(item)
+
+    def state(self, text: str) -> None:
+        live = self.live
+        self.send(("state", text, live.pacing if live is not None else PacingStats()))
+
+    def message(self, text: str) -> None:
+        live = self.live
+        if live is not None and live.scene is not self._scene:  # a new scene comes first
+            self._scene = live.scene
+            if self._scene is not None:
+                self.send(("scene", self._scene))
+        self.send(("message", text))
+
+    def ended(self, message: SessionEnded) -> None:
+        self.send(("ended", message))
+
+
+class _PipeLogHandler(logging.Handler):
+    """The child's log records go to the server, which logs them as its own."""
+
+    def __init__(self, listener: _PipeListener) -> None:
+        super().__init__(logging.INFO)
+        self.listener = listener
+
+    def emit(self, record: logging.LogRecord) -> None:
+        text = record.getMessage()
+        if record.exc_info:
+            text += "\n" + logging.Formatter().formatException(record.exc_info)
+        self.listener.send(("log", record.levelno, record.name, text))
+
+
+def run_child(conn: Connection, args: SessionArgs) -> threading.Thread | None:
+    """Run the session until it ends (its end went down the pipe); the thread still
+    obeying the server (None when the session did not start), which returns once the
+    server closes its end."""
+    if threading.current_thread() is threading.main_thread():
+        signal.signal(signal.SIGINT, signal.SIG_IGN)  # the server decides when a session stops
+    listener = _PipeListener(conn)
+    root = logging.getLogger()
+    root.handlers[:] = [_PipeLogHandler(listener)]
+    root.setLevel(logging.INFO)
+    live = LiveSession(
+        args.config, args.store_path, listener, args.state_hz, args.max_catch_up_s,
+        key_file=args.key_file,
+    )  # fmt: skip
+    listener.live = live
+    try:
+        live.start()
+    except BaseException as error:  # told to the server, which refuses the start
+        message = str(error) if isinstance(error, WorkcellError) else f"the server failed: {error}"
+        listener.first(("failed", message))
+        return None
+    listener.first(("ready", live.session_id, live.scene))
+    commands = threading.Thread(target=_obey, args=(conn, live), daemon=True)
+    commands.start()
+    live.join()
+    return commands
+
+
+def _obey(conn: Connection, live: LiveSession) -> None:
+    """Apply the server's requests until the pipe closes; a closed pipe (the server died)
+    ends the trial as ``application_quit``."""
+    while True:
+        try:
+            kind, *body = conn.recv()
+        except (EOFError, OSError):
+            live.request_stop("application_quit")
+            return
+        if kind == "input":
+            live.operator.submit(body[0])
+        elif kind == "new_link":
+            live.operator.new_link()
+        elif kind == "act":
+            live.request_action(body[0], body[1])
+        elif kind == "frames":
+            live.report_frames(body[0])
+        elif kind == "stop":
+            live.request_stop(body[0])

@@ -1,0 +1,258 @@
+"""The server's side of a live session that runs somewhere else (a process of its own, a Ray
+actor), talking to the server over one pipe.
+
+:class:`RelayedSession` offers the server what :class:`~workcell.server.live.LiveSession`
+offers (start, the operator's inputs, actions, frame reports, stop, the pacing counters)
+and relays what the session says to the server's listener; the child at the other end of
+the pipe runs :func:`~workcell.server.session_child.run_child`. Subclasses say only how
+the child is started, waited for and killed, and how it ended: a dead child ends its
+session ``error`` for its clients, naming what happened, and nothing else.
+"""
+
+from __future__ import annotations
+
+import contextlib
+import json
+import logging
+import threading
+from abc import ABC, abstractmethod
+from dataclasses import dataclass
+from multiprocessing.connection import Connection
+from pathlib import Path
+from typing import Any, ClassVar, Protocol
+
+from workcell.errors import WorkcellError
+from workcell.protocol.messages import FrameStats, Input, Scene, SessionEnded
+from workcell.server.live import SessionListener
+from workcell.session.config import SessionConfig
+from workcell.task import events as ev
+from workcell.task.pacing import PacingStats
+from workcell.teleop.rate import at_teleop_rate
+
+logger = logging.getLogger(__name__)
+
+START_TIMEOUT_S = 120.0
+"""Longest a session's child may take to open its store and build its world."""
+KEPT_TO_THE_LAST_FRAMES = (
+    "its trial is recorded up to the last frames written, and closed as interrupted "
+    "(crash_recovered)"
+)
+
+
+@dataclass(frozen=True)
+class SessionArgs:
+    """What the child needs to run its LiveSession."""
+
+    config: SessionConfig
+    store_path: Path
+    state_hz: float
+    max_catch_up_s: float
+    key_file: Path | None
+
+
+class SessionFactory(Protocol):
+    """Makes the (not yet started) session a seat runs: :class:`~workcell.server.
+    session_process.SessionProcess`, or :class:`~workcell.server.session_actor.RaySessions`
+    for sessions in Ray actors."""
+
+    def __call__(
+        self,
+        config: SessionConfig,
+        store_path: Path,
+        listener: SessionListener,
+        state_hz: float = 60.0,
+        max_catch_up_s: float = 0.25,
+        *,
+        key_file: Path | None = None,
+    ) -> RelayedSession: ...
+
+
+class RemoteOperator:
+    """The server's side of the child's teleoperator: the input ordering rule is kept
+    here, so an old input is refused at once, as in one process."""
+
+    def __init__(self, send: Any) -> None:
+        self._send = send
+        self._last_seq = -1
+        self._lock = threading.Lock()
+
+    def submit(self, message: Input) -> bool:
+        with self._lock:
+            if message.seq <= self._last_seq:
+                return False
+            self._last_seq = message.seq
+        self._send(("input", message))
+        return True
+
+    def new_link(self) -> None:
+        with self._lock:
+            self._last_seq = -1
+        self._send(("new_link",))
+
+
+class RelayedSession(ABC):
+    """Start with :meth:`start`, which returns once the session is recording (or raises)."""
+
+    kind: ClassVar[str]
+    """What the child is, in messages: "the session's {kind} died (...)"."""
+
+    def __init__(
+        self,
+        config: SessionConfig,
+        store_path: Path,
+        listener: SessionListener,
+        state_hz: float = 60.0,
+        max_catch_up_s: float = 0.25,
+        *,
+        key_file: Path | None = None,
+    ) -> None:
+        self.config = at_teleop_rate(config)
+        """The session as it runs: at the control rate a person drives at."""
+        self.args = SessionArgs(config, store_path, state_hz, max_catch_up_s, key_file)
+        self.listener = listener
+        self.session_id = ""
+        self.scene: Scene | None = None
+        self.operator = RemoteOperator(self._send)
+        self._pacing = PacingStats()
+        self._ended = False
+        self._results: list[tuple[str, int]] = []
+        """(outcome, score) of each trial the child reported ended."""
+        self._conn: Connection | None = None
+        self._send_lock = threading.Lock()
+        self._reader = threading.Thread(
+            target=self._read, name="workcell-session-pipe", daemon=True
+        )
+
+    # --- how the child runs (the subclass's part) -------------------------------------------
+
+    @abstractmethod
+    def _launch(self) -> Connection:
+        """Start the child; the server's end of its pipe (raises WorkcellError)."""
+
+    @abstractmethod
+    def _reap(self, timeout: float | None) -> None:
+        """Wait up to ``timeout`` s for the child to end (and finish with it)."""
+
+    @abstractmethod
+    def kill(self) -> None:
+        """End the child at once, as a crash would (tests, a stuck simulation)."""
+
+    @property
+    @abstractmethod
+    def running(self) -> bool:
+        """The child is alive."""
+
+    @property
+    @abstractmethod
+    def pid(self) -> int | None:
+        """The child's process id (None before it started)."""
+
+    @abstractmethod
+    def _exit(self) -> str:
+        """How the child ended ("killed by SIGKILL"), or "still running"."""
+
+    def _kept(self) -> str:
+        """What is left of the record of a session whose child died."""
+        return KEPT_TO_THE_LAST_FRAMES
+
+    # --- the session ------------------------------------------------------------------------
+
+    def start(self) -> None:
+        """Start the child; return once its session records, or raise what stopped it."""
+        self._conn = conn = self._launch()
+        if not conn.poll(START_TIMEOUT_S):
+            self.kill()
+            raise WorkcellError(f"the session's {self.kind} did not start in {START_TIMEOUT_S:g} s")
+        try:
+            first = conn.recv()
+        except (EOFError, OSError):
+            self._reap(5)
+            raise WorkcellError(
+                f"the session's {self.kind} died while starting ({self._exit()})"
+            ) from None
+        if first[0] == "failed":
+            self._reap(10)
+            conn.close()
+            raise WorkcellError(first[1])
+        _, self.session_id, self.scene = first
+        self._reader.start()
+
+    def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
+        self._send(("act", action, source))
+
+    def report_frames(self, stats: FrameStats) -> None:
+        self._send(("frames", stats))
+
+    def request_stop(self, reason: ev.InterruptionReason) -> None:
+        self._send(("stop", reason))
+
+    def join(self, timeout: float | None = None) -> bool:
+        """Wait until the child has ended and closed its store."""
+        self._reap(timeout)
+        if self._reader.is_alive():
+            self._reader.join(timeout)
+        return not self.running
+
+    @property
+    def pacing(self) -> PacingStats:
+        return self._pacing
+
+    @property
+    def outcomes(self) -> tuple[str, ...]:
+        """The outcome of each trial that has ended so far."""
+        return tuple(outcome for outcome, _ in self._results)
+
+    # --- the server side of the pipe --------------------------------------------------------
+
+    def _send(self, message: tuple[Any, ...]) -> None:
+        conn = self._conn
+        if conn is None:
+            return
+        with self._send_lock, contextlib.suppress(OSError, ValueError):  # the child is gone
+            conn.send(message)
+
+    def _read(self) -> None:
+        """Carry the child's output to the listener until the pipe closes."""
+        conn = self._conn
+        assert conn is not None
+        while True:
+            try:
+                kind, *body = conn.recv()
+            except (EOFError, OSError):
+                break
+            if kind == "state":
+                self._pacing = body[1]
+                self.listener.state(body[0])
+            elif kind == "message":
+                self._tally(body[0])
+                self.listener.message(body[0])
+            elif kind == "scene":
+                self.scene = body[0]
+            elif kind == "log":  # the child's log, in the server's
+                logging.getLogger(body[1]).log(body[0], "%s", body[2])
+            elif kind == "ended":
+                self._ended = True
+                self.listener.ended(body[0])
+        if not self._ended:
+            self._reap(5)
+            self.listener.ended(self._died())
+        with contextlib.suppress(OSError):
+            conn.close()
+
+    def _tally(self, text: str) -> None:
+        if '"trial_ended"' in text:
+            event = json.loads(text)
+            if event.get("kind") == "trial_ended":
+                self._results.append((event["outcome"], int(event["score"])))
+
+    def _died(self) -> SessionEnded:
+        how = self._exit()
+        logger.warning("session %s: its %s died (%s)", self.session_id, self.kind, how)
+        return SessionEnded(
+            session_id=self.session_id,
+            reason="error",
+            trials=len(self._results),
+            successes=sum(outcome == "success" for outcome, _ in self._results),
+            total_score=sum(score for _, score in self._results),
+            detail=f"the session's {self.kind} died ({how}); {self._kept()}",
+        )
