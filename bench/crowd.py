@@ -251,12 +251,17 @@ def recorded(store: Path) -> Recorded:
     return Recorded(sessions, frames, lost, len(ended), successes)
 
 
-def measure(n: int, seconds: float, robot: dict[str, float], behaviour: str) -> Figures:
+def measure(
+    n: int, seconds: float, robot: dict[str, float], behaviour: str, ray: str | None
+) -> Figures:
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "crowd.sqlite"
         port = free_port()
         env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
-        arguments = ["--port", str(port), "--store", str(store), "--sessions", str(n)]
+        seats = n if ray is None else max(n, 2)  # --ray needs two seats or more
+        arguments = ["--port", str(port), "--store", str(store), "--sessions", str(seats)]
+        if ray is not None:
+            arguments += ["--ray", ray]
         process = subprocess.Popen(
             [sys.executable, "-c", LAUNCH, *arguments],
             stdout=subprocess.DEVNULL,
@@ -264,7 +269,7 @@ def measure(n: int, seconds: float, robot: dict[str, float], behaviour: str) -> 
             env=env,
         )
         try:
-            deadline = time.monotonic() + 60
+            deadline = time.monotonic() + 120  # Ray takes a while to start
             while True:
                 try:
                     diagnostics(f"http://127.0.0.1:{port}")
@@ -340,6 +345,11 @@ def main() -> None:
         "--control-hz", type=float, help="world.robot.teleop_control_hz of every session"
     )
     parser.add_argument("--ik-hz", type=float, help="world.robot.teleop_ik_hz of every session")
+    parser.add_argument(
+        "--ray",
+        metavar="ADDRESS",
+        help="run the sessions as Ray actors (workcell serve --ray; 'local': Ray on this machine)",
+    )
     args = parser.parse_args()
     counts = [int(n) for n in args.sessions.split(",")]
     robot = {
@@ -351,12 +361,15 @@ def main() -> None:
         print(
             "sessions run with world.robot " + ", ".join(f"{k} = {v:g}" for k, v in robot.items())
         )
-    print(f"operators: {args.behaviour}")
+    print(
+        f"operators: {args.behaviour}; sessions in "
+        + (f"Ray actors ({args.ray})" if args.ray else "processes")
+    )
     print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
     rows = []
     for n in counts:
         print(f"N = {n} ...", flush=True)
-        rows.append(measure(n, args.seconds, robot, args.behaviour))
+        rows.append(measure(n, args.seconds, robot, args.behaviour, args.ray))
     report(rows, args.seconds)
 
 
