@@ -7,8 +7,9 @@ in a media folder beside the store (``<store>.media/<trial_id>/<camera>.mp4``); 
 ``media`` event names each file with its frame count and sha256. They are encoded as the
 exports encode their videos (:class:`workcell.render.VideoWriter`'s defaults: a keyframe
 every 2 frames), so an export copies them as they are (:mod:`workcell.export.camera_sources`).
-Rendering happens at the frame; encoding in a thread beside the simulation
-(:mod:`workcell.recording.encoder_thread`), which :meth:`MediaRecorder.end` waits for.
+Each frame's state is copied and drawn in a thread beside the simulation
+(:mod:`workcell.recording.render_thread`), then encoded in another
+(:mod:`workcell.recording.encoder_thread`); :meth:`MediaRecorder.end` waits for both.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from typing import Any, cast
 import mujoco
 
 from workcell.errors import ConfigError
-from workcell.recording.encoder_thread import EncoderThread
+from workcell.recording.render_thread import RenderThread
 from workcell.render import (
     CAMERA_QUALITY,
     RENDER_QUALITIES,
@@ -77,12 +78,14 @@ class MediaRecorder:
         self.options = options
         self.fps = Fraction(fps).limit_denominator(1000)
         self.media_dir = media_dir
-        self._renderer = OffscreenRenderer(
-            model, options.width, options.height, shadows=False, quality=options.quality
+        self._renderer = RenderThread(
+            model,
+            lambda: OffscreenRenderer(
+                model, options.width, options.height, shadows=False, quality=options.quality
+            ),
         )
         self._writers: dict[str, VideoWriter] = {}
         self._folder: Path | None = None
-        self._encoder = EncoderThread()
 
     def start(self, trial_id: str) -> None:
         self._folder = self.media_dir / trial_id
@@ -94,14 +97,13 @@ class MediaRecorder:
         }
 
     def frame(self, data: mujoco.MjData) -> None:
-        """Render every camera now; the images are encoded in the encoder thread."""
-        images = self._renderer.render_all(data, tuple(self._writers))
-        self._encoder.put([(writer, images[camera]) for camera, writer in self._writers.items()])
+        """Every camera as ``data`` is now: drawn and encoded beside the simulation."""
+        self._renderer.put(data, tuple(self._writers.items()))
 
     def end(self) -> dict[str, Any]:
         """Close the trial's videos (once every frame is encoded); the payload of its
         ``media`` event."""
-        self._encoder.drain()
+        self._renderer.drain()
         files = []
         for camera, writer in self._writers.items():
             writer.close()
@@ -125,7 +127,6 @@ class MediaRecorder:
         }
 
     def close(self) -> None:
-        self._encoder.close()
+        self._renderer.close()
         for writer in self._writers.values():
             writer.close()
-        self._renderer.close()
