@@ -186,7 +186,7 @@ def convert(value: Any, hint: Any, path: str) -> Any:
             if type(value) is type(member.value) and value == member.value:
                 return member
         raise _invalid("malformed", path, value, f"must be one of {allowed}")
-    origin, args = get_origin(hint), get_args(hint)
+    origin, args = _shape(hint)
     if origin is Literal:
         if value not in args or type(value) is not type(args[0]):
             allowed = ", ".join(repr(a) for a in args)
@@ -245,9 +245,28 @@ def _convert_union(value: Any, args: tuple[Any, ...], path: str) -> Any:
     raise _invalid("malformed", path, value, "has none of the allowed types")
 
 
+@functools.cache
+def _shape(hint: Any) -> tuple[Any, tuple[Any, ...]]:
+    """A type hint's origin and arguments (``typing.get_origin``/``get_args``), looked up
+    once per hint: every message converts the same few hints."""
+    return get_origin(hint), get_args(hint)
+
+
+@functools.cache
+def _all_floats(args: tuple[Any, ...]) -> bool:
+    """Whether a fixed-length tuple hint holds floats only (poses, sticks)."""
+    return all(arg is float for arg in args)
+
+
 def _convert_tuple(value: Any, args: tuple[Any, ...], path: str) -> tuple[Any, ...]:
     if not isinstance(value, list):
         raise _invalid("malformed", path, value, "must be a list")
+    if (
+        _all_floats(args)
+        and len(value) == len(args)
+        and all(type(item) is float and math.isfinite(item) for item in value)
+    ):
+        return tuple(value)  # the common case, at once; anything else item by item below
     if len(args) == 2 and args[1] is Ellipsis:
         return tuple(convert(item, args[0], f"{path}[{i}]") for i, item in enumerate(value))
     if len(value) != len(args):

@@ -27,9 +27,9 @@ import threading
 from multiprocessing import AuthenticationError
 from multiprocessing.connection import Client, Connection
 from pathlib import Path, PurePosixPath
-from types import TracebackType
 from typing import Any
 
+from workcell.closing import Closing
 from workcell.errors import WorkcellError
 from workcell.record.media_paths import media_dir_for
 from workcell.scale.ray_cluster import LOCAL, start_ray
@@ -41,7 +41,7 @@ from workcell.session.config import SessionConfig
 logger = logging.getLogger(__name__)
 
 
-class RaySessions:
+class RaySessions(Closing):
     """Makes sessions that run in Ray actors (a :class:`~workcell.server.session_relay.
     SessionFactory`), on the Ray this process is connected to: :meth:`connect` first."""
 
@@ -86,17 +86,6 @@ class RaySessions:
         import ray  # noqa: PLC0415
 
         ray.shutdown()
-
-    def __enter__(self) -> RaySessions:
-        return self
-
-    def __exit__(
-        self,
-        kind: type[BaseException] | None,
-        error: BaseException | None,
-        traceback: TracebackType | None,
-    ) -> None:
-        self.close()
 
 
 class SessionActor(RelayedSession):
