@@ -56,45 +56,18 @@ def collect_rtf(folder: Path, name: str, trials: int, quality: str | None) -> fl
 
 
 def one_buffer(model: Any, data: Any, frames: int) -> tuple[float, list[np.ndarray]]:
-    """Seconds per three-camera frame drawn at ``fast`` quality into one framebuffer (three
-    viewports side by side, one read-back), and the three pictures."""
-    import mujoco  # noqa: PLC0415
+    """Seconds per three-camera frame drawn at ``fast`` quality into one framebuffer
+    (``OffscreenRenderer.render_all``: three viewports side by side, one read-back), and
+    the three pictures."""
+    from workcell.render import OffscreenRenderer  # noqa: PLC0415
 
-    from workcell.render.quality import applied  # noqa: PLC0415
-
-    width = SIZE * len(CAMERAS)
-    model.vis.global_.offwidth = max(int(model.vis.global_.offwidth), width)
-    with applied(model, "fast"):
-        renderer = mujoco.Renderer(model, height=SIZE, width=width)
-    try:
-        scene, context = renderer.scene, renderer._mjr_context
-        scene.flags[mujoco.mjtRndFlag.mjRND_SHADOW] = 0
-        scene.flags[mujoco.mjtRndFlag.mjRND_REFLECTION] = 0
-        mujoco.mjr_setBuffer(mujoco.mjtFramebuffer.mjFB_OFFSCREEN, context)
-        option, cameras = mujoco.MjvOption(), []
-        for name in CAMERAS:
-            camera = mujoco.MjvCamera()
-            camera.type, camera.fixedcamid = mujoco.mjtCamera.mjCAMERA_FIXED, model.camera(name).id
-            cameras.append(camera)
-        pixels = np.empty((SIZE, width, 3), dtype=np.uint8)
-
-        def draw() -> None:
-            for k, camera in enumerate(cameras):
-                mujoco.mjv_updateScene(
-                    model, data, option, None, camera, mujoco.mjtCatBit.mjCAT_ALL, scene
-                )
-                mujoco.mjr_render(mujoco.MjrRect(SIZE * k, 0, SIZE, SIZE), scene, context)
-            mujoco.mjr_readPixels(pixels, None, mujoco.MjrRect(0, 0, width, SIZE), context)
-
-        draw()
+    with OffscreenRenderer(model, SIZE, SIZE, quality="fast") as renderer:
+        pictures = renderer.render_all(data, CAMERAS)
         start = time.perf_counter()
         for _ in range(frames):
-            draw()
+            renderer.render_all(data, CAMERAS)
         cost = (time.perf_counter() - start) / frames
-        image = np.flipud(pixels)
-        return cost, [image[:, SIZE * k : SIZE * (k + 1)].copy() for k in range(len(CAMERAS))]
-    finally:
-        renderer.close()
+    return cost, [pictures[camera] for camera in CAMERAS]
 
 
 def render_costs(frames: int) -> tuple[dict[str, float], float, dict[str, list[np.ndarray]]]:

@@ -48,7 +48,6 @@ class RenderThread(FrameThread[Job]):
     def put(self, data: mujoco.MjData, pairs: Sequence[tuple[str, VideoWriter]]) -> None:
         """Queue the cameras of the state ``data`` is in now (copied; blocks while the
         queue is full)."""
-        self._raise()
         copy = self._copies[self._next]
         self._next = (self._next + 1) % STATE_COPIES
         mujoco.mj_copyData(copy, self._model, data)

@@ -26,7 +26,7 @@ from workcell.server.client import Client
 from workcell.server.options import ServerOptions
 from workcell.server.scene import describe
 from workcell.server.session_process import SessionProcess
-from workcell.server.session_relay import RelayedSession, SessionFactory
+from workcell.server.session_relay import RelayedSession, SessionArgs, SessionFactory
 from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal
 from workcell.session.config import SessionConfig
@@ -172,10 +172,11 @@ class Conductor:
             return
         self.store = self.shards.new_shard() if self.shards else self.options.store
         try:
-            session = self.launch(
-                config, self.store, _Listener(self), self.options.state_hz,
-                self.options.max_catch_up_s, key_file=self.options.key_file,
-            )  # fmt: skip
+            options = self.options
+            args = SessionArgs(
+                config, self.store, options.state_hz, options.max_catch_up_s, options.key_file
+            )
+            session = self.launch(args, _Listener(self))
             await asyncio.to_thread(session.start)
         except WorkcellError as error:  # e.g. the store is another process's
             client.refuse("not_allowed", f"start_session: {error}")

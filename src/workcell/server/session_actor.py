@@ -26,7 +26,7 @@ import secrets
 import threading
 from multiprocessing import AuthenticationError
 from multiprocessing.connection import Client, Connection
-from pathlib import Path, PurePosixPath
+from pathlib import PurePosixPath
 from typing import Any
 
 from workcell.closing import Closing
@@ -35,8 +35,12 @@ from workcell.record.media_paths import media_dir_for
 from workcell.scale.ray_cluster import LOCAL, start_ray
 from workcell.server.live import SessionListener
 from workcell.server.ray_actor import HandedBack, Placement, SessionActorBody, new_probe, probe_path
-from workcell.server.session_relay import KEPT_TO_THE_LAST_FRAMES, START_TIMEOUT_S, RelayedSession
-from workcell.session.config import SessionConfig
+from workcell.server.session_relay import (
+    KEPT_TO_THE_LAST_FRAMES,
+    START_TIMEOUT_S,
+    RelayedSession,
+    SessionArgs,
+)
 
 logger = logging.getLogger(__name__)
 
@@ -66,19 +70,8 @@ class RaySessions(Closing):
     def where(self) -> str:
         return "Ray on this machine" if self.address == LOCAL else f"the Ray at {self.address}"
 
-    def __call__(
-        self,
-        config: SessionConfig,
-        store_path: Path,
-        listener: SessionListener,
-        state_hz: float = 60.0,
-        max_catch_up_s: float = 0.25,
-        *,
-        key_file: Path | None = None,
-    ) -> SessionActor:
-        return SessionActor(
-            config, store_path, listener, state_hz, max_catch_up_s, key_file=key_file, ray=self
-        )
+    def __call__(self, args: SessionArgs, listener: SessionListener) -> SessionActor:
+        return SessionActor(args, listener, ray=self)
 
     def close(self) -> None:
         """Disconnect from Ray (ending any actor still running); stop it if it was started
@@ -93,18 +86,8 @@ class SessionActor(RelayedSession):
 
     kind = "Ray actor"
 
-    def __init__(
-        self,
-        config: SessionConfig,
-        store_path: Path,
-        listener: SessionListener,
-        state_hz: float = 60.0,
-        max_catch_up_s: float = 0.25,
-        *,
-        key_file: Path | None = None,
-        ray: RaySessions,
-    ) -> None:
-        super().__init__(config, store_path, listener, state_hz, max_catch_up_s, key_file=key_file)
+    def __init__(self, args: SessionArgs, listener: SessionListener, *, ray: RaySessions) -> None:
+        super().__init__(args, listener)
         self.sessions = ray
         self.actor: Any = None
         """The actor's handle (None before :meth:`start`)."""

@@ -18,12 +18,10 @@ import multiprocessing
 import signal
 from multiprocessing.connection import Connection
 from multiprocessing.context import ForkServerContext
-from pathlib import Path
 
 from workcell.server.live import SessionListener
 from workcell.server.session_child import run_child
-from workcell.server.session_relay import RelayedSession
-from workcell.session.config import SessionConfig
+from workcell.server.session_relay import RelayedSession, SessionArgs
 
 _context: ForkServerContext | None = None
 
@@ -43,17 +41,8 @@ class SessionProcess(RelayedSession):
 
     kind = "process"
 
-    def __init__(
-        self,
-        config: SessionConfig,
-        store_path: Path,
-        listener: SessionListener,
-        state_hz: float = 60.0,
-        max_catch_up_s: float = 0.25,
-        *,
-        key_file: Path | None = None,
-    ) -> None:
-        super().__init__(config, store_path, listener, state_hz, max_catch_up_s, key_file=key_file)
+    def __init__(self, args: SessionArgs, listener: SessionListener) -> None:
+        super().__init__(args, listener)
         context = _processes()
         self._server_conn, self._child_conn = context.Pipe()
         self._process = context.Process(

@@ -55,16 +55,7 @@ class SessionFactory(Protocol):
     session_process.SessionProcess`, or :class:`~workcell.server.session_actor.RaySessions`
     for sessions in Ray actors."""
 
-    def __call__(
-        self,
-        config: SessionConfig,
-        store_path: Path,
-        listener: SessionListener,
-        state_hz: float = 60.0,
-        max_catch_up_s: float = 0.25,
-        *,
-        key_file: Path | None = None,
-    ) -> RelayedSession: ...
+    def __call__(self, args: SessionArgs, listener: SessionListener) -> RelayedSession: ...
 
 
 class RemoteOperator:
@@ -96,19 +87,10 @@ class RelayedSession(ABC):
     kind: ClassVar[str]
     """What the child is, in messages: "the session's {kind} died (...)"."""
 
-    def __init__(
-        self,
-        config: SessionConfig,
-        store_path: Path,
-        listener: SessionListener,
-        state_hz: float = 60.0,
-        max_catch_up_s: float = 0.25,
-        *,
-        key_file: Path | None = None,
-    ) -> None:
-        self.config = at_teleop_rate(config)
+    def __init__(self, args: SessionArgs, listener: SessionListener) -> None:
+        self.config = at_teleop_rate(args.config)
         """The session as it runs: at the control rate a person drives at."""
-        self.args = SessionArgs(config, store_path, state_hz, max_catch_up_s, key_file)
+        self.args = args
         self.listener = listener
         self.session_id = ""
         self.scene: Scene | None = None
