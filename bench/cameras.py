@@ -5,7 +5,9 @@ against ``fine``, the quality the model asks for):
 - the real-time factor (simulated seconds per wall second) of an expert collection
   recorded with no cameras, with the three robot cameras at 128x128 in ``fine`` quality
   and in ``fast`` quality, each a real ``workcell collect`` (recording, rendering, H.264);
-- the render cost of one three-camera frame in each quality (rendering alone);
+- the render cost of one three-camera frame in each quality (rendering alone), and at
+  ``fast`` with every geom drawn (``cull=False``) against leaving out the geoms out of
+  each camera's view (the default), with whether the pictures are the same;
 - how far ``fast`` pictures are from ``fine`` ones (mean absolute difference, 0-255);
 - the three cameras drawn into one framebuffer side by side (three viewports, one
   read-back) against three separate draws and read-backs, at ``fast`` quality: issue 19's
@@ -84,14 +86,19 @@ def render_costs(frames: int) -> tuple[dict[str, float], float, dict[str, list[n
     for _ in range(round(4.0 / sim.control_dt)):  # a box on the belt
         sim.step(Command())
     costs, pictures = {}, {}
-    for quality in ("fine", "fast"):
-        with OffscreenRenderer(sim.world.model, SIZE, SIZE, quality=quality) as renderer:
-            pictures[quality] = [renderer.render(sim.world.data, c).copy() for c in CAMERAS]
+    for variant, quality, cull in (
+        ("fine", "fine", True),
+        ("fast", "fast", True),
+        ("every geom", "fast", False),  # fast, without leaving out geoms out of view
+    ):
+        model = sim.world.model
+        with OffscreenRenderer(model, SIZE, SIZE, quality=quality, cull=cull) as renderer:  # type: ignore[arg-type]
+            pictures[variant] = [renderer.render(sim.world.data, c).copy() for c in CAMERAS]
             start = time.perf_counter()
             for _ in range(frames):
                 for camera in CAMERAS:
                     renderer.render(sim.world.data, camera)
-            costs[quality] = (time.perf_counter() - start) / frames
+            costs[variant] = (time.perf_counter() - start) / frames
     costs["one buffer"], pictures["one buffer"] = one_buffer(
         sim.world.model, sim.world.data, frames
     )
@@ -146,17 +153,27 @@ def main() -> None:
                 )
             )
         lines.append(("fast / fine (collect)", f"{median['fast'] / median['fine']:6.2f}x"))
-    for quality in ("fine", "fast", "one buffer"):
-        lines.append((f"render, 3 cameras, {quality}", f"{costs[quality] * 1e3:6.2f} ms per frame"))
+    for variant in ("fine", "fast", "every geom", "one buffer"):
+        lines.append((f"render, 3 cameras, {variant}", f"{costs[variant] * 1e3:6.2f} ms per frame"))
     lines.append(("fine / fast (render)", f"{costs['fine'] / costs['fast']:6.2f}x"))
-    same = all(
-        np.array_equal(a, b) for a, b in zip(pictures["fast"], pictures["one buffer"], strict=True)
+
+    def same(variant: str) -> bool:
+        return all(
+            np.array_equal(a, b) for a, b in zip(pictures["fast"], pictures[variant], strict=True)
+        )
+
+    lines.append(
+        (
+            "every geom / culled (render)",
+            f"{costs['every geom'] / costs['fast']:6.2f}x; pictures "
+            + ("identical" if same("every geom") else "differ"),
+        )
     )
     lines.append(
         (
             "fast / one buffer (render)",
             f"{costs['fast'] / costs['one buffer']:6.2f}x; pictures "
-            + ("identical" if same else "differ"),
+            + ("identical" if same("one buffer") else "differ"),
         )
     )
     lines.append(("fast vs fine pictures", f"{difference:6.2f} mean absolute difference (0-255)"))

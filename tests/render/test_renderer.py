@@ -13,7 +13,7 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.errors import RenderError
 from workcell.render import OffscreenRenderer, camera_names, overview_camera
-from workcell.render.quality import FAST, VisualQuality
+from workcell.render.quality import FAST, FAST_PLANE_GRID_M, VisualQuality
 from workcell.sim.config import WorldConfig
 
 ROBOT_CAMERAS = ("head_cam", "wrist_l_cam", "wrist_r_cam")
@@ -139,11 +139,15 @@ def test_fast_quality_draws_nearly_the_same_picture_and_leaves_the_model_as_it_w
     model = sim.world.model
     own = VisualQuality.of(model)
     assert own != FAST  # the model asks for multisampling and fine curves
+    floor = model.geom("floor").id
+    own_grid = float(model.geom_size[floor, 2])
+    assert own_grid < FAST_PLANE_GRID_M  # the floor asks for a finer grid than fast draws
     with (
         OffscreenRenderer(model, 128, 128) as fine,
         OffscreenRenderer(model, 128, 128, quality="fast") as fast,
     ):
         assert VisualQuality.of(model) == own
+        assert model.geom_size[floor, 2] == own_grid  # put back once the context is made
         for camera in ROBOT_CAMERAS:
             a = fine.render(sim.world.data, camera).astype(float)
             b = fast.render(sim.world.data, camera).astype(float)
