@@ -75,3 +75,19 @@ def test_most_geoms_are_out_of_a_wrist_camera_s_view() -> None:
         scene.geoms[k].objid == floor and kinds[k] == int(mujoco.mjtGeom.mjGEOM_PLANE)
         for k in range(scene.ngeom)
     )
+
+
+def test_nothing_is_left_out_when_shadows_are_on() -> None:
+    """A geom out of view can cast a shadow into it: with shadows the picture is the
+    picture with every geom."""
+    sim = Simulation(WorldConfig())
+    model, data = sim.world.model, sim.world.data
+    for _ in range(40):
+        sim.step(Command(base=BaseTwist(0.4, 0.0, 0.6)))
+    with (
+        OffscreenRenderer(model, 64, 64, shadows=True, cull=False) as every,
+        OffscreenRenderer(model, 64, 64, shadows=True) as shadowed,
+    ):
+        for camera in CAMERAS:
+            np.testing.assert_array_equal(shadowed.render(data, camera), every.render(data, camera))
+        assert not shadowed._culled  # the renderer culls nothing with shadows on

@@ -5,8 +5,9 @@ camera looking at the chassis sees a fifth of the workcell's 169 geoms, yet on t
 software renderer each one left out of view still costs its vertices' transformation and
 lighting. :func:`cull_outside_view` turns the geoms whose bounding sphere lies wholly
 outside a fixed camera's view volume into empty ones (``mjGEOM_NONE``), which draw
-nothing. A geom outside the view volume puts no fragment on the image, so the pictures are
-unchanged, pixel for pixel (tests/render/test_culling.py compares them along a driven
+nothing. A geom outside the view volume puts no fragment on the image (with shadows and
+reflections off, as for every per-frame camera: the renderer culls only then), so the
+pictures are unchanged, pixel for pixel (tests/render/test_culling.py compares them along a driven
 trajectory); the test is conservative (the sphere is enlarged by a margin), and planes,
 which are unbounded, are always kept.
 """

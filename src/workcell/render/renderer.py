@@ -62,8 +62,8 @@ class OffscreenRenderer(Closing):
     costs several times the render time on a software renderer) and turn it on for one-off
     pictures. ``quality`` ``fast`` halves the cost of per-frame cameras
     (:mod:`workcell.render.quality`); ``fine`` draws as the model asks. A model camera
-    draws only the geoms it can see (:mod:`workcell.render.culling`: the same pictures,
-    for less); ``cull=False`` draws every geom. The model's
+    draws only the geoms it can see when shadows are off (:mod:`workcell.render.culling`:
+    the same pictures, for less); ``cull=False`` draws every geom. The model's
     offscreen framebuffer is enlarged when it is smaller than the requested size
     (``model.vis.global_.offwidth``/``offheight``; nothing else changes).
     Use as a context manager or call :meth:`close` to free the OpenGL context.
@@ -91,8 +91,12 @@ class OffscreenRenderer(Closing):
             raise RenderError(f"quality {quality!r}: must be one of {', '.join(RENDER_QUALITIES)}")
         self.quality = quality
         self._cameras = camera_names(model)
+        # With shadows and reflections on, a geom out of view can still show in the
+        # picture (its shadow, its reflection): nothing is left out then.
         self._culled = {
-            name: k for k, name in enumerate(self._cameras) if cull and cullable(model, k)
+            name: k
+            for k, name in enumerate(self._cameras)
+            if cull and not shadows and cullable(model, k)
         }
         """The model cameras (name: id) that leave the geoms out of their view out."""
         visual = model.vis.global_
