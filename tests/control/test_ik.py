@@ -112,3 +112,32 @@ def test_target_positions_are_the_frame_tasks_targets(
     ik.hold("l")
     check()
     assert ik.residual("l") < 1e-12
+
+
+def test_a_target_asked_again_after_a_hold_is_set_again(
+    ik: BimanualIK, tcp_quats: dict[str, Quat]
+) -> None:
+    """The same target asked twice is set once; after a hold (the target becomes where the
+    hand is) or a reset, asking for it again sets it again."""
+    ik.reset(ik.home)
+    wanted = (0.6, 0.15, 0.9)
+
+    def target() -> NDArray[np.float64]:
+        transform = ik.frame_tasks["l"].transform_target_to_world
+        assert transform is not None
+        return np.asarray(transform.translation())
+
+    ik.set_target("l", wanted, tcp_quats["l"])
+    first = ik.frame_tasks["l"].transform_target_to_world
+    ik.set_target("l", wanted, tcp_quats["l"])
+    assert ik.frame_tasks["l"].transform_target_to_world is first  # unchanged, not rebuilt
+    ik.step(DT)
+    ik.hold("l")
+    assert np.linalg.norm(target() - wanted) > 0.01  # held where the hand got to
+    ik.set_target("l", wanted, tcp_quats["l"])
+    np.testing.assert_array_equal(target(), wanted)
+    ik.reset(ik.home)
+    assert np.linalg.norm(target() - wanted) > 0.01
+    ik.set_target("l", wanted, tcp_quats["l"])
+    np.testing.assert_array_equal(target(), wanted)
+    np.testing.assert_array_equal(ik.target_positions[0], wanted)

@@ -12,6 +12,7 @@ from collections.abc import Sequence
 
 import mink
 import numpy as np
+import qpsolvers
 from numpy.typing import NDArray
 
 from workcell.control.collision_limit import StepCollisionLimit
@@ -83,6 +84,11 @@ class BimanualIK:
         """Each TCP's site id in the IK model (``configuration.data.site_xpos`` rows)."""
         self.target_positions = np.zeros((len(SIDES), 3))
         """Each TCP's target position (rows in SIDES order), kept with the frame tasks."""
+        self._target_asked: dict[str, tuple[tuple[float, ...], tuple[float, ...]] | None] = (
+            dict.fromkeys(SIDES)
+        )
+        """The (position, quaternion) each frame task's target was last set from, if set
+        by :meth:`set_target` (an operator holds a target still most of the time)."""
         self.solves = 0
         """IK solves so far (diagnostics: how often the QP ran)."""
         self.home = np.zeros(len(JOINT_ORDER))
@@ -122,10 +128,15 @@ class BimanualIK:
         """Make the arm's current pose its target."""
         task = self.frame_tasks[side]
         task.set_target_from_configuration(self.configuration)
+        self._target_asked[side] = None
         assert task.transform_target_to_world is not None
         self.target_positions[SIDES.index(side)] = task.transform_target_to_world.translation()
 
     def set_target(self, side: str, position: Sequence[float], quaternion: Sequence[float]) -> None:
+        asked = (tuple(position), tuple(quaternion))
+        if asked == self._target_asked[side]:
+            return  # the target already set: the same pose again
+        self._target_asked[side] = asked
         wxyz = np.asarray(quaternion, dtype=float)
         translation = np.asarray(position, dtype=float)
         pose = mink.SE3.from_rotation_and_translation(
@@ -143,9 +154,13 @@ class BimanualIK:
         the joint, velocity and collision limits for that long."""
         tasks = [*self.frame_tasks.values(), self.posture]
         self.solves += 1
-        velocity: NDArray[np.float64] = mink.solve_ik(
-            self.configuration, tasks, horizon, solver="daqp", damping=1e-3, limits=self.limits
-        )
+        # mink.solve_ik's steps without its check of the configuration against the joint
+        # limits, which only logs (the configuration limit keeps every step inside them).
+        problem = mink.build_ik(self.configuration, tasks, horizon, 1e-3, self.limits)
+        result = qpsolvers.solve_problem(problem, solver="daqp")
+        if not result.found or result.x is None:
+            raise mink.NoSolutionFound("daqp")
+        velocity: NDArray[np.float64] = result.x / horizon
         return velocity
 
     def advance(self, velocity: NDArray[np.float64], dt: float) -> NDArray[np.float64]:

@@ -79,14 +79,15 @@ class Grasp:
     def _refresh_contacts(self, data: mujoco.MjData) -> None:
         now = float(data.time)
         if data.ncon:
-            pairs = data.contact.geom
-            for side, pad in enumerate(self._pads):
-                rows = np.nonzero((pairs[:, 0] == pad) | (pairs[:, 1] == pad))[0]
-                for row in rows:
-                    g1, g2 = int(pairs[row, 0]), int(pairs[row, 1])
-                    slot = self._box_of_geom.get(g2 if g1 == pad else g1)
-                    if slot is not None:
-                        self._last_touch[side] = (slot, now)
+            # A plain loop over the few contacts (a handful to a few dozen): at every
+            # physics step, NumPy's per-call cost would be most of the work.
+            pads = self._pads
+            for g1, g2 in data.contact.geom.tolist():
+                for side, pad in enumerate(pads):
+                    if pad in (g1, g2):
+                        slot = self._box_of_geom.get(g2 if g1 == pad else g1)
+                        if slot is not None:
+                            self._last_touch[side] = (slot, now)
         touching = [
             slot if slot is not None and now - when <= CONTACT_MEMORY_S else None
             for slot, when in self._last_touch
