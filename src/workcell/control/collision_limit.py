@@ -14,7 +14,8 @@ them to the QP, where they constrain nothing. :class:`StepCollisionLimit` first 
 one vectorised test, whether any pair's bounding spheres come within the detection
 distance (mink's own broadphase test, for pairs of bounded geoms); when none does, the
 limit is inactive for the step and adds no rows. The IK's answer is the same: the rows
-left out were ones no solution could violate.
+left out were ones no solution could violate. (The arm-against-arm pairs include the two
+shoulders, whose spheres always overlap: that limit is not gated.)
 """
 
 from __future__ import annotations
@@ -32,15 +33,26 @@ class StepCollisionLimit(mink.CollisionAvoidanceLimit):
     """:class:`mink.CollisionAvoidanceLimit` bounding each step's approach by
     ``gain * (d - d_min)``, inactive while no pair is near (see the module's docstring)."""
 
-    def __init__(self, model: mujoco.MjModel, geom_pairs: Sequence[Any], **options: Any) -> None:
+    def __init__(
+        self,
+        model: mujoco.MjModel,
+        geom_pairs: Sequence[Any],
+        *,
+        gate: bool = True,
+        **options: Any,
+    ) -> None:
+        """``gate=False`` for pairs that are nearly always within reach (the test would be
+        work for nothing); ``options`` are mink's."""
         super().__init__(model, geom_pairs, **options)
         pairs = np.array(self.geom_id_pairs, dtype=int).reshape(-1, 2)
         self._first, self._second = pairs[:, 0], pairs[:, 1]
         bound = model.geom_rbound
         reach = bound[self._first] + bound[self._second] + self.collision_detection_distance
         self._reach_squared = reach * reach
-        self._gated = bool(np.all((bound[self._first] > 0) & (bound[self._second] > 0)))
-        """Whether every pair is of two bounded geoms (no plane), so the test applies."""
+        bounded = bool(np.all((bound[self._first] > 0) & (bound[self._second] > 0)))
+        self._gated = gate and bounded
+        """Whether to test first: asked for, and every pair is of two bounded geoms (no
+        plane), so the test applies."""
 
     def near(self, data: mujoco.MjData) -> bool:
         """Whether any pair's bounding spheres come within the detection distance (always
@@ -48,7 +60,7 @@ class StepCollisionLimit(mink.CollisionAvoidanceLimit):
         if not self._gated:
             return True
         apart = data.geom_xpos[self._first] - data.geom_xpos[self._second]
-        return bool(np.any(np.einsum("ij,ij->i", apart, apart) <= self._reach_squared))
+        return bool((np.einsum("ij,ij->i", apart, apart) <= self._reach_squared).any())
 
     def compute_qp_inequalities(self, configuration: mink.Configuration, dt: float) -> Constraint:
         if not self.near(configuration.data):

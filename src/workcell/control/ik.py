@@ -72,6 +72,7 @@ class BimanualIK:
             StepCollisionLimit(
                 self.model,
                 geom_pairs=[(arm_geoms("l"), arm_geoms("r"))],
+                gate=False,  # the shoulders' bounding spheres always overlap
                 minimum_distance_from_collisions=0.015,
                 collision_detection_distance=ARM_DETECTION_DISTANCE,
             ),
