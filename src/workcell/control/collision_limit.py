@@ -55,8 +55,9 @@ class StepCollisionLimit(mink.CollisionAvoidanceLimit):
         plane), so the test applies."""
 
     def near(self, data: mujoco.MjData) -> bool:
-        """Whether any pair's bounding spheres come within the detection distance (always
-        True when a pair has an unbounded geom)."""
+        """Whether any pair's bounding spheres come within the detection distance; always
+        True for a limit that is not gated (``gate=False``, or a pair with an unbounded
+        geom such as a plane)."""
         if not self._gated:
             return True
         apart = data.geom_xpos[self._first] - data.geom_xpos[self._second]

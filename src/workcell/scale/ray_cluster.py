@@ -4,6 +4,7 @@
 
 from __future__ import annotations
 
+import os
 import socket
 
 from workcell.errors import WorkcellError
@@ -24,7 +25,7 @@ def start_ray(address: str, num_cpus: int) -> None:
     import ray  # noqa: PLC0415
 
     if address != LOCAL:
-        _check_reachable(address)
+        check_reachable(address)
     try:
         if address == LOCAL:
             ray.init(num_cpus=num_cpus, include_dashboard=False, log_to_driver=False)
@@ -34,9 +35,11 @@ def start_ray(address: str, num_cpus: int) -> None:
         raise RayError(f"cannot connect to Ray at {address!r}: {error}") from None
 
 
-def _check_reachable(address: str) -> None:
+def check_reachable(address: str) -> None:
     """Fail at once when nothing listens at a ``host:port`` (or ``ray://host:port``)
-    address: ray.init would retry it for minutes. Other forms ("auto") are Ray's to judge."""
+    address, or something does that is not a gRPC server (Ray's head and client servers
+    are): ray.init would retry the first for minutes and wait on the second for ever.
+    Other forms ("auto") are Ray's to judge."""
     host, colon, port = address.removeprefix("ray://").rpartition(":")
     if not colon or not port.isdigit():
         return
@@ -48,3 +51,26 @@ def _check_reachable(address: str) -> None:
             f"cannot connect to Ray at {address!r}: nothing answers at {host}:{port} "
             f"({error.strerror or error}); is the cluster up (ray start --head)?"
         ) from None
+    if os.environ.get("RAY_USE_TLS", "0") not in ("", "0"):
+        return  # a TLS cluster: the handshake needs Ray's certificates; ray.init checks
+    if not _speaks_grpc(host, int(port)):
+        raise RayError(
+            f"cannot connect to Ray at {address!r}: something answers at {host}:{port} "
+            f"but not as Ray does (no gRPC handshake within {REACH_TIMEOUT_S:g} s); give "
+            "the head's address as `ray start --head` printed it (port 6379 by default)"
+        )
+
+
+def _speaks_grpc(host: str, port: int) -> bool:
+    """Whether the server at ``host:port`` completes a gRPC (HTTP/2) handshake in time."""
+    import grpc  # noqa: PLC0415 - Ray's own dependency, imported only when Ray is asked for
+
+    target = f"[{host}]:{port}" if ":" in host else f"{host}:{port}"
+    channel = grpc.insecure_channel(target)
+    try:
+        grpc.channel_ready_future(channel).result(timeout=REACH_TIMEOUT_S)
+    except grpc.FutureTimeoutError:
+        return False
+    finally:
+        channel.close()
+    return True
