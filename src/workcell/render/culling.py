@@ -47,10 +47,11 @@ def cull_outside_view(
     cannot see; returns how many."""
     count = scene.ngeom
     geoms = scene.geoms[:count]
-    slots = [k for k, geom in enumerate(geoms) if geom.objtype == _GEOM]
-    if not slots:
+    found = [(k, geom.objid) for k, geom in enumerate(geoms) if geom.objtype == _GEOM]
+    if not found:
         return 0
-    ids = np.fromiter((geoms[k].objid for k in slots), dtype=np.int64, count=len(slots))
+    slots, objids = zip(*found, strict=True)
+    ids = np.array(objids, dtype=np.int64)
     # Geom centres in the camera's frame: x right, y up, looking along -z.
     local = (data.geom_xpos[ids] - data.cam_xpos[camera_id]) @ data.cam_xmat[camera_id].reshape(
         3, 3
