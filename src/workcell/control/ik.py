@@ -9,13 +9,15 @@ and collision avoidance between the arms and between each arm and a proxy of the
 from __future__ import annotations
 
 from collections.abc import Sequence
+from ctypes import c_int
 
+import daqp
 import mink
 import numpy as np
-import qpsolvers
 from numpy.typing import NDArray
 
 from workcell.control.collision_limit import StepCollisionLimit
+from workcell.control.ik_limits import FixedRowsConfigurationLimit, FixedVelocityLimit
 from workcell.control.ik_residual import residuals
 from workcell.sim import panda
 from workcell.sim.config import WorldConfig
@@ -58,8 +60,8 @@ class BimanualIK:
                 velocities[name] = vmax
         proxy_geom = "conveyor_proxy_geom"
         self.limits: list[mink.Limit] = [
-            mink.ConfigurationLimit(self.model),
-            mink.VelocityLimit(self.model, velocities),
+            FixedRowsConfigurationLimit(self.model),
+            FixedVelocityLimit(self.model, velocities),
             StepCollisionLimit(
                 self.model,
                 geom_pairs=[([*arm_geoms("l"), *arm_geoms("r")], [proxy_geom])],
@@ -156,12 +158,21 @@ class BimanualIK:
         tasks = [*self.frame_tasks.values(), self.posture]
         self.solves += 1
         # mink.solve_ik's steps without its check of the configuration against the joint
-        # limits, which only logs (the configuration limit keeps every step inside them).
+        # limits, which only logs (the configuration limit keeps every step inside them),
+        # and daqp called as qpsolvers calls it, less the rows that bound nothing: a
+        # collision pair beyond its detection distance is a zero row with an infinite
+        # bound, which never becomes active (the solution is the same, bit for bit).
         problem = mink.build_ik(self.configuration, tasks, horizon, 1e-3, self.limits)
-        result = qpsolvers.solve_problem(problem, solver="daqp")
-        if not result.found or result.x is None:
+        assert problem.G is not None and problem.h is not None
+        bounding = np.isfinite(problem.h)
+        rows, upper = problem.G[bounding], problem.h[bounding]
+        lower = np.full(upper.size, -1e30)
+        x, _, exitflag, _ = daqp.solve(
+            problem.P, problem.q, rows, upper, lower, np.zeros(upper.size, dtype=c_int)
+        )
+        if exitflag <= 0:
             raise mink.NoSolutionFound("daqp")
-        velocity: NDArray[np.float64] = result.x / horizon
+        velocity: NDArray[np.float64] = x / horizon
         return velocity
 
     def advance(self, velocity: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
