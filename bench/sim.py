@@ -12,7 +12,8 @@ Prints, measured in one run:
 
 Targets (issue 2): full loop >= 25x real time and >= 0.4 of the raw rate; (issue 19) >= 35x
 and >= 0.55, tracking unchanged.
-Run: ``make bench`` or ``.venv/bin/python bench/sim.py [--trials N] [--ik-hz 0,20]``.
+Run: ``make bench`` or ``.venv/bin/python bench/sim.py [--trials N] [--ik-hz 0,20]
+[--control-hz 100]``.
 """
 
 from __future__ import annotations
@@ -107,12 +108,21 @@ def main() -> None:
     parser.add_argument("--trials", type=int, default=3, help="expert trials to time per rate")
     parser.add_argument("--grasp", choices=("assisted", "physical"), default="assisted")
     parser.add_argument("--ik-hz", default="0,20", help="IK rates to compare (0: every period)")
+    parser.add_argument(
+        "--control-hz",
+        type=float,
+        default=RobotConfig().control_hz,
+        help="control rate of every run (100: the rate a person drives at in workcell serve)",
+    )
     args = parser.parse_args()
     pin_to_one_core()
 
     rates = [float(hz) for hz in args.ik_hz.split(",")]
     sims = {
-        hz: Simulation(WorldConfig(grasp=args.grasp, robot=RobotConfig(ik_hz=hz))) for hz in rates
+        hz: Simulation(
+            WorldConfig(grasp=args.grasp, robot=RobotConfig(control_hz=args.control_hz, ik_hz=hz))
+        )
+        for hz in rates
     }
     runs = {hz: Run() for hz in rates}
     raw = RawPhysics(WorldConfig(grasp=args.grasp))

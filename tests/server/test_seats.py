@@ -6,6 +6,7 @@ session whose simulation fails ends alone; a dropped operator takes back its own
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import os
 import shutil
 import signal
@@ -19,6 +20,7 @@ from workcell.errors import ConfigError
 from workcell.protocol import messages as m
 from workcell.record import Store
 from workcell.record.verify import verify_store
+from workcell.server import session_relay
 from workcell.server.options import ServerOptions
 from workcell.server.seats import Seats
 from workcell.server.shards import shard_folder
@@ -149,6 +151,59 @@ def test_a_dead_simulation_ends_only_its_own_session(tmp_path: Path) -> None:
                 "steady": [("interrupted", "operator_stop")],
                 # left open by the failed thread, recovered when its shard was merged
                 "doomed": [("interrupted", "crash_recovered")],
+            }
+
+    asyncio.run(scenario())
+
+
+def test_a_frozen_simulation_holds_up_no_other_session_and_is_killed_when_it_will_not_stop(
+    tmp_path: Path, monkeypatch: pytest.MonkeyPatch
+) -> None:
+    """A session's process that stops reading its pipe (here stopped with SIGSTOP, as a
+    hang in native code would leave it) while its operator keeps sending: the server still
+    serves the other session at once, and when the frozen one is asked to stop and does
+    not, the server kills it after the grace and ends it alone, its record recovered."""
+    monkeypatch.setattr(session_relay, "STOP_GRACE_S", 3.0)
+
+    async def scenario() -> None:
+        with running_server(tmp_path, max_sessions=2) as server:
+            async with client(server) as a, client(server) as b:
+                await a.hello()
+                await b.hello()
+                await _start(a, "steady")
+                started = await _start(b, "frozen")
+                frozen = server.seats.conductors["2"].session
+                assert frozen is not None and frozen.pid is not None
+                await _drive(b, 3)
+                os.kill(frozen.pid, signal.SIGSTOP)
+                try:
+                    # far more than its pipe holds (about 64 KiB, some 200 inputs)
+                    for _ in range(500):
+                        await b.input()
+                        await asyncio.sleep(0.005)
+                    # the newest input waits, in place of the others; nothing else
+                    assert frozen.unsent <= 1
+                    # the other seat is served at once
+                    await asyncio.wait_for(_drive(a, 10), timeout=5)
+                    await b.send(m.Stop())
+                    ended = await b.wait_for(lambda x: isinstance(x, m.SessionEnded), timeout=30)
+                finally:
+                    with contextlib.suppress(ProcessLookupError):  # killed, as it should be
+                        os.kill(frozen.pid, signal.SIGCONT)
+                assert isinstance(ended, m.SessionEnded)
+                assert ended.session_id == started.session_id
+                assert ended.reason == "error"
+                assert ended.detail.startswith(
+                    "the session's process died (it did not end within 3 s of being asked "
+                    "to stop, so the server killed it: killed by SIGKILL)"
+                ), ended.detail
+                await _drive(a, 5)
+                assert all(not isinstance(x, m.SessionEnded) for x in a.received)
+                assert (await _stop(a)).reason == "operator_stop"
+
+            assert _recorded(server) == {
+                "steady": [("interrupted", "operator_stop")],
+                "frozen": [("interrupted", "crash_recovered")],
             }
 
     asyncio.run(scenario())

@@ -24,6 +24,7 @@ from typing import Any, ClassVar, Protocol
 from workcell.errors import WorkcellError
 from workcell.protocol.messages import FrameStats, Input, Scene, SessionEnded
 from workcell.server.live import SessionListener
+from workcell.server.pipe_outbox import PipeOutbox
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.pacing import PacingStats
@@ -33,6 +34,9 @@ logger = logging.getLogger(__name__)
 
 START_TIMEOUT_S = 120.0
 """Longest a session's child may take to open its store and build its world."""
+STOP_GRACE_S = 30.0
+"""Longest a session's child may take to end once asked to stop (its trial closed, its
+store flushed: well under a second normally) before the server kills it as stuck."""
 KEPT_TO_THE_LAST_FRAMES = (
     "its trial is recorded up to the last frames written, and closed as interrupted "
     "(crash_recovered)"
@@ -100,7 +104,10 @@ class RelayedSession(ABC):
         self._results: list[tuple[str, int]] = []
         """(outcome, score) of each trial the child reported ended."""
         self._conn: Connection | None = None
-        self._send_lock = threading.Lock()
+        self._outbox: PipeOutbox | None = None
+        self._overdue = ""
+        """Why the server killed the child, when it did (it did not stop when asked)."""
+        self._stop_timer: threading.Timer | None = None
         self._reader = threading.Thread(
             target=self._read, name="workcell-session-pipe", daemon=True
         )
@@ -157,6 +164,7 @@ class RelayedSession(ABC):
             conn.close()
             raise WorkcellError(first[1])
         _, self.session_id, self.scene = first
+        self._outbox = PipeOutbox(conn)
         self._reader.start()
 
     def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
@@ -166,7 +174,24 @@ class RelayedSession(ABC):
         self._send(("frames", stats))
 
     def request_stop(self, reason: ev.InterruptionReason) -> None:
+        """Ask the child to end its trial as ``reason``; a child that has not ended
+        :data:`STOP_GRACE_S` later (stopped, hung in native code) is killed, which ends
+        its session ``error`` as a crash does."""
         self._send(("stop", reason))
+        if self._stop_timer is None and self._outbox is not None:
+            self._stop_timer = threading.Timer(STOP_GRACE_S, self._stop_overdue)
+            self._stop_timer.daemon = True
+            self._stop_timer.start()
+
+    def _stop_overdue(self) -> None:
+        if self._ended or not self.running:
+            return
+        self._overdue = (
+            f"it did not end within {STOP_GRACE_S:g} s of being asked to stop, so the "
+            "server killed it"
+        )
+        logger.warning("session %s: %s", self.session_id, self._overdue)
+        self.kill()
 
     def join(self, timeout: float | None = None) -> bool:
         """Wait until the child has ended and closed its store."""
@@ -180,6 +205,12 @@ class RelayedSession(ABC):
         return self._pacing
 
     @property
+    def unsent(self) -> int:
+        """Messages for the child not yet handed to its pipe (more than one or two only
+        while the child does not read)."""
+        return 0 if self._outbox is None else self._outbox.waiting
+
+    @property
     def outcomes(self) -> tuple[str, ...]:
         """The outcome of each trial that has ended so far."""
         return tuple(outcome for outcome, _ in self._results)
@@ -187,11 +218,10 @@ class RelayedSession(ABC):
     # --- the server side of the pipe --------------------------------------------------------
 
     def _send(self, message: tuple[Any, ...]) -> None:
-        conn = self._conn
-        if conn is None:
-            return
-        with self._send_lock, contextlib.suppress(OSError, ValueError):  # the child is gone
-            conn.send(message)
+        """Queue ``message`` for the child; never waits on it (see :mod:`~workcell.server.
+        pipe_outbox`)."""
+        if self._outbox is not None:
+            self._outbox.put(message)
 
     def _read(self) -> None:
         """Carry the child's output to the listener until the pipe closes."""
@@ -215,9 +245,13 @@ class RelayedSession(ABC):
             elif kind == "ended":
                 self._ended = True
                 self.listener.ended(body[0])
+        if self._stop_timer is not None:
+            self._stop_timer.cancel()
         if not self._ended:
             self._reap(5)
             self.listener.ended(self._died())
+        if self._outbox is not None:
+            self._outbox.close()
         with contextlib.suppress(OSError):
             conn.close()
 
@@ -229,6 +263,8 @@ class RelayedSession(ABC):
 
     def _died(self) -> SessionEnded:
         how = self._exit()
+        if self._overdue:
+            how = f"{self._overdue}: {how}"
         logger.warning("session %s: its %s died (%s)", self.session_id, self.kind, how)
         return SessionEnded(
             session_id=self.session_id,
