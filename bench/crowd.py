@@ -252,7 +252,13 @@ def recorded(store: Path) -> Recorded:
 
 
 def measure(
-    n: int, seconds: float, robot: dict[str, float], behaviour: str, ray: str | None
+    n: int,
+    seconds: float,
+    robot: dict[str, float],
+    behaviour: str,
+    ray: str | None,
+    *,
+    compression: bool = False,
 ) -> Figures:
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "crowd.sqlite"
@@ -262,6 +268,8 @@ def measure(
         arguments = ["--port", str(port), "--store", str(store), "--sessions", str(seats)]
         if ray is not None:
             arguments += ["--ray", ray]
+        if compression:
+            arguments.append("--ws-compression")
         process = subprocess.Popen(
             [sys.executable, "-c", LAUNCH, *arguments],
             stdout=subprocess.DEVNULL,
@@ -350,6 +358,11 @@ def main() -> None:
         metavar="ADDRESS",
         help="run the sessions as Ray actors (workcell serve --ray; 'local': Ray on this machine)",
     )
+    parser.add_argument(
+        "--ws-compression",
+        action="store_true",
+        help="serve with --ws-compression (the operators offer permessage-deflate, as browsers do)",
+    )
     args = parser.parse_args()
     counts = [int(n) for n in args.sessions.split(",")]
     robot = {
@@ -364,12 +377,17 @@ def main() -> None:
     print(
         f"operators: {args.behaviour}; sessions in "
         + (f"Ray actors ({args.ray})" if args.ray else "processes")
+        + ("; messages compressed" if args.ws_compression else "")
     )
     print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
     rows = []
     for n in counts:
         print(f"N = {n} ...", flush=True)
-        rows.append(measure(n, args.seconds, robot, args.behaviour, args.ray))
+        rows.append(
+            measure(
+                n, args.seconds, robot, args.behaviour, args.ray, compression=args.ws_compression
+            )
+        )
     report(rows, args.seconds)
 
 

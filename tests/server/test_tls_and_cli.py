@@ -1,4 +1,5 @@
-"""``--tls`` (a generated self-signed certificate) and the serve command's options."""
+"""``--tls`` (a generated self-signed certificate), ``--ws-compression`` and the serve
+command's options."""
 
 from __future__ import annotations
 
@@ -61,6 +62,8 @@ def test_serve_options() -> None:
     options, generated = serve.options_from(parse())
     assert options.host == "127.0.0.1" and options.token is None and not generated
     assert options.store == Path("workcell.sqlite") and options.grace_s == 10.0
+    assert not options.ws_compression
+    assert serve.options_from(parse("--ws-compression"))[0].ws_compression
     options, generated = serve.options_from(parse("--host", "0.0.0.0", "--tls"))
     assert generated and options.token is not None and len(options.token) >= 16 and options.tls
     options, generated = serve.options_from(parse("--host", "0.0.0.0", "--token", "x" * 12))
@@ -76,3 +79,26 @@ def test_serve_options() -> None:
     assert options.allow_origins == ("http://localhost:5173", "https://a.example")
     with pytest.raises(ConfigError, match="--allow-origin = 'localhost:5173'"):
         serve.options_from(parse("--allow-origin", "localhost:5173"))
+
+
+@pytest.mark.parametrize("compression", [False, True])
+def test_messages_are_compressed_only_with_ws_compression(
+    tmp_path: Path, compression: bool
+) -> None:
+    """A client offering permessage-deflate (as browsers and ``websockets`` do) gets it
+    only from a server run with ``--ws-compression``; messages flow either way."""
+
+    async def scenario(url: str) -> str | None:
+        async with connect(url, subprotocols=[m.SUBPROTOCOL]) as ws:  # type: ignore[list-item]
+            assert ws.request is not None and ws.response is not None
+            assert "permessage-deflate" in ws.request.headers["Sec-WebSocket-Extensions"]
+            await ws.send(encode(m.Hello(role="spectator")))
+            assert isinstance(decode_server(await ws.recv()), m.Welcome)
+            return ws.response.headers.get("Sec-WebSocket-Extensions")
+
+    with running_server(tmp_path, ws_compression=compression) as server:
+        accepted = asyncio.run(scenario(server.ws))
+    if compression:
+        assert accepted is not None and accepted.startswith("permessage-deflate")
+    else:
+        assert accepted is None

@@ -99,5 +99,6 @@ def uvicorn_config(app: Any, options: ServerOptions, **overrides: Any) -> uvicor
         "ws_max_size": WS_MAX_BYTES,
         "log_level": "warning",
         "timeout_graceful_shutdown": 5,
+        "ws_per_message_deflate": options.ws_compression,
     }
     return uvicorn.Config(app, **(settings | overrides))
