@@ -34,6 +34,8 @@ await runScript("xr_exit_toolbar", async ({ url, page, artifacts }) => {
   const after = await page.evaluate(topmostOverToolbar);
   log(`topmost over the toolbar after VR: ${JSON.stringify(after)}`);
   check(after.every((b) => b.ok), `after VR the toolbar is covered: ${JSON.stringify(after)}`);
+  // The trial the stop ends must have begun: the whole flow can take less than the countdown.
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
   await page.click("#stop-session", { timeout: 5000 }); // a real pointer click
   const end = await waitForEnd(page, 15000);
   const result = { session_id: end.ended.session_id, reason: end.ended.reason, toolbar_after_vr: after };
