@@ -92,6 +92,7 @@ class BimanualIK:
         )
         """The (position, quaternion) each frame task's target was last set from, if set
         by :meth:`set_target` (an operator holds a target still most of the time)."""
+        self._open_rows: dict[int, tuple[NDArray[np.float64], NDArray[np.intc]]] = {}
         self.solves = 0
         """IK solves so far (diagnostics: how often the QP ran)."""
         self.home = np.zeros(len(JOINT_ORDER))
@@ -166,14 +167,22 @@ class BimanualIK:
         assert problem.G is not None and problem.h is not None
         bounding = np.isfinite(problem.h)
         rows, upper = problem.G[bounding], problem.h[bounding]
-        lower = np.full(upper.size, -1e30)
-        x, _, exitflag, _ = daqp.solve(
-            problem.P, problem.q, rows, upper, lower, np.zeros(upper.size, dtype=c_int)
-        )
+        lower, sense = self._open_below(upper.size)
+        x, _, exitflag, _ = daqp.solve(problem.P, problem.q, rows, upper, lower, sense)
         if exitflag <= 0:
             raise mink.NoSolutionFound("daqp")
         velocity: NDArray[np.float64] = x / horizon
         return velocity
+
+    def _open_below(self, rows: int) -> tuple[NDArray[np.float64], NDArray[np.intc]]:
+        """daqp's lower bounds (none: -1e30, as qpsolvers passes) and constraint senses
+        (0: inequality) for ``rows`` inequality rows, built once per row count (a handful
+        of counts recur, as collision pairs come within reach and leave)."""
+        built = self._open_rows.get(rows)
+        if built is None:
+            built = (np.full(rows, -1e30), np.zeros(rows, dtype=c_int))
+            self._open_rows[rows] = built
+        return built
 
     def advance(self, velocity: NDArray[np.float64], dt: float) -> NDArray[np.float64]:
         """Move the configuration at ``velocity`` for ``dt``; returns the joints."""

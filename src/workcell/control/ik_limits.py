@@ -40,14 +40,15 @@ class FixedRowsConfigurationLimit(mink.ConfigurationLimit):
     def __init__(self, model: mujoco.MjModel, gain: float = 0.95) -> None:
         _require_scalar_joints(model, type(self).__name__)
         super().__init__(model, gain=gain)
-        rows = self.projection_matrix
-        self._rows = np.zeros((0, model.nv)) if rows is None else np.vstack([rows, -rows])
-        self._upper = self.upper[self.indices] if len(self.indices) else np.zeros(0)
-        self._lower = self.lower[self.indices] if len(self.indices) else np.zeros(0)
+        projection = self.projection_matrix  # None: no joint is limited
+        if projection is not None:
+            self._rows = np.vstack([projection, -projection])
+            self._upper = self.upper[self.indices]
+            self._lower = self.lower[self.indices]
 
     def compute_qp_inequalities(self, configuration: mink.Configuration, dt: float) -> Constraint:
         del dt  # the bounds are positions
-        if not len(self.indices):
+        if self.projection_matrix is None:
             return Constraint()
         q = configuration.q[self.indices]
         bounds: NDArray[np.float64] = np.concatenate(
