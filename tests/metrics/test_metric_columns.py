@@ -1,5 +1,5 @@
 """The metric columns are derived from the metric definitions, and the CSV contract
-(column names and order) stays exactly what DESIGN.md publishes."""
+(column names and order) stays exactly what docs/architecture.md publishes."""
 
 from __future__ import annotations
 

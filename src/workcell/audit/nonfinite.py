@@ -1,9 +1,9 @@
 """Non-finite data: NaN or infinite values in the columns the metrics read.
 
-Definition (version :data:`NONFINITE_VERSION`): ``nonfinite`` is raised when the DESIGN
-metric ``nonfinite_share`` (share of frames holding NaN or inf among t_sim, t_wall, the
-base velocity, both TCP positions, the 14 arm joint positions and rates and both grips) is
-above 0. A metric that touches such a value is NaN or counts it as inactive (see
+Definition (version :data:`NONFINITE_VERSION`): ``nonfinite`` is raised when the metric
+``nonfinite_share`` of docs/architecture.md (share of frames holding NaN or inf among t_sim,
+t_wall, the base velocity, both TCP positions, the 14 arm joint positions and rates and both
+grips) is above 0. A metric that touches such a value is NaN or counts it as inactive (see
 METRIC_DEFINITIONS), so such a trial's numbers are not comparable with the others.
 """
 

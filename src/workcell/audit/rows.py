@@ -65,7 +65,9 @@ class SessionRow:
             metric_thresholds = MetricThresholds.from_stored(thresholds)
         except (ValueError, TypeError) as error:
             metric_thresholds = MetricThresholds()
-            notes.append(f"thresholds not readable ({error}); the DESIGN defaults were used")
+            notes.append(
+                f"thresholds not readable ({error}); the defaults of docs/architecture.md were used"
+            )
         rate, note = recorded_rate(parameters)
         if note is not None:
             notes.append(note)

@@ -12,7 +12,8 @@ the machine lets it. A wall-clock gap in a headless run is a pause of the machin
 the demonstration, and is not counted. (Version 2 compared the trial's overall wall and
 sim spans; a headless run on a busy machine can be as slow as real time overall, and its
 machine's pauses were flagged.) ``non_monotonic`` is raised when ``t_sim`` or ``t_wall``
-does not strictly increase from some frame to the next (DESIGN's ``monotonic`` metric).
+does not strictly increase from some frame to the next (the ``monotonic`` metric of
+docs/architecture.md).
 """
 
 from __future__ import annotations

@@ -1,4 +1,5 @@
-"""Trial metrics and session statistics, recomputable from frames alone (DESIGN.md "Metrics").
+"""Trial metrics and session statistics, recomputable from frames alone
+(docs/architecture.md "Metrics").
 
 Build :class:`FrameArrays` from one trial's frames.csv columns, then
 :func:`compute_trial_metrics` with :class:`MetricThresholds`; summarise trials with

@@ -1,7 +1,7 @@
 """What every metric means: version, thresholds and plain-English definitions.
 
 These are written into every manifest and report, so a reader can recompute each value
-from ``frames.csv`` alone (DESIGN.md "Metrics"). Units: metres, seconds, radians.
+from ``frames.csv`` alone (docs/architecture.md "Metrics"). Units: metres, seconds, radians.
 """
 
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Trial-level metrics computed from one trial's frames alone (DESIGN.md "Metrics").
+"""Trial-level metrics computed from one trial's frames alone (docs/architecture.md "Metrics").
 
 Vectorised over frames: no per-frame Python. Non-finite inputs never raise; what they
 produce is stated per metric in :data:`~workcell.metrics.definitions.METRIC_DEFINITIONS`
@@ -116,7 +116,7 @@ def _nonfinite_share(frames: FrameArrays) -> float:
 def compute_trial_metrics(
     frames: FrameArrays, success: bool, thresholds: MetricThresholds
 ) -> TrialMetrics:
-    """Every trial-level metric of one trial, as DESIGN.md defines them.
+    """Every trial-level metric of one trial, as docs/architecture.md defines them.
 
     ``success`` says whether the trial ended in delivery: only then is
     ``completion_time_s`` the ``t_sim`` (s) of the last frame (None without frames).

@@ -1,4 +1,4 @@
-"""Column names of the four layers: the interchange contract of DESIGN.md, defined once.
+"""Column names of the four layers: the interchange contract of docs/architecture.md, defined once.
 
 The contract's columns come first, in the contract's order; further columns follow. These
 names are public API: CSV headers, SQL columns and dataset features use them verbatim.

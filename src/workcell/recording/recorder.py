@@ -4,9 +4,10 @@ It subscribes to the session runner's events and samples a frame at the configur
 the sim clock (exactly: the world calls it at the due physics step), stamping wall time
 too. A sample only copies numbers (:mod:`workcell.recording.frame_capture`); frames are
 handed to the store in batches covering at most 0.25 s of sim time, so a killed process
-loses at most that much. At each trial's end the store computes the DESIGN metrics from
-the frames as stored and closes the trial. A storage failure stops recording, is kept in
-:attr:`Recorder.failure`, and the caller interrupts the session (``storage_error``).
+loses at most that much. At each trial's end the store computes the metrics of
+docs/architecture.md from the frames as stored and closes the trial. A storage failure
+stops recording, is kept in :attr:`Recorder.failure`, and the caller interrupts the session
+(``storage_error``).
 
 Recording through a :class:`~workcell.recording.store_process.StoreProcess` (as ``workcell
 collect`` and ``workcell serve`` do) leaves formatting, checksums and SQLite to a writer
