@@ -18,7 +18,12 @@ import sys
 from collections.abc import Sequence
 from pathlib import Path
 
+import numpy as np
+
 from workcell.cli.main import main as workcell
+from workcell.envs.actions import action_from_command
+from workcell.envs.box_transfer import BoxTransferEnv
+from workcell.expert.operator import ExpertOperator
 
 GOLDEN = Path(__file__).with_name("golden_trials.json")
 
@@ -103,7 +108,9 @@ def write_golden(folder: Path) -> None:
         record(store, arguments)
         columns = columns or current_columns(store)
         cases[name] = fingerprint(store, columns)
-    GOLDEN.write_text(json.dumps({"columns": columns, "cases": cases}, indent=1) + "\n")
+    environments = {name: env_fingerprint(*case) for name, case in ENV_CASES.items()}
+    golden = {"columns": columns, "cases": cases, "environments": environments}
+    GOLDEN.write_text(json.dumps(golden, indent=1) + "\n")
 
 
 if __name__ == "__main__":
@@ -114,3 +121,28 @@ if __name__ == "__main__":
     if not options.write:
         sys.exit("nothing to do without --write")
     write_golden(options.folder)
+
+
+ENV_CASES: dict[str, tuple[int, int]] = {"env_seed5": (5, 700), "env_seed6_short": (6, 40)}
+"""Environment episodes fingerprinted: (reset seed, steps), the expert's command as each
+step's action."""
+
+
+def env_fingerprint(seed: int, steps: int) -> str:
+    """SHA-256 of an environment episode's observations, rewards and ends: reset with
+    ``seed``, then the expert's command at every step (as a policy would act), for at most
+    ``steps`` steps."""
+    env = BoxTransferEnv()
+    digest = hashlib.sha256()
+    observation, _ = env.reset(seed=seed)
+    expert = ExpertOperator(seed=seed)
+    for _ in range(steps):
+        for value in observation.values():
+            digest.update(np.ascontiguousarray(value).tobytes())
+        action = action_from_command(expert.act(env.sim.world))
+        observation, reward, terminated, truncated, info = env.step(action)
+        digest.update(json.dumps([reward, terminated, truncated, info]).encode())
+        if terminated or truncated:
+            break
+    env.close()
+    return digest.hexdigest()

@@ -9,7 +9,14 @@ from pathlib import Path
 
 import pytest
 
-from tests.tasks.recorded_fingerprint import CASES, GOLDEN, fingerprint, record
+from tests.tasks.recorded_fingerprint import (
+    CASES,
+    ENV_CASES,
+    GOLDEN,
+    env_fingerprint,
+    fingerprint,
+    record,
+)
 
 
 @pytest.mark.parametrize("case", sorted(CASES))
@@ -18,3 +25,11 @@ def test_a_recorded_session_is_what_it_was(case: str, tmp_path: Path) -> None:
     store = tmp_path / "s.sqlite"
     record(store, CASES[case])
     assert fingerprint(store, golden["columns"]) == golden["cases"][case]
+
+
+@pytest.mark.parametrize("case", sorted(ENV_CASES))
+def test_an_environment_episode_is_what_it_was(case: str) -> None:
+    """The environment's observations, rewards and ends over an episode the expert drives
+    (the first delivers its box at step 437) are what they were before the task API."""
+    golden = json.loads(GOLDEN.read_text())
+    assert env_fingerprint(*ENV_CASES[case]) == golden["environments"][case]

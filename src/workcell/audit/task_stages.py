@@ -1,24 +1,11 @@
-"""How far a trial got: the furthest stage of the task any of its boxes reached.
+"""How far a trial got, read from its recorded frames: the furthest stage of the task any
+of its boxes reached (the stages are the task's:
+:mod:`workcell.tasks.box_transfer.stages`, where the live judge reads them too).
 
 A trial that times out may have done everything but the last step, or nothing at all; its
 outcome alone cannot tell a policy that never moved from one that carried the box to the
 table and never let go. The stage can: it is read from the frames the record already holds
 (the grippers' contacts, the grasp, every box's pose) and from the trial's delivery zone.
-
-Stages, in order (definition version 1):
-
-``none``
-    no gripper touched a box.
-``touched``
-    a gripper touched a box (``contact_l`` or ``contact_r`` names one).
-``grasped``
-    both pads closed on a box (``attached`` names one).
-``lifted``
-    a held box rose at least ``LIFT_M`` above its height when the hold began.
-``over_zone``
-    a held box was above the delivery zone (its x, y inside the zone's rectangle).
-``delivered``
-    a box was delivered (the trial's ``boxes_delivered`` is at least 1).
 """
 
 from __future__ import annotations
@@ -26,17 +13,31 @@ from __future__ import annotations
 import json
 from collections.abc import Callable, Iterable, Mapping, Sequence
 from dataclasses import dataclass
-from typing import Any, Literal, get_args
+from typing import Any
 
 import numpy as np
 
 from workcell.sim.config import TargetConfig
+from workcell.tasks.box_transfer.stages import (
+    LIFT_M,
+    TASK_STAGES,
+    TASK_STAGES_VERSION,
+    Hold,
+    StageTracker,
+    TaskStage,
+    Zone,
+)
 
-TaskStage = Literal["none", "touched", "grasped", "lifted", "over_zone", "delivered"]
-TASK_STAGES: tuple[TaskStage, ...] = get_args(TaskStage)
-TASK_STAGES_VERSION = "1"
-LIFT_M = 0.05
-"""How far above its height at the start of a hold a held box must rise to count as lifted."""
+__all__ = [
+    "LIFT_M",
+    "TASK_STAGES",
+    "TASK_STAGES_VERSION",
+    "Hold",
+    "StageFrames",
+    "TaskStage",
+    "Zone",
+    "stage_reached",
+]
 
 STAGE_COLUMNS: tuple[str, ...] = ("frame_index", "contact_l", "contact_r", "attached", "boxes")
 """The frame columns the stage is read from."""
@@ -55,31 +56,6 @@ z]`` of the ``boxes`` entry at the box's position), parsed inside SQLite (the ``
 holds every box of the pool in index order; :func:`holds_from_sql` checks the index). SQLite
 refuses the whole query when one ``boxes`` cell is not JSON: read such a trial with
 :data:`STAGE_COLUMNS` and :func:`stage_frames` instead."""
-
-
-@dataclass(frozen=True)
-class Zone:
-    """A trial's delivery zone on the floor plane: centre and size (x, y), in metres."""
-
-    center: tuple[float, float]
-    size: tuple[float, float]
-
-    def contains(self, x: float, y: float) -> bool:
-        return (
-            abs(x - self.center[0]) <= self.size[0] / 2
-            and abs(y - self.center[1]) <= self.size[1] / 2
-        )
-
-
-@dataclass(frozen=True)
-class Hold:
-    """One frame in which a box was held: its frame index and the held box's position."""
-
-    frame_index: int
-    box: int
-    x: float
-    y: float
-    z: float
 
 
 @dataclass(frozen=True)
@@ -216,28 +192,14 @@ def _box_position(boxes: str, box: int) -> tuple[float, float, float] | None:
 
 def stage_reached(frames: StageFrames, zone: Zone, boxes_delivered: int | None) -> TaskStage:
     """The furthest stage of :data:`TASK_STAGES` the trial reached."""
-    if boxes_delivered is not None and boxes_delivered >= 1:
-        return "delivered"
-    if not frames.grasped:
-        return "touched" if frames.touched else "none"
-    stage: TaskStage = "grasped"
-    start_z: dict[int, float] = {}
-    previous: Hold | None = None
+    tracker = StageTracker(zone)
+    if frames.touched:
+        tracker.touch()
+    if frames.grasped:
+        tracker.grasp()
     for hold in frames.holds:
-        new_hold = (
-            previous is None
-            or previous.box != hold.box
-            or hold.frame_index != previous.frame_index + 1
-        )
-        if new_hold:
-            start_z[hold.box] = hold.z
-        previous = hold
-        lifted = hold.z - start_z[hold.box] >= LIFT_M
-        if zone.contains(hold.x, hold.y):
-            return "over_zone"
-        if lifted:
-            stage = "lifted"
-    return stage
+        tracker.hold(hold)
+    return tracker.stage(boxes_delivered)
 
 
 def stage_counts(stages: Iterable[TaskStage]) -> dict[TaskStage, int]:

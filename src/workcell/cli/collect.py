@@ -14,6 +14,7 @@ from workcell.cli.collect_operator import (
     policy_checkpoint,
     with_operator_id,
 )
+from workcell.cli.task_options import add_task_arguments, task_flags
 from workcell.errors import ConfigError, WorkcellError
 
 if TYPE_CHECKING:
@@ -44,6 +45,7 @@ def register(subparsers: Subparsers) -> None:
         help="who drives: the scripted expert (default), or the LeRobot policy at PATH "
         "(a pretrained_model directory, or a 'workcell train' output)",
     )
+    add_task_arguments(parser)
     parser.add_argument("--mode", choices=("practice", "collection", "challenge"))
     parser.add_argument(
         "--trials",
@@ -157,7 +159,11 @@ def run(args: argparse.Namespace) -> int:
     if args.mode == "collection" or (args.mode is None and args.trials is not None):
         flags["task.trials"] = args.trials
     try:
+        flags.update(task_flags(args, args.set))
         config = resolve_session_config(args.config, args.set, flags)
+        from workcell.tasks.registry import task_class  # noqa: PLC0415
+
+        task_class(config.task.kind)  # an unknown task is refused before anything runs
     except ConfigError as error:
         problems += error.problems
     cameras = None

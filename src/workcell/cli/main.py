@@ -27,6 +27,7 @@ from workcell.cli import (
     serve,
     snapshot,
     study,
+    tasks,
     train,
     verify,
 )
@@ -52,6 +53,7 @@ COMMANDS: tuple[CommandModule, ...] = (
     serve,
     snapshot,
     study,
+    tasks,
     train,
     verify,
 )

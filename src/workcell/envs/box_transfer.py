@@ -29,7 +29,8 @@ from workcell.envs.observation import Observation, ObservationBuilder
 from workcell.envs.spaces import action_space, observation_space
 from workcell.errors import ConfigError
 from workcell.render.renderer import OffscreenRenderer
-from workcell.sim.events import BoxDelivered
+from workcell.tasks import WorldName
+from workcell.tasks.registry import load_task
 
 MAX_SEED = 2**63 - 1
 
@@ -44,15 +45,20 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         config: BoxTransferConfig | None = None,
         render_mode: str | None = None,
         session_parameters: Mapping[str, Any] | None = None,
+        world: WorldName | None = None,
     ) -> None:
         """``config``, or the ``session_parameters`` a store recorded (as in the HDF5
-        export's ``env_args``), or the defaults."""
+        export's ``env_args``), or the defaults; ``world`` (``D0``, ``D1``, ``D2``) sets
+        the randomization ranges to the task's world of that name."""
         if config is None:
             config = (
                 BoxTransferConfig()
                 if session_parameters is None
                 else BoxTransferConfig.from_parameters(session_parameters)
             )
+        self.task = load_task(config.session.task.kind)
+        if world is not None:
+            config = config.in_world(self.task, world)
         if render_mode not in (None, *self.metadata["render_modes"]):
             raise ConfigError([f"render_mode {render_mode!r}: must be None or 'rgb_array'"])
         self.config = config
@@ -65,7 +71,8 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         self._renderer: OffscreenRenderer | None = None
         self._command = Command()
         self._frames = 0
-        self._delivered = 0
+        self._judge = self.task.new_trial(config.required_boxes)
+        self._success = False
         self._world_seed = 0
 
     # --- gymnasium API --------------------------------------------------------------------
@@ -81,7 +88,8 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         for _ in range(self.config.countdown_steps):
             self.sim.step(self._command)
         self._frames = 0
-        self._delivered = 0
+        self._judge = self.task.new_trial(self.config.required_boxes)
+        self._success = False
         self._observations.restart()
         return self._observations.observe(self._command), self._info()
 
@@ -89,13 +97,14 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         space = self.action_space
         clipped = np.clip(np.asarray(action, dtype=np.float64), space.low, space.high)
         self._command = command_from_action(clipped)
-        reward = 0.0
+        done = self._judge.done
         for _ in range(self.config.control_steps_per_frame):
-            events = self.sim.step(self._command)
-            reward += sum(1.0 for event in events if isinstance(event, BoxDelivered))
+            for event in self.sim.step(self._command):
+                self._judge.observe(event)
         self._frames += 1
-        self._delivered += int(reward)
-        terminated = self.is_success
+        reward = float(self._judge.done - done)
+        self._success = self._judge.evaluate(self.sim.world).success
+        terminated = self._success
         truncated = not terminated and self._frames >= self.config.max_episode_steps
         observation = self._observations.observe(self._command)
         return observation, reward, terminated, truncated, self._info()
@@ -123,8 +132,8 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
 
     @property
     def is_success(self) -> bool:
-        """The episode's boxes are delivered."""
-        return self._delivered >= self.config.required_boxes
+        """The task judged the episode a success (its boxes delivered) at the last step."""
+        return self._success
 
     @property
     def _max_episode_steps(self) -> int:
@@ -134,7 +143,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
     def _info(self) -> dict[str, Any]:
         return {
             "t_sim": self.t_sim,
-            "boxes_delivered": self._delivered,
+            "boxes_delivered": self._judge.done,
             "is_success": self.is_success,
             "world_seed": self._world_seed,
         }

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -12,6 +13,8 @@ from workcell.export.options import ROBOT_CAMERAS, ImageSize
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.settings import divides, steps_per
+from workcell.sim.randomization import RandomizationConfig
+from workcell.tasks import Task, WorldName
 
 
 @dataclass(frozen=True)
@@ -65,6 +68,13 @@ class BoxTransferConfig:
         """The environment of a recorded session: ``parameters`` as a store keeps them
         (``SessionRecord.parameters``); ``options`` are the other fields."""
         return cls(session=from_mapping(SessionConfig, parameters), **options)
+
+    def in_world(self, task: Task, world: WorldName) -> BoxTransferConfig:
+        """This configuration in ``task``'s world ``world`` (its randomization ranges)."""
+        ranges = RandomizationConfig(**task.worlds[world])
+        session = self.session
+        world_config = dataclasses.replace(session.world, randomization=ranges)
+        return dataclasses.replace(self, session=dataclasses.replace(session, world=world_config))
 
     @property
     def fps(self) -> int:

@@ -1,4 +1,4 @@
-"""Run the expert on one box and report how it went."""
+"""Run the expert on one box and report how it went (box transfer judges the delivery)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 from workcell.control.simulation import Simulation
 from workcell.expert.operator import ExpertOperator
-from workcell.sim.events import BoxDelivered
+from workcell.tasks.box_transfer import BoxTransfer
 
 StepObserver = Callable[[Simulation], None]
 
@@ -36,13 +36,15 @@ def deliver_one_box(
     ``observer`` is called after every control step (to render video, show progress); its
     time is not counted in the result's wall time.
     """
+    judge = BoxTransfer().new_trial(1)
     delivered = False
     loop_wall = 0.0
     while sim.time < time_limit_s - 1e-9 and not delivered:
         start = time.perf_counter()
-        events = sim.step(expert.act(sim.world))
+        for event in sim.step(expert.act(sim.world)):
+            judge.observe(event)
         loop_wall += time.perf_counter() - start
-        delivered = any(isinstance(e, BoxDelivered) for e in events)
+        delivered = judge.evaluate(sim.world).success
         if observer is not None:
             observer(sim)
     return OneBoxResult(delivered=delivered, sim_time_s=sim.time, wall_time_s=loop_wall)

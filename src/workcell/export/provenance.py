@@ -13,14 +13,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from workcell.export.selection import EpisodeSource
-
-TASK_ONE = "Carry the box from the conveyor to the delivery table."
-TASK_MANY = "Carry {n} boxes from the conveyor to the delivery table."
-
-
-def task_text(required_boxes: int) -> str:
-    """The natural-language task of a trial that must deliver ``required_boxes``."""
-    return TASK_ONE if required_boxes == 1 else TASK_MANY.format(n=required_boxes)
+from workcell.tasks.registry import recorded_task
 
 
 @dataclass(frozen=True)
@@ -91,7 +84,7 @@ class Provenance:
             review_reason=review.reason if review else None,
             review_at_wall=review.at_wall if review else None,
             software_version=session.software_version,
-            task=task_text(trial.required_boxes),
+            task=recorded_task(session.parameters).instruction(trial.required_boxes),
         )
 
     def as_dict(self) -> dict[str, Any]:

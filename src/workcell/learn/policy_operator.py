@@ -23,12 +23,12 @@ from workcell.envs.config import BoxTransferConfig
 from workcell.envs.observation import ObservationBuilder
 from workcell.envs.spaces import action_space
 from workcell.export.options import ImageSize
-from workcell.export.provenance import task_text
 from workcell.learn.checkpoint import PolicyCheckpoint
 from workcell.learn.errors import LearnError, MissingLearnExtraError
 from workcell.learn.features import PolicyInputs, policy_inputs
 from workcell.session.config import SessionConfig
 from workcell.sim.world import World
+from workcell.tasks.registry import load_task
 
 INFERENCE_THREADS = 1
 """Torch threads for inference. A policy decides at most once per frame (20 Hz), so more
@@ -62,7 +62,7 @@ class PolicyOperator:
         self._low, self._high = space.low.astype(np.float64), space.high.astype(np.float64)
         size = self.inputs.image_size or ImageSize()
         self._observations = ObservationBuilder(sim, self.inputs.cameras, size)
-        self._task = task_text(1)
+        self._task = load_task(config.task.kind).instruction(1)
         self._command = Command()
         self._steps = 0
         self.decisions = 0

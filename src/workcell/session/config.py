@@ -20,6 +20,8 @@ from workcell.sim.config import WorldConfig
 Mode = Literal["practice", "collection", "challenge"]
 MODES: tuple[str, ...] = get_args(Mode)
 PoseFilterKind = Literal["one_euro", "off"]
+TASK_KIND_PATTERN = r"[a-z][a-z0-9_]{0,63}|[A-Za-z_][\w.]{0,199}:[A-Za-z_]\w{0,99}"
+"""A built-in task's name, or ``module:Class`` (:mod:`workcell.tasks.registry`)."""
 
 
 def _raise_if(problems: list[str]) -> None:
@@ -29,8 +31,15 @@ def _raise_if(problems: list[str]) -> None:
 
 @dataclass(frozen=True)
 class TaskConfig:
-    """What the operator is asked to do: the mode and its levels, limits and scoring."""
+    """What the operator is asked to do: the task, the mode and its levels, limits and
+    scoring."""
 
+    kind: str = setting(
+        "box_transfer",
+        "the task (workcell tasks lists them), or module:Class for a task of your own",
+        pattern=TASK_KIND_PATTERN,
+        pattern_doc="a task's name (lower case, digits, '_') or module:Class",
+    )
     mode: Mode = setting(
         "practice",
         "practice: one trial, one box; collection: repeated one-box trials; "

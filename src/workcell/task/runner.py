@@ -27,6 +27,8 @@ from workcell.task.hud import Hud, HudPhase
 from workcell.task.operator import Operator
 from workcell.task.schedule import Schedule, TrialSpec
 from workcell.task.scoring import trial_score
+from workcell.tasks import Task, TrialJudge
+from workcell.tasks.registry import load_task
 
 
 @dataclass(frozen=True)
@@ -39,6 +41,8 @@ class TrialResult:
     completion_time_s: float | None
     boxes_delivered: int
     score: int
+    stage: str
+    """The furthest of the task's stages the trial reached (its judge's last word)."""
 
 
 def trial_seed(session_seed: int, trial_index: int) -> int:
@@ -59,6 +63,8 @@ class SessionRunner:
         self.config = config
         self.sim = sim
         self.operator = operator
+        self.task: Task = load_task(config.task.kind)
+        """The task every trial of the session runs (``task.kind``): it judges success."""
         self.bus = bus or EventBus()
         self.max_trials = max_trials
         self.schedule = Schedule(config.task)
@@ -75,7 +81,8 @@ class SessionRunner:
         self._seed = 0
         self._conditions: dict[str, object] = {}
         self._start_step = 0
-        self._delivered = 0
+        self._judge: TrialJudge = self.task.new_trial(1)
+        self._stage = self.task.stages[0]
         self.phase = HudPhase.FINISHED
 
     # --- driving ----------------------------------------------------------------------------
@@ -185,7 +192,7 @@ class SessionRunner:
         spec = self._spec
         t = self.trial_time
         limit = spec.time_limit_s if spec else 0.0
-        boxes = self._delivered
+        boxes = self._judge.done
         return Hud(
             phase=self.phase,
             mode=self.config.task.mode,
@@ -207,7 +214,8 @@ class SessionRunner:
     def _begin(self, spec: TrialSpec) -> None:
         self._spec = spec
         self._seed = trial_seed(self.config.seed, spec.trial_index)
-        self._delivered = 0
+        self._judge = self.task.new_trial(spec.required_boxes)
+        self._stage = self.task.stages[0]
         self._conditions = self.sim.reset(self._seed).as_dict()
         self.operator.start_trial(self._seed)
         self._start_step = self._countdown_steps * self.sim.world.substeps
@@ -239,13 +247,16 @@ class SessionRunner:
 
     def _check_end(self) -> None:
         """Success or timeout, decided on the frame clock: a trial ends at the first frame
-        instant at or after its deciding moment, so its last frame is its end."""
+        instant at or after its deciding moment, so its last frame is its end. The task
+        judges success (:meth:`workcell.tasks.TrialJudge.evaluate`)."""
         spec = self._spec
         assert spec is not None
         if (self.sim.world.physics_steps - self._start_step) % self._steps_per_frame:
             return
         t = self.trial_time
-        if self._delivered >= spec.required_boxes:
+        evaluation = self._judge.evaluate(self.sim.world)
+        self._stage = evaluation.stage
+        if evaluation.success:
             self._end("success", None, t)
         elif t >= spec.time_limit_s - 1e-9:
             self.bus.publish(ev.TrialTimedOut(spec.trial_index, t))
@@ -276,11 +287,8 @@ class SessionRunner:
         assert spec is not None
         box_score = self.config.task.box_score
         limit = spec.time_limit_s
-        score = (
-            trial_score(box_score, self._delivered, limit, t)
-            if outcome == "success"
-            else box_score * self._delivered
-        )
+        done = self._judge.done
+        score = trial_score(box_score, done, limit, t) if outcome == "success" else box_score * done
         result = TrialResult(
             spec=spec,
             trial_seed=self._seed,
@@ -288,20 +296,20 @@ class SessionRunner:
             interruption_reason=reason,
             elapsed_s=t,
             completion_time_s=t if outcome == "success" else None,
-            boxes_delivered=self._delivered,
+            boxes_delivered=done,
             score=score,
+            stage=self._stage,
         )
         self.results.append(result)
-        self.bus.publish(
-            ev.TrialEnded(spec.trial_index, t, outcome, reason, t, self._delivered, score)
-        )
+        self.bus.publish(ev.TrialEnded(spec.trial_index, t, outcome, reason, t, done, score))
         return spec
 
     def _publish_world_event(self, event: world_events.WorldEvent) -> None:
         spec = self._spec
         assert spec is not None
-        if isinstance(event, world_events.BoxDelivered):
-            if self.phase is not HudPhase.RUNNING:
-                return
-            self._delivered += 1
-        self.bus.publish(ev.stamped(event, spec.trial_index, self.trial_time, self._delivered))
+        running = self.phase is HudPhase.RUNNING
+        if isinstance(event, world_events.BoxDelivered) and not running:
+            return
+        if running:
+            self._judge.observe(event)
+        self.bus.publish(ev.stamped(event, spec.trial_index, self.trial_time, self._judge.done))

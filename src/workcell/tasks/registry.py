@@ -1,0 +1,68 @@
+"""Finding a task by name: the built-in tasks, or ``module:Class`` for one of your own.
+
+``task.kind`` (``--task``) names a built-in task (:data:`BUILT_IN`) or, as Gymnasium's
+entry points do, a task class anywhere on the Python path (``my_lab.tasks:PushBox``), which
+is imported when a session needs it.
+"""
+
+from __future__ import annotations
+
+import importlib
+from collections.abc import Mapping
+from typing import Any
+
+from workcell.errors import ConfigError, Problem
+from workcell.tasks.box_transfer import BoxTransfer
+from workcell.tasks.task import Task
+
+BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer,)}
+"""The tasks that come with Workcell, by name, in the order ``workcell tasks`` lists them."""
+DEFAULT_TASK = BoxTransfer.name
+
+
+def task_class(kind: str, key: str = "task.kind") -> type[Task]:
+    """The task class ``kind`` names (raises ConfigError naming ``key`` when there is
+    none)."""
+    if ":" not in kind:
+        found = BUILT_IN.get(kind)
+        if found is None:
+            raise ConfigError([_problem(key, kind, f"no such task; {_choices()}")])
+        return found
+    module_name, _, class_name = kind.partition(":")
+    try:
+        module = importlib.import_module(module_name)
+    except ImportError as error:
+        raise ConfigError([_problem(key, kind, f"cannot import {module_name} ({error})")]) from None
+    found_class = getattr(module, class_name, None)
+    if not (isinstance(found_class, type) and issubclass(found_class, Task)):
+        raise ConfigError(
+            [
+                _problem(
+                    key,
+                    kind,
+                    f"{module_name} has no subclass of workcell.tasks.Task named {class_name}",
+                )
+            ]
+        )
+    return found_class
+
+
+def load_task(kind: str, key: str = "task.kind") -> Task:
+    """An instance of the task ``kind`` names."""
+    return task_class(kind, key)()
+
+
+def recorded_task(parameters: Mapping[str, Any]) -> Task:
+    """The task a recorded session ran: its stored ``task.kind`` (box transfer for a store
+    written before sessions named their task)."""
+    task = parameters.get("task")
+    kind = task.get("kind", DEFAULT_TASK) if isinstance(task, Mapping) else DEFAULT_TASK
+    return load_task(str(kind))
+
+
+def _choices() -> str:
+    return f"the tasks are {', '.join(BUILT_IN)}, or module:Class for a task of your own"
+
+
+def _problem(key: str, kind: str, allowed: str) -> Problem:
+    return Problem(key, kind, allowed)

@@ -1,0 +1,83 @@
+"""What a task is: everything one kind of trial asks of the robot, declared in one class.
+
+A task (docs/architecture.md, "Tasks") names itself, says in words what a trial asks
+(:meth:`Task.instruction`), lists its stages in order, offers three worlds from narrow to
+broad (:data:`~workcell.tasks.worlds.WORLDS`), judges a trial as it runs
+(:meth:`Task.new_trial` and :meth:`TrialJudge.evaluate`) and brings its expert. The
+session runner, the environment and the expert's episode helper all ask the task whether a
+trial succeeded: the success rule is written once, in the task.
+"""
+
+from __future__ import annotations
+
+from abc import ABC, abstractmethod
+from collections.abc import Mapping
+from dataclasses import dataclass
+from typing import TYPE_CHECKING, ClassVar, Protocol
+
+from workcell.tasks.worlds import WorldName, WorldRanges
+
+if TYPE_CHECKING:
+    from workcell.expert.skill import ExpertConfig
+    from workcell.sim.events import WorldEvent
+    from workcell.sim.world import World
+    from workcell.task.operator import Operator
+
+
+@dataclass(frozen=True)
+class Evaluation:
+    """How a trial stands: ``success`` (the task is done and the scene has settled),
+    ``failure`` (it can no longer be done), ``progress`` (0 to 1: the share of the task's
+    objects done) and ``stage``, the furthest of the task's :attr:`Task.stages` reached."""
+
+    success: bool
+    failure: bool
+    progress: float
+    stage: str
+
+
+class TrialJudge(Protocol):
+    """One trial's progress, kept from the world's events and read from the world at each
+    frame instant (so what it says can be checked against the recorded frames)."""
+
+    @property
+    def done(self) -> int:
+        """Objects the trial has completed so far (scored with ``task.box_score`` each)."""
+        ...
+
+    def observe(self, event: WorldEvent) -> None:
+        """Take in one of the world's events of the trial's running time."""
+
+    def evaluate(self, world: World) -> Evaluation:
+        """The trial as it stands, read at a frame instant."""
+        ...
+
+
+class Task(ABC):
+    """One task of the workcell; subclasses declare the class attributes and the methods.
+
+    A task outside this package is named ``module:Class`` (``task.kind``, ``--task``) and
+    loaded like a built-in one (:func:`workcell.tasks.registry.load_task`)."""
+
+    name: ClassVar[str]
+    """The name ``task.kind`` and ``--task`` use (lower case, ``_`` between words)."""
+    summary: ClassVar[str]
+    """One line for ``workcell tasks``."""
+    stages: ClassVar[tuple[str, ...]]
+    """The named stages of a trial, in order; the last one is the task done."""
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]]
+    """The task's worlds ``D0`` (narrow), ``D1`` (moderate) and ``D2`` (broad): how far each
+    trial's conditions may stray (:mod:`workcell.tasks.worlds`)."""
+
+    @abstractmethod
+    def instruction(self, required: int) -> str:
+        """What a trial that must complete ``required`` objects asks, in one sentence
+        (the language instruction of every exported episode)."""
+
+    @abstractmethod
+    def new_trial(self, required: int) -> TrialJudge:
+        """A judge for a trial that must complete ``required`` objects."""
+
+    @abstractmethod
+    def expert(self, config: ExpertConfig) -> Operator:
+        """The task's scripted expert at ``config``'s skill."""
