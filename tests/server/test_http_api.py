@@ -3,12 +3,14 @@
 from __future__ import annotations
 
 import asyncio
+import json
 from pathlib import Path
 
 from tests.server.harness import FAST_SETTINGS, body_index, client, hand, running_server
 from workcell.protocol import messages as m
 from workcell.protocol.api import Defaults, SessionList, TrialReplay
 from workcell.protocol.validation import build
+from workcell.record.store import Store
 
 
 def test_defaults_describe_every_setting(tmp_path: Path) -> None:
@@ -88,3 +90,30 @@ def test_setting_hints_are_generated_from_the_declarations(tmp_path: Path) -> No
         "whole": False,
     }
     assert by_key["task.mode"]["allowed"] == "one of 'practice', 'collection', 'challenge'"
+
+
+def test_every_query_and_path_parameter_is_checked_into_one_clear_error(tmp_path: Path) -> None:
+    """No parameter a route reads answers 500: a superscript digit (``int`` refuses it),
+    5,000 digits (``int`` refuses those too), digits of another script; a path parameter
+    of any length is named, cut short, in the 404."""
+    with Store.open(tmp_path / "store.sqlite", writer=True):
+        pass  # an empty store: the trial is looked for
+    with running_server(tmp_path) as server:
+        allowed = "must be a whole number 1 to 10000"
+        for every, named in (
+            ("%C2%B2", "'²'"),  # superscript two
+            ("1" * 5000, "'11111111111111111111'... (5000 characters)"),
+            ("%D9%A3", "'٣'"),  # Arabic-Indic three
+            ("%FF", "'\ufffd'"),  # not UTF-8: the replacement character
+            ("", "''"),
+            ("1e3", "'1e3'"),
+            ("10001", "'10001'"),
+        ):
+            status, body = server.get(f"/api/trials/t1/frames?every={every}")
+            assert (status, json.loads(body)) == (400, {"error": f"every = {named}: {allowed}"})
+        assert server.get("/api/trials/t1/frames?every=10000")[0] == 404  # in range: looked for
+        status, body = server.get(f"/api/trials/{'a' * 5000}/frames")
+        assert (status, json.loads(body)) == (
+            404,
+            {"error": f"trial {'a' * 64!r} is not in the store"},
+        )

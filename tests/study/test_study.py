@@ -71,7 +71,10 @@ def test_a_bad_study_gets_one_line_per_problem_naming_where(tmp_path: Path) -> N
     with pytest.raises(ConfigError) as raised:
         load_study(path)
     lines = [line.removeprefix(f"{path}: ") for line in raised.value.problems]
-    allowed = "name, participants, order, seed, instructions, consent, session, conditions, steps"
+    allowed = (
+        "name, participants, order, seed, instructions, consent, invite_days, session, "
+        "conditions, steps"
+    )
     assert f"colour: unknown study key; allowed: {allowed}" in lines
     assert any(line.startswith("steps[1].mode = 'warmup': must be one of") for line in lines)
     assert any(line.startswith("name = 'grasp modes': must be 1 to 64 letters") for line in lines)

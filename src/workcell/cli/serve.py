@@ -6,6 +6,7 @@ import argparse
 import secrets
 import signal
 import socket
+import time
 from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING
@@ -208,7 +209,7 @@ def _serve(server: uvicorn.Server, seats: Seats) -> int:
 
 
 def print_invites(desk: StudyDesk, base: str, store: Path) -> None:
-    from workcell.study.invites import invites_path  # noqa: PLC0415
+    from workcell.study.invites import invites_path, minute_utc  # noqa: PLC0415
 
     study = desk.study
     print(
@@ -216,9 +217,20 @@ def print_invites(desk: StudyDesk, base: str, store: Path) -> None:
         f"{len(next(iter(desk.plans.values())))} sessions each; "
         f"invites kept in {invites_path(store, study)}"
     )
+    if desk.invites.dropped:
+        print(
+            f"  invites dropped: {', '.join(desk.invites.dropped)} (not among the study's "
+            f"{study.participants} participants: their links open nothing)"
+        )
     print(f"  admin page  {base}/?token={desk.invites.admin}&role=spectator#/admin")
+    now = time.time()
     for participant, token in desk.invites.participants.items():
-        print(f"  {participant:<10}  {base}/?token={token}")
+        expires = desk.invites.expires(participant, study.invite_days)
+        until = ""
+        if expires is not None:
+            when = minute_utc(expires)
+            until = f"  (expired {when})" if now >= expires else f"  (valid until {when})"
+        print(f"  {participant:<10}  {base}/?token={token}{until}")
 
 
 class _TerminatedError(Exception):

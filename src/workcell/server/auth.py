@@ -7,19 +7,23 @@ WebSocket handshake is refused (HTTP 403) before it is accepted.
 
 Each token names who holds it (a :class:`Principal`): the server's token and a study's
 admin token open everything; a study participant's invite opens the page, their own
-session and their own progress, nothing else (HTTP 403 for the rest). The principal rides
+session and their own progress, nothing else (HTTP 403 for the rest), and only until it
+expires (then HTTP 401 saying so; a connection made before stays). The principal rides
 along in the request's scope (:func:`principal_of`).
 """
 
 from __future__ import annotations
 
 import secrets
+import time
 import urllib.parse
 from collections.abc import Mapping
 from dataclasses import dataclass
 from http.cookies import SimpleCookie
 
 from starlette.types import ASGIApp, Message, Receive, Scope, Send
+
+from workcell.study.invites import minute_utc
 
 COOKIE = "workcell_token"
 SCOPE_KEY = "workcell.principal"
@@ -33,10 +37,15 @@ class Principal:
     admin (everything allowed); otherwise the study participant whose invite it carries."""
 
     participant: str | None = None
+    expires: float | None = None
+    """When the token stops opening anything (Unix seconds; None: never)."""
 
     @property
     def is_admin(self) -> bool:
         return self.participant is None
+
+    def expired(self, now: float) -> bool:
+        return self.expires is not None and now >= self.expires
 
 
 ADMIN = Principal()
@@ -101,6 +110,9 @@ class TokenAuth:
         if principal is None:
             await self._refuse(scope, send)
             return
+        if principal.expired(time.time()):
+            await self._expired(scope, send, principal)
+            return
         if not principal.is_admin and not participant_may(scope.get("path", "")):
             await self._forbid(scope, send)
             return
@@ -126,6 +138,15 @@ class TokenAuth:
             b"`workcell serve` printed (it ends with ?token=...).\n"
         )
         await _answer(scope, send, 401, body, ws_code=4401, ws_reason="token required")
+
+    async def _expired(self, scope: Scope, send: Send, principal: Principal) -> None:
+        assert principal.expires is not None
+        when = minute_utc(principal.expires)
+        body = (
+            f"401 Unauthorized: the invite of {principal.participant} expired on {when}; ask "
+            "the study's admin for a new link.\n"
+        ).encode()
+        await _answer(scope, send, 401, body, ws_code=4401, ws_reason="invite expired")
 
     async def _forbid(self, scope: Scope, send: Send) -> None:
         body = (

@@ -163,35 +163,45 @@ class Conductor:
             return
         self._starting = True
         try:
-            config = await self._settings(client, start)
-        except WorkcellError as error:  # e.g. the store a plan's progress is read from
-            client.refuse("not_allowed", f"start_session: {error}")
-            config = None
-        if config is None:
+            session = await self._start(client, start)
+        finally:  # whatever happened, the seat is not left starting
             self._starting = False
+        if session is None:
             return
-        self.store = self.shards.new_shard() if self.shards else self.options.store
+        self.session = session
+        self.sessions_started += 1
+        self.broadcast(self._started_message(session))
+        if session.scene is not None:
+            self.broadcast(session.scene)
+
+    async def _start(self, client: Client, start: m.StartSession) -> RelayedSession | None:
+        """The started session, or None once ``client`` has heard why not: any failure on
+        the way (a setting, the store, the session's process dying) is one error."""
+        session: RelayedSession | None = None
         try:
+            config = await self._settings(client, start)
+            if config is None:
+                return None
+            self.store = self.shards.new_shard() if self.shards else self.options.store
             options = self.options
             args = SessionArgs(
                 config, self.store, options.state_hz, options.max_catch_up_s, options.key_file
             )
             session = self.launch(args, _Listener(self))
             await asyncio.to_thread(session.start)
+            return session
         except WorkcellError as error:  # e.g. the store is another process's
             client.refuse("not_allowed", f"start_session: {error}")
-            return
         except Exception as error:
-            logger.exception("a session failed to start")
-            client.refuse("not_allowed", f"start_session: the server failed: {error}")
-            return
-        finally:
-            self._starting = False
-        self.session = session
-        self.sessions_started += 1
-        self.broadcast(self._started_message(session))
-        if session.scene is not None:
-            self.broadcast(session.scene)
+            logger.exception("seat %s: a session failed to start", self.seat)
+            client.refuse(
+                "not_allowed",
+                f"start_session: the session failed to start ({type(error).__name__}: "
+                f"{error}); the seat is free to start again",
+            )
+        if session is not None and session.running:
+            session.kill()  # it started but could not be taken on
+        return None
 
     async def _settings(self, client: Client, start: m.StartSession) -> SessionConfig | None:
         """The session's settings: the operator's, or the planner's (None: refused)."""

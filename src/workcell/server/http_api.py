@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+import re
 import time
 from pathlib import Path
 
@@ -27,6 +28,20 @@ def json_response(body: object, status: int = 200) -> Response:
 
 def problem(status: int, message: str) -> Response:
     return json_response({"error": message}, status)
+
+
+def whole_number(text: str, high: int) -> int | None:
+    """``text`` as a whole number 1 to ``high`` written in ASCII digits, else None (never
+    an exception: ``int`` refuses "²" and 5,000 digits with one, and reads "٣" as 3)."""
+    if not re.fullmatch(r"[0-9]{1,12}", text):
+        return None
+    number = int(text)
+    return number if 1 <= number <= high else None
+
+
+def shown(text: str, most: int = 20) -> str:
+    """``text`` quoted for a message, cut to its first ``most`` characters."""
+    return repr(text) if len(text) <= most else f"{text[:most]!r}... ({len(text)} characters)"
 
 
 def session_list(path: Path) -> SessionList:
@@ -85,13 +100,14 @@ def routes(seats: Seats) -> list[Route]:
 
     def frames(request: Request) -> Response:
         text = request.query_params.get("every", "1")
-        if not text.isdigit() or not 1 <= int(text) <= MAX_EVERY:
-            return problem(400, f"every = {text[:20]!r}: must be a whole number 1 to {MAX_EVERY}")
+        every = whole_number(text, MAX_EVERY)
+        if every is None:
+            return problem(400, f"every = {shown(text)}: must be a whole number 1 to {MAX_EVERY}")
         if not store_path.exists():
             return problem(404, "the store has no trials yet")
         try:
             with Store.open(store_path, writer=False) as store:
-                reply = trial_replay(store, request.path_params["trial_id"], int(text))
+                reply = trial_replay(store, request.path_params["trial_id"], every)
         except TrialNotFoundError as error:
             return problem(404, str(error))
         return json_response(reply)

@@ -15,11 +15,16 @@ follow what Jupyter and similar local servers do against them:
   unless that origin is the server's own (its scheme and ``host:port`` are those the
   request was sent to) or one given with ``--allow-origin``. Clients that are not browsers
   send no Origin and are let through (they could forge any header anyway).
+- **Cross-site requests**: any page may send a POST (a form, ``fetch`` without CORS) to
+  the server, with its cookie when the page is on another port of the same host
+  (SameSite=Strict counts ports as the same site). Every HTTP request that can change
+  something (any method but GET, HEAD and OPTIONS) has its Origin checked as the
+  WebSocket's handshake is.
 
 With a token (a non-loopback ``--host``) the Host is the machine's LAN name or address,
 which cannot be listed in advance: the token protects HTTP, and the Origin check still
-protects the WebSocket (the token cookie would be sent along by a page of another port
-of the same host).
+protects the WebSocket and the state-changing requests (the token cookie would be sent
+along by a page of another port of the same host).
 """
 
 from __future__ import annotations
@@ -35,6 +40,8 @@ from workcell.errors import ConfigError
 
 _HOST = re.compile(r"^(?P<name>\[[0-9a-fA-F:.]+\]|[^\s:\[\]/@]+)(?::(?P<port>\d{1,5}))?$")
 _DEFAULT_PORTS = {"http": 80, "https": 443}
+SAFE_METHODS = frozenset({"GET", "HEAD", "OPTIONS"})
+"""HTTP methods that change nothing here: every other one has its Origin checked."""
 
 
 @dataclass(frozen=True)
@@ -95,8 +102,8 @@ def is_loopback_name(name: str) -> bool:
 
 
 class OriginGuard:
-    """Refuses requests with a foreign Host (``check_host``) and WebSockets from a foreign
-    Origin; see the module docstring."""
+    """Refuses requests with a foreign Host (``check_host``), and WebSockets and
+    state-changing requests from a foreign Origin; see the module docstring."""
 
     def __init__(
         self, app: ASGIApp, *, check_host: bool, bound_host: str, allowed: tuple[Origin, ...]
@@ -116,15 +123,21 @@ class OriginGuard:
             await _refuse(scope, send, f"Host {host[:80]!r} is not a name this server answers for")
             return
         origin = headers.get("origin")
-        secure = scope.get("scheme") == "wss"
-        if (
-            scope["type"] == "websocket"
-            and origin is not None
-            and not self.origin_allowed(origin, host, secure=secure)
-        ):
-            await _refuse(scope, send, f"Origin {origin[:80]!r} may not open this socket")
-            return
+        if origin is not None and self.acts(scope):
+            secure = scope.get("scheme") in ("https", "wss")
+            if not self.origin_allowed(origin, host, secure=secure):
+                what = "open this socket"
+                if scope["type"] == "http":
+                    what = f"send {str(scope.get('method'))[:20]} requests here"
+                await _refuse(scope, send, f"Origin {origin[:80]!r} may not {what}")
+                return
         await self.app(scope, receive, send)
+
+    @staticmethod
+    def acts(scope: Scope) -> bool:
+        """The request can change something: a WebSocket, or HTTP beyond GET, HEAD and
+        OPTIONS (what a page of another origin could send with the user's cookie)."""
+        return scope["type"] == "websocket" or scope.get("method") not in SAFE_METHODS
 
     def host_allowed(self, header: str) -> bool:
         parsed = split_host(header)

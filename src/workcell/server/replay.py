@@ -47,7 +47,7 @@ def _qpos_indices(model: mujoco.MjModel, names: tuple[str, ...]) -> NDArray[np.i
 def trial_replay(store: Store, trial_id: str, every: int) -> TrialReplay:
     trials = [t for t in store.trials() if t.trial_id == trial_id]
     if not trials:
-        raise TrialNotFoundError(f"trial {trial_id!r} is not in the store")
+        raise TrialNotFoundError(f"trial {trial_id[:64]!r} is not in the store")
     trial = trials[0]
     session = next(s for s in store.sessions() if s.session_id == trial.session_id)
     world = World(_config(session.parameters).world)

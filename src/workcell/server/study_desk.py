@@ -54,8 +54,13 @@ class StudyDesk:
         }
 
     def tokens(self) -> dict[str, Principal]:
-        """Every accepted token and its holder."""
-        held = {token: Principal(p) for p, token in self.invites.participants.items()}
+        """Every accepted token and its holder: the admin's, and the invite of each
+        participant of the study (until it expires)."""
+        days = self.study.invite_days
+        held = {
+            self.invites.participants[p]: Principal(p, self.invites.expires(p, days))
+            for p in self.plans
+        }
         return held | {self.invites.admin: ADMIN}
 
     def recorded(self) -> Recorded:

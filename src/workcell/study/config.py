@@ -87,6 +87,13 @@ class StudyConfig:
     )
     instructions: str = setting("", "what participants read before their first trial")
     consent: str = setting("", "the consent text participants accept before their first trial")
+    invite_days: float = setting(
+        0.0,
+        "days each participant's invite link opens their session once issued (0: it never expires)",
+        unit="days",
+        low=0,
+        high=3650,
+    )
     session: Mapping[str, Any] = field(default_factory=dict)
     conditions: tuple[Condition, ...] = (
         Condition("assisted", {"world.grasp": "assisted"}),
@@ -154,7 +161,16 @@ def _table_list(data: Mapping[str, Any], key: str, problems: list[str]) -> list[
 def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
     """A validated study from TOML data; ConfigError with one line per problem."""
     problems: list[str] = []
-    allowed = ("name", "participants", "order", "seed", "instructions", "consent", "session")
+    allowed = (
+        "name",
+        "participants",
+        "order",
+        "seed",
+        "instructions",
+        "consent",
+        "invite_days",
+        "session",
+    )
     allowed_all = (*allowed, "conditions", "steps")
     for key in data:
         if key not in allowed_all:

@@ -23,6 +23,10 @@ seed = 0
 instructions = ""
 # the consent text participants accept before their first trial
 consent = ""
+# days each participant's invite link opens their session once issued (0: it never
+# expires); past it their link is refused, saying so: raise it and restart the server, or
+# delete their line from the invites file (beside the store) to issue them a new link
+invite_days = 0
 
 # Settings every session of the study starts from, as `workcell config --defaults`
 # prints them (operator_id, condition, consent, seed, task.mode and task.trials are the
