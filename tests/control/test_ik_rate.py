@@ -80,8 +80,7 @@ def test_half_the_ik_rate_solves_half_as_often_and_reaches_the_same_target() -> 
 
 def test_the_expert_delivers_with_the_ik_at_half_the_control_rate() -> None:
     sim = Simulation(_world(20.0))
-    sim.reset(3)
-    result = deliver_one_box(sim, ExpertOperator(ExpertConfig(), seed=3))
+    result = deliver_one_box(sim, ExpertOperator(ExpertConfig(), seed=3), 3)
     assert result.delivered
 
 

@@ -23,8 +23,9 @@ def run_seeds(
     sim = Simulation(WorldConfig(grasp=grasp))
     results = []
     for seed in seeds:
-        sim.reset(seed)
-        results.append(deliver_one_box(sim, ExpertOperator(ExpertConfig(skill), seed), limit_s))
+        results.append(
+            deliver_one_box(sim, ExpertOperator(ExpertConfig(skill), seed), seed, limit_s)
+        )
     return results
 
 
@@ -48,8 +49,7 @@ def test_low_skill_is_slower_and_can_time_out() -> None:
     clumsy_mean = np.mean([r.sim_time_s for r in clumsy])
     assert clumsy_mean > best_mean + 10.0
     sim = Simulation(WorldConfig())
-    sim.reset(1)
-    short = deliver_one_box(sim, ExpertOperator(ExpertConfig(skill=0.0), seed=1), 25.0)
+    short = deliver_one_box(sim, ExpertOperator(ExpertConfig(skill=0.0), seed=1), 1, 25.0)
     assert not short.delivered
     assert short.sim_time_s == pytest.approx(25.0, abs=sim.control_dt)
 

@@ -109,11 +109,10 @@ def run(args: argparse.Namespace) -> int:
     from workcell.expert.episode import deliver_one_box  # noqa: PLC0415
 
     sim = Simulation(WorldConfig(grasp=args.grasp))
-    sim.reset(args.seed)
     expert = ExpertOperator(ExpertConfig(skill=args.skill), seed=args.seed)
     progress = _Progress(args.time_limit)
     if size is None:
-        result = deliver_one_box(sim, expert, args.time_limit, observer=progress)
+        result = deliver_one_box(sim, expert, args.seed, args.time_limit, observer=progress)
     else:
         from workcell.cli.video_recorder import VideoRecorder  # noqa: PLC0415
 
@@ -123,7 +122,7 @@ def run(args: argparse.Namespace) -> int:
                 progress(s)
                 recorder(s)
 
-            result = deliver_one_box(sim, expert, args.time_limit, observer=observe)
+            result = deliver_one_box(sim, expert, args.seed, args.time_limit, observer=observe)
     progress.done()
     summary = {
         "delivered": result.delivered,

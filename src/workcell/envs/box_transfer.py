@@ -2,13 +2,15 @@
 
 One step is one recorded frame period (1/20 s of sim time by default: several control
 steps), driven by the :class:`Command` the action vector stands for, the only way to move
-the robot. ``reset(seed=s)`` is the deterministic world reset of a recorded trial whose
-``trial_seed`` is ``s`` (followed by the same idle countdown), so replaying that trial's
-exported actions from ``reset(seed=trial_seed)`` retraces it. Observations are those of
+the robot. An episode is one trial of the session runner (:class:`SessionRunner`, the one
+episode loop of every operator), which the task judges. ``reset(seed=s)`` is the
+deterministic world reset of a recorded trial whose ``trial_seed`` is ``s`` (followed by
+the same idle countdown), so replaying that trial's exported actions from
+``reset(seed=trial_seed)`` retraces it. Observations are those of
 :mod:`workcell.envs.observation` (LeRobot's gym convention). Rewards and ends follow the
 export (:mod:`workcell.export.episode_data`): 1.0 per box delivered in the step;
-terminated once ``required_boxes`` are delivered (``info["is_success"]``), truncated at
-the time limit.
+terminated once the task judges the episode a success (``info["is_success"]``: its
+``required_boxes`` delivered), truncated at the time limit.
 """
 
 from __future__ import annotations
@@ -29,10 +31,27 @@ from workcell.envs.observation import Observation, ObservationBuilder
 from workcell.envs.spaces import action_space, observation_space
 from workcell.errors import ConfigError
 from workcell.render.renderer import OffscreenRenderer
+from workcell.sim.world import World
+from workcell.task.hud import HudPhase
+from workcell.task.runner import SessionRunner
+from workcell.task.schedule import TrialSpec
 from workcell.tasks import WorldName
 from workcell.tasks.registry import load_task
 
 MAX_SEED = 2**63 - 1
+
+
+class _Actions:
+    """The operator of an episode: the command of the latest action, every control period."""
+
+    def __init__(self) -> None:
+        self.command = Command()
+
+    def start_trial(self, trial_seed: int) -> None:
+        self.command = Command()
+
+    def act(self, world: World) -> Command:
+        return self.command
 
 
 class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
@@ -69,10 +88,10 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         self.observation_space = observation_space(config)
         self.action_space = action_space(config, self.sim.world)
         self._renderer: OffscreenRenderer | None = None
-        self._command = Command()
+        self._actions = _Actions()
+        self._runner = SessionRunner(config.episode_session, self.sim, self._actions, max_trials=1)
+        self._episode = TrialSpec(0, "practice", None, None, config.required_boxes, config.limit_s)
         self._frames = 0
-        self._judge = self.task.new_trial(config.required_boxes)
-        self._success = False
         self._world_seed = 0
 
     # --- gymnasium API --------------------------------------------------------------------
@@ -83,31 +102,28 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         super().reset(seed=seed)
         world_seed = seed if seed is not None else int(self.np_random.integers(MAX_SEED))
         self._world_seed = world_seed
-        self.sim.reset(world_seed)
-        self._command = Command()
-        for _ in range(self.config.countdown_steps):
-            self.sim.step(self._command)
+        config = self.config
+        self._runner = SessionRunner(config.episode_session, self.sim, self._actions, max_trials=1)
+        self._runner.start(self._episode, world_seed)
+        while self._runner.phase is HudPhase.COUNTDOWN:  # idle, as before a recorded trial
+            self._runner.step()
         self._frames = 0
-        self._judge = self.task.new_trial(self.config.required_boxes)
-        self._success = False
         self._observations.restart()
-        return self._observations.observe(self._command), self._info()
+        return self._observations.observe(self._actions.command), self._info()
 
     def step(self, action: NDArray[Any]) -> tuple[Observation, float, bool, bool, dict[str, Any]]:
         space = self.action_space
         clipped = np.clip(np.asarray(action, dtype=np.float64), space.low, space.high)
-        self._command = command_from_action(clipped)
-        done = self._judge.done
+        self._actions.command = command_from_action(clipped)
+        runner = self._runner
+        done = runner.judge.done
         for _ in range(self.config.control_steps_per_frame):
-            for event in self.sim.step(self._command):
-                self._judge.observe(event)
+            runner.step()
         self._frames += 1
-        reward = float(self._judge.done - done)
-        self._success = self._judge.evaluate(self.sim.world).success
-        terminated = self._success
-        truncated = not terminated and self._frames >= self.config.max_episode_steps
-        observation = self._observations.observe(self._command)
-        return observation, reward, terminated, truncated, self._info()
+        reward = float(runner.judge.done - done)
+        outcome = runner.results[-1].outcome if runner.results else None
+        observation = self._observations.observe(self._actions.command)
+        return observation, reward, outcome == "success", outcome == "timeout", self._info()
 
     def render(self) -> NDArray[np.uint8] | None:
         if self.render_mode != "rgb_array":
@@ -132,8 +148,9 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
 
     @property
     def is_success(self) -> bool:
-        """The task judged the episode a success (its boxes delivered) at the last step."""
-        return self._success
+        """The task judged the episode a success (its boxes delivered)."""
+        results = self._runner.results
+        return bool(results) and results[-1].outcome == "success"
 
     @property
     def _max_episode_steps(self) -> int:
@@ -143,7 +160,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
     def _info(self) -> dict[str, Any]:
         return {
             "t_sim": self.t_sim,
-            "boxes_delivered": self._judge.done,
+            "boxes_delivered": self._runner.judge.done,
             "is_success": self.is_success,
             "world_seed": self._world_seed,
         }

@@ -77,6 +77,12 @@ class BoxTransferConfig:
         return dataclasses.replace(self, session=dataclasses.replace(session, world=world_config))
 
     @property
+    def episode_session(self) -> SessionConfig:
+        """The session an episode is a trial of: one trial of ``limit_s``."""
+        task = dataclasses.replace(self.session.task, mode="practice", time_limit_s=self.limit_s)
+        return dataclasses.replace(self.session, task=task)
+
+    @property
     def fps(self) -> int:
         return round(self.session.recording.sampling_rate_hz)
 
@@ -97,8 +103,3 @@ class BoxTransferConfig:
     def max_episode_steps(self) -> int:
         """Steps (frames) in an episode that reaches the time limit."""
         return math.ceil(self.limit_s * self.fps - 1e-9)
-
-    @property
-    def countdown_steps(self) -> int:
-        """Control steps of idling before an episode starts, as before a recorded trial."""
-        return round(self.session.task.countdown_s * self.session.world.robot.control_hz)

@@ -1,14 +1,17 @@
-"""Run the expert on one box and report how it went (box transfer judges the delivery)."""
+"""Run the expert on one box and report how it went: one trial of the session runner (the
+one episode loop), judged by the box-transfer task."""
 
 from __future__ import annotations
 
-import time
+import dataclasses
 from collections.abc import Callable
 from dataclasses import dataclass
 
 from workcell.control.simulation import Simulation
 from workcell.expert.operator import ExpertOperator
-from workcell.tasks.box_transfer import BoxTransfer
+from workcell.session.config import SessionConfig, TaskConfig
+from workcell.task.runner import SessionRunner
+from workcell.task.schedule import TrialSpec
 
 StepObserver = Callable[[Simulation], None]
 
@@ -28,23 +31,29 @@ class OneBoxResult:
 def deliver_one_box(
     sim: Simulation,
     expert: ExpertOperator,
+    seed: int,
     time_limit_s: float = 120.0,
     observer: StepObserver | None = None,
 ) -> OneBoxResult:
-    """Step ``sim`` with ``expert`` until a box is delivered or ``time_limit_s`` of sim time.
+    """Reset ``sim``'s world with ``seed`` and let ``expert`` deliver a box: a trial with
+    no countdown, ended by the task's judge or after ``time_limit_s`` of sim time.
 
     ``observer`` is called after every control step (to render video, show progress); its
     time is not counted in the result's wall time.
     """
-    judge = BoxTransfer().new_trial(1)
-    delivered = False
+    task = TaskConfig(mode="practice", time_limit_s=time_limit_s, countdown_s=0.0)
+    config = dataclasses.replace(SessionConfig(world=sim.config), task=task)
+    runner = SessionRunner(config, sim, expert, max_trials=1)
     loop_wall = 0.0
-    while sim.time < time_limit_s - 1e-9 and not delivered:
-        start = time.perf_counter()
-        for event in sim.step(expert.act(sim.world)):
-            judge.observe(event)
-        loop_wall += time.perf_counter() - start
-        delivered = judge.evaluate(sim.world).success
+
+    def stepped() -> None:
+        nonlocal loop_wall
+        loop_wall += runner.last_step_wall_s
         if observer is not None:
             observer(sim)
-    return OneBoxResult(delivered=delivered, sim_time_s=sim.time, wall_time_s=loop_wall)
+
+    runner.start(TrialSpec(0, "practice", None, None, 1, time_limit_s), world_seed=seed)
+    (result,) = runner.run(after_step=stepped)
+    return OneBoxResult(
+        delivered=result.outcome == "success", sim_time_s=sim.time, wall_time_s=loop_wall
+    )

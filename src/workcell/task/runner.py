@@ -87,9 +87,11 @@ class SessionRunner:
 
     # --- driving ----------------------------------------------------------------------------
 
-    def start(self) -> None:
-        """Begin the first trial."""
-        self._begin(self.schedule.first())
+    def start(self, first: TrialSpec | None = None, world_seed: int | None = None) -> None:
+        """Begin the first trial: the schedule's, or ``first``; its world is reset with
+        ``world_seed`` when given (one episode of the environment, the expert's episode
+        helper), else with the seed derived from the session seed and the trial index."""
+        self._begin(first or self.schedule.first(), world_seed)
 
     def run(
         self,
@@ -180,6 +182,11 @@ class SessionRunner:
         return last is not None and self.schedule.completes(last.spec, last.outcome)
 
     @property
+    def judge(self) -> TrialJudge:
+        """The task's judge of the current (or last) trial."""
+        return self._judge
+
+    @property
     def current(self) -> TrialSpec | None:
         return self._spec if self.phase is not HudPhase.FINISHED else None
 
@@ -211,9 +218,11 @@ class SessionRunner:
 
     # --- transitions ------------------------------------------------------------------------
 
-    def _begin(self, spec: TrialSpec) -> None:
+    def _begin(self, spec: TrialSpec, world_seed: int | None = None) -> None:
         self._spec = spec
-        self._seed = trial_seed(self.config.seed, spec.trial_index)
+        self._seed = (
+            trial_seed(self.config.seed, spec.trial_index) if world_seed is None else world_seed
+        )
         self._judge = self.task.new_trial(spec.required_boxes)
         self._stage = self.task.stages[0]
         self._conditions = self.sim.reset(self._seed).as_dict()
