@@ -13,6 +13,7 @@ import os
 import sqlite3
 import time
 import urllib.parse
+from collections.abc import Iterator
 from pathlib import Path
 
 from workcell import __version__
@@ -86,9 +87,11 @@ def writer_active(path: Path) -> bool:
     return False
 
 
-def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
+def connect(path: Path, *, writer: bool, check: bool = False) -> sqlite3.Connection:
     """A connection to the store at ``path`` with the schema checked (created when a writer
-    opens a new file). Transactions are explicit (``isolation_level=None``)."""
+    opens a new file); with ``check``, SQLite's quick integrity check first (a damaged
+    file raises :class:`StoreError` instead of being read). Transactions are explicit
+    (``isolation_level=None``)."""
     if not writer and not path.is_file():
         raise StoreError(f"no store at {path}: give the path of a store a recorder wrote")
     if writer:
@@ -98,6 +101,8 @@ def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
         conn = sqlite3.connect(uri, uri=True, isolation_level=None)
     try:
         conn.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}")
+        if check:
+            quick_check(conn, path)
         _check_or_create(conn, path, writer=writer)
         conn.execute("PRAGMA foreign_keys = ON")
         conn.execute("PRAGMA synchronous = NORMAL")
@@ -105,6 +110,8 @@ def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
             conn.execute("PRAGMA query_only = ON")
     except sqlite3.DatabaseError as error:
         conn.close()
+        if is_damage(error) and "not a database" not in str(error):
+            raise damaged(path, error) from None
         if _storage_trouble(error):
             cause = str(error).strip()
             raise StorageError(
@@ -116,6 +123,54 @@ def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
         conn.close()
         raise
     return conn
+
+
+def quick_check(conn: sqlite3.Connection, path: Path) -> None:
+    """Raise :class:`StoreError` when SQLite's quick check finds the file damaged."""
+    (first,) = conn.execute("PRAGMA quick_check(1)").fetchone()
+    if first != "ok":
+        raise StoreError(
+            f"store {path} is damaged (SQLite's integrity check: {' '.join(first.split())}); "
+            "nothing was read from it or written to it: restore it from a copy"
+        )
+
+
+def check_intact(path: Path) -> None:
+    """Raise :class:`StoreError` when the existing store file at ``path`` is damaged
+    (SQLite's quick check, read-only; nothing else about the store is checked)."""
+    uri = f"file:{urllib.parse.quote(str(path.resolve()))}?mode=ro"
+    try:
+        with contextlib.closing(sqlite3.connect(uri, uri=True)) as conn:
+            quick_check(conn, path)
+    except sqlite3.DatabaseError as error:
+        if is_damage(error):
+            raise damaged(path, error) from None
+        raise StoreError(f"cannot read store {path} ({str(error).strip()})") from None
+
+
+def is_damage(error: sqlite3.DatabaseError) -> bool:
+    """Whether SQLite failed because the file is damaged or not a database at all."""
+    name = getattr(error, "sqlite_errorname", "") or ""
+    return name.startswith(("SQLITE_CORRUPT", "SQLITE_NOTADB"))
+
+
+def damaged(path: Path, error: sqlite3.DatabaseError) -> StoreError:
+    """The one-line error of a store SQLite found damaged while reading or writing it."""
+    return StoreError(
+        f"store {path} is damaged ({str(error).strip()}); it cannot be read as a store: "
+        "restore it from a copy"
+    )
+
+
+@contextlib.contextmanager
+def damage_as_store_error(path: Path) -> Iterator[None]:
+    """Within: a damaged store's sqlite3 error becomes :func:`damaged`'s StoreError."""
+    try:
+        yield
+    except sqlite3.DatabaseError as error:
+        if is_damage(error):
+            raise damaged(path, error) from None
+        raise
 
 
 def _storage_trouble(error: sqlite3.DatabaseError) -> bool:

@@ -89,8 +89,13 @@ class Store(StoreReading, Closing):
         writer: bool,
         key: ChainKey | None = None,
         known: Mapping[str, KnownEnd] | None = None,
+        check: bool | None = None,
     ) -> Self:
         """Open (a writer also creates or migrates) the store at ``path``.
+
+        ``check`` (default: for a writer) runs SQLite's quick integrity check first, so
+        that a damaged file is refused with a :class:`StoreError` instead of being read
+        or written into.
 
         A writer takes the store's writer lock, keeps the headroom file beside it, signs
         the chain links it writes with ``key`` (if given), and recovers what a dead writer
@@ -100,14 +105,15 @@ class Store(StoreReading, Closing):
         :class:`StorageError` when the disk has no room for a writer.
         """
         path = Path(path)
+        check = writer if check is None else check
         if not writer:
-            return cls(path, connect(path, writer=False), None)
+            return cls(path, connect(path, writer=False, check=check), None)
         lock = WriterLock(path)
         try:
             no_room = Reserve(path).missing_room()
             if no_room is not None and not path.exists():
                 raise no_room  # nothing to recover: refuse before creating anything
-            store = cls(path, connect(path, writer=True), lock, key)
+            store = cls(path, connect(path, writer=True, check=check), lock, key)
         except BaseException:
             lock.release()
             raise
