@@ -29,6 +29,7 @@ from workcell.record.batch import RowBatch
 from workcell.record.chain import END, START, TRIAL, ChainKey, Link
 from workcell.record.schema import SESSIONS
 
+HEAD_DIGITS, HEX = 64, "0123456789abcdef"
 Report = Callable[[str, str, str], None]
 """``report(table, row, problem)``."""
 
@@ -272,6 +273,15 @@ def check_manifest(
         if not isinstance(pinned_chain, Mapping):
             report("manifest", label, "carries no chain head (exported before hash chains)")
             continue
+        count, head = pinned_chain.get("links"), pinned_chain.get("head")
+        if type(count) is not int or count < 1 or not _is_head(head):
+            report(
+                "manifest",
+                label,
+                f"its chain entry is malformed (links {count!r:.20}, head {head!r:.20}): "
+                "links must be a whole number of at least 1 and head 64 hex digits",
+            )
+            continue
         pinned += 1
         links = chain.links(conn, str(session_id))
         if not links:
@@ -281,17 +291,26 @@ def check_manifest(
                 f"is in the export {where} but not in the store: deleted since the export",
             )
             continue
-        count = int(pinned_chain.get("links", 0))
-        head = str(pinned_chain.get("head", ""))
         if count > len(links) or links[count - 1].head != head:
             now = links[min(count, len(links)) - 1].head
             report(
                 "manifest",
                 label,
-                f"differs from the export {where}: its chain head there is {_short(head)}, "
+                f"differs from the export {where}: its chain head there is {_short(str(head))}, "
                 f"here {_short(now)} — the session's record changed since it was exported",
             )
+    if not sessions:
+        report(
+            "manifest",
+            where,
+            "pins no session's chain head, so it vouches for nothing: give the manifest.json "
+            "of an export that holds sessions (exported since hash chains)",
+        )
     return pinned
+
+
+def _is_head(value: object) -> bool:
+    return isinstance(value, str) and len(value) == HEAD_DIGITS and set(value) <= set(HEX)
 
 
 def manifest_entry(links: list[Link]) -> dict[str, Any]:
