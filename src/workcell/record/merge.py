@@ -15,6 +15,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+from workcell.record.chain import ChainKey
 from workcell.record.errors import StoreError
 from workcell.record.frame_blocks import has_blocks
 from workcell.record.media_paths import copy_media, media_dir_for
@@ -41,9 +42,9 @@ class MergeReport:
     """Camera videos copied (or linked) into the output's media folder."""
 
 
-def _compatibility(path: Path) -> tuple[int, set[tuple[str, str]], int]:
+def _compatibility(path: Path, key: ChainKey | None) -> tuple[int, set[tuple[str, str]], int]:
     """(schema version, {(joint order, metrics version)}, recovered trials) of a shard."""
-    with Store.open(path, writer=True) as store:  # a writer recovers a crashed shard
+    with Store.open(path, writer=True, key=key) as store:  # a writer recovers a crashed shard
         recovered = len(store.recovered)
         version = int(store.meta().get("schema_version", SCHEMA_VERSION))
     conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
@@ -60,10 +61,12 @@ def merge_stores(
     progress: Callable[[str], None] | None = None,
     *,
     verify: Literal["output", "shards"] = "output",
+    key: ChainKey | None = None,
 ) -> MergeReport:
     """Copy every shard into ``out`` (created if absent), then verify ``out``; with
     ``verify="shards"``, verify each shard before it is copied instead (what a growing
-    store needs: the cost is the shards', not the whole output's)."""
+    store needs: the cost is the shards', not the whole output's). ``key``: the key the
+    shards were recorded with, which signs what recovering a crashed shard closes."""
     if not shards:
         raise MergeError("no shards given: name at least one store to merge")
     say = progress or (lambda _: None)
@@ -74,7 +77,7 @@ def merge_stores(
             raise MergeError(f"no store at {shard}: give the paths of existing shards")
         if Path(shard).resolve() == Path(out).resolve():
             raise MergeError(f"shard {shard} is the output store: give a different --out")
-        version, kinds, shard_recovered = _compatibility(Path(shard))
+        version, kinds, shard_recovered = _compatibility(Path(shard), key)
         recovered += shard_recovered
         if shard_recovered:
             say(f"{shard}: recovered {shard_recovered} trial(s) a dead writer left open")
@@ -93,7 +96,9 @@ def merge_stores(
             raise MergeError(f"shard {shard} mixes joint orders or metrics versions")
         if verify == "shards" and (problems := verify_store(shard)):
             raise MergeError(f"shard {shard} does not verify: {problems[0]}")
-    with Store.open(out, writer=True):  # creates the schema, holds the writer lock
+    # creates the schema, holds the writer lock; the whole output is checked when it is
+    # verified as a whole
+    with Store.open(out, writer=True, key=key, check=verify == "output"):
         conn = sqlite3.connect(out, isolation_level=None)
         try:
             conn.execute("PRAGMA foreign_keys = ON")
