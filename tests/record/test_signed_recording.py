@@ -40,7 +40,8 @@ def test_collect_signs_and_verify_checks_the_signatures(
     other.write_text(secrets.token_hex(32))
     assert main(["verify", "--store", str(store), "--key", str(other)]) == 1
     lines = capsys.readouterr().out.splitlines()
-    assert len(lines) == 3 and all(f"signed with key {key_id}, not with" in x for x in lines)
+    assert len(lines) == 4 and all(f"signed with key {key_id}, not with" in x for x in lines)
+    assert ": chain tip: the store's chain tip is signed with key" in lines[-1]
 
     export = tmp_path / "export"
     assert main(["export", "--format", "csv", "--store", str(store), "--out", str(export)]) == 0

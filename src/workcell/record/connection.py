@@ -17,6 +17,8 @@ from collections.abc import Iterator
 from pathlib import Path
 
 from workcell import __version__
+from workcell.record import chain_tip
+from workcell.record.chain_key import ChainKey
 from workcell.record.diagnose import storage_advice
 from workcell.record.errors import StorageError, StoreError
 from workcell.record.ids import new_id
@@ -87,11 +89,14 @@ def writer_active(path: Path) -> bool:
     return False
 
 
-def connect(path: Path, *, writer: bool, check: bool = False) -> sqlite3.Connection:
+def connect(
+    path: Path, *, writer: bool, check: bool = False, key: ChainKey | None = None
+) -> sqlite3.Connection:
     """A connection to the store at ``path`` with the schema checked (created when a writer
     opens a new file); with ``check``, SQLite's quick integrity check first (a damaged
     file raises :class:`StoreError` instead of being read). Transactions are explicit
-    (``isolation_level=None``)."""
+    (``isolation_level=None``). A writer migrating an older store signs its chain tip with
+    ``key``."""
     if not writer and not path.is_file():
         raise StoreError(f"no store at {path}: give the path of a store a recorder wrote")
     if writer:
@@ -103,7 +108,7 @@ def connect(path: Path, *, writer: bool, check: bool = False) -> sqlite3.Connect
         conn.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}")
         if check:
             quick_check(conn, path)
-        _check_or_create(conn, path, writer=writer)
+        _check_or_create(conn, path, writer=writer, key=key)
         conn.execute("PRAGMA foreign_keys = ON")
         conn.execute("PRAGMA synchronous = NORMAL")
         if not writer:
@@ -179,7 +184,9 @@ def _storage_trouble(error: sqlite3.DatabaseError) -> bool:
     return name.startswith(("SQLITE_FULL", "SQLITE_IOERR", "SQLITE_CANTOPEN", "SQLITE_READONLY"))
 
 
-def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> None:
+def _check_or_create(
+    conn: sqlite3.Connection, path: Path, *, writer: bool, key: ChainKey | None
+) -> None:
     application_id = conn.execute("PRAGMA application_id").fetchone()[0]
     version = conn.execute("PRAGMA user_version").fetchone()[0]
     n_tables = conn.execute("SELECT count(*) FROM sqlite_schema").fetchone()[0]
@@ -216,8 +223,10 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
             "not written by Workcell or was altered"
         )
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
-    required = {"meta", *(layout.name for layout in LAYOUTS)} | (
-        {"chain"} if version >= 2 else set()
+    required = (
+        {"meta", *(layout.name for layout in LAYOUTS)}
+        | ({"chain"} if version >= 2 else set())
+        | ({"chain_roots"} if version >= 4 else set())
     )
     missing = sorted(required - tables)
     if missing:
@@ -225,7 +234,7 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
     if writer and "frame_blocks" not in tables:  # a store from before frame blocks
         conn.execute(FRAME_BLOCKS_SQL)
     if version < SCHEMA_VERSION:
-        migrate(conn, version)
+        migrate(conn, version, key, str(path))
 
 
 def _create(conn: sqlite3.Connection) -> None:
@@ -235,15 +244,17 @@ def _create(conn: sqlite3.Connection) -> None:
     try:
         for statement in schema_statements():
             conn.execute(statement)
+        store_id = new_id()
         conn.executemany(
             "INSERT INTO meta (key, value) VALUES (?, ?)",
             [
                 ("schema_version", str(SCHEMA_VERSION)),
                 ("software_version", __version__),
-                ("store_id", new_id()),
+                ("store_id", store_id),
                 ("created_wall", repr(time.time())),
             ],
         )
+        chain_tip.declare_root(conn, chain_tip.store_root(store_id), store_id, chain_tip.CREATED)
         conn.execute("COMMIT")
     except BaseException:
         with contextlib.suppress(sqlite3.Error):
