@@ -68,12 +68,13 @@ def test_every_command_refuses_a_damaged_store_in_one_line(
             "me",
         ],
         ["serve", "--store", str(store), "--port", "0"],
+        ["collect", "--trials", "1", "--store", str(store)],
     ):
         assert main(argv) == 2, argv
         line = one_error_line(capsys)
         assert line.startswith(f"workcell: error: store {store} is damaged"), (argv, line)
     with pytest.raises(StoreError, match="is damaged"):
-        Store.open(store, writer=True)  # what collect and a live session open
+        Store.open(store, writer=True)  # what a live session's store writer opens
     assert store.read_bytes() == before  # nothing was written into it
     assert not (tmp_path / "csv").exists()
 
