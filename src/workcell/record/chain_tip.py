@@ -99,7 +99,8 @@ def read_tip(conn: sqlite3.Connection) -> Tip | None:
 
 
 def newest(conn: sqlite3.Connection) -> tuple[str, int, str | None]:
-    """(head, signature) of the newest link ('' and None without links), and the count."""
+    """(head, number of links, signature) of the store's newest link ('', 0, None without
+    links)."""
     row = conn.execute("SELECT head, signature FROM chain ORDER BY rowid DESC LIMIT 1").fetchone()
     (count,) = conn.execute("SELECT count(*) FROM chain").fetchone()
     return ("", int(count), None) if row is None else (str(row[0]), int(count), row[1])
