@@ -11,7 +11,7 @@ from pathlib import Path
 
 import numpy as np
 
-from workcell.record import chain, lifecycle, rowio
+from workcell.record import chain, chain_tip, lifecycle, rowio
 from workcell.record.chain import ChainKey
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
 from workcell.record.schema import ANNOTATIONS, CHECKSUM, EVENTS, FRAMES, SESSIONS, TRIALS, quote
@@ -74,7 +74,8 @@ def recompute_checksums(conn: sqlite3.Connection) -> None:
 
 def rechain(conn: sqlite3.Connection, key: ChainKey | None = None) -> None:
     """Every link recomputed from the rows as they are now, in the order and with the
-    event ranges it had, so that sessions that did not change keep their heads."""
+    event ranges it had, so that sessions that did not change keep their heads; then the
+    store's chain tip."""
     renamed: dict[str, str] = {}
     through: dict[str, int] = {}
     rows = conn.execute(f"SELECT rowid, {chain.LINK_COLUMNS} FROM chain ORDER BY rowid").fetchall()
@@ -122,3 +123,4 @@ def rechain(conn: sqlite3.Connection, key: ChainKey | None = None) -> None:
                 rowid,
             ),
         )
+    chain_tip.write_tip(conn, key)

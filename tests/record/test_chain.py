@@ -12,7 +12,7 @@ import pytest
 
 from tests.record import synthetic
 from tests.record.forgery import editing, rechain, recompute_checksums
-from workcell.record import Store
+from workcell.record import Store, chain_tip
 from workcell.record.chain import ChainKey
 from workcell.record.export_csv import export_csv
 from workcell.record.verify import IntegrityFinding, verify_store
@@ -99,8 +99,9 @@ def test_a_rebuilt_chain_is_found_by_the_key_and_by_a_manifest(
     # a forger who forges signatures without the key gets them wrong
     with editing(path) as conn:
         conn.execute("UPDATE chain SET key_id = ?, signature = head", (KEY.key_id,))
-    forged = chain_problems(verify_store(path, key=KEY))
+    *forged, tip = chain_problems(verify_store(path, key=KEY))
     assert forged and all("the chain was recomputed without the key" in p for p in forged)
+    assert tip.startswith("tip: the store's chain tip is not signed but its newest link is")
 
 
 def test_a_deleted_trial_is_found(store: tuple[Path, dict[str, list[str]]]) -> None:
@@ -166,7 +167,7 @@ def test_a_deleted_frame_block_or_frame_row_is_found(
     assert any(f"trial {trial} is not what" in p for p in chain_problems(verify_store(copy)))
 
 
-def test_deleted_sessions_are_found_by_the_next_session_or_by_a_manifest(
+def test_deleted_sessions_are_found_by_the_next_session_the_tip_the_key_or_a_manifest(
     store: tuple[Path, dict[str, list[str]]], tmp_path: Path
 ) -> None:
     path, ids = store
@@ -191,8 +192,20 @@ def test_deleted_sessions_are_found_by_the_next_session_or_by_a_manifest(
     problems = chain_problems(verify_store(path))
     assert any("the session recorded before it was deleted or rewritten" in p for p in problems)
 
-    delete_session(copy, ids["sessions"][1])  # the newest: nothing in the store refers to it
+    delete_session(copy, ids["sessions"][1])  # the newest: only the store's tip refers to it
+    (cut,) = chain_problems(verify_store(copy))
+    assert cut.startswith("tip: the store's chain tip is head") and "links were deleted" in cut
+    with editing(copy) as conn:
+        chain_tip.write_tip(conn, None)  # a forger rewrites the tip to fit, without the key
+    (unsigned,) = chain_problems(verify_store(copy))
+    assert unsigned.startswith("tip: the store's chain tip is not signed but its newest link is")
+    with editing(copy) as conn:  # and takes the signature off the newest link
+        conn.execute(
+            "UPDATE chain SET signature = NULL WHERE rowid = (SELECT max(rowid) FROM chain)"
+        )
     assert verify_store(copy) == []  # what the store alone cannot show (README)
+    link, tip = chain_problems(verify_store(copy, key=KEY))
+    assert "link 3: not signed" in link and "tip: the store's chain tip is not signed" in tip
     pinned = [f for f in verify_store(copy, manifest=manifest) if f.table == "manifest"]
     assert [f.row for f in pinned] == [f"session {ids['sessions'][1]}"]
     assert "deleted since the export" in pinned[0].problem

@@ -1,5 +1,5 @@
-"""Schema version 3: tables, column names, ids, migrating versions 1 and 2, and refusing what
-is not a readable store."""
+"""Schema version 4: tables, column names, ids, migrating versions 1, 2 and 3, and refusing
+what is not a readable store."""
 
 from __future__ import annotations
 
@@ -13,6 +13,7 @@ import workcell.record.store
 from tests.record import synthetic
 from workcell.cli.main import main
 from workcell.record import RecordError, Store, StoreError, rowio
+from workcell.record.chain_tip import store_root
 from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_COLUMNS, TRIAL_COLUMNS
 from workcell.record.schema import APPLICATION_ID, FRAMES, SCHEMA_VERSION, SESSIONS
 from workcell.record.verify import verify_store, verify_store_report
@@ -22,18 +23,24 @@ def _columns(conn: sqlite3.Connection, table: str) -> list[str]:
     return [row[1] for row in conn.execute(f"PRAGMA table_info({table})")]
 
 
-def test_new_store_has_the_version_3_schema(tmp_path: Path) -> None:
+def test_new_store_has_the_version_4_schema(tmp_path: Path) -> None:
     path = tmp_path / "s.db"
     synthetic.fill_store(path)
     conn = sqlite3.connect(path)
-    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 3
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 4
     assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
     assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     meta = dict(conn.execute("SELECT key, value FROM meta"))
-    assert meta["schema_version"] == "3"
+    assert meta["schema_version"] == "4"
     assert meta["software_version"]
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
     assert {"meta", "sessions", "trials", "events", "frames", "annotations", "chain"} <= tables
+    # version 4: the first chain starts from the store's own root; the tip names the newest
+    own = store_root(meta["store_id"])
+    assert conn.execute("SELECT root, joined FROM chain_roots").fetchall() == [(own, "created")]
+    first = conn.execute("SELECT previous FROM chain ORDER BY rowid LIMIT 1").fetchone()
+    newest = conn.execute("SELECT head FROM chain ORDER BY rowid DESC LIMIT 1").fetchone()
+    assert (first[0], meta["chain_tip_head"], meta["chain_tip_links"]) == (own, newest[0], "8")
     # the contract's names, in the contract's order, first
     assert _columns(conn, "frames")[: len(FRAME_COLUMNS) - 21] == list(FRAME_COLUMNS[:-21])
     assert _columns(conn, "trials")[: len(TRIAL_COLUMNS)] == list(TRIAL_COLUMNS)
@@ -130,6 +137,12 @@ def test_a_second_writer_is_refused_and_readers_are_not(tmp_path: Path) -> None:
         pass
 
 
+def _without_tip_and_roots(conn: sqlite3.Connection) -> None:
+    """What schema version 3 and older did not have: chain roots and the chain tip."""
+    conn.execute("DROP TABLE chain_roots")
+    conn.execute("DELETE FROM meta WHERE key LIKE 'chain_tip_%'")
+
+
 def _as_version_1(path: Path) -> None:
     """Turn a store into what schema version 1 wrote: no chain table, no filtered poses,
     version 1 in the pragma, the meta table and every session row (its checksum kept
@@ -137,6 +150,7 @@ def _as_version_1(path: Path) -> None:
     conn = sqlite3.connect(path, isolation_level=None)
     conn.execute("BEGIN")
     conn.execute("DROP TABLE chain")
+    _without_tip_and_roots(conn)
     for name in FRAMES.appended:
         conn.execute(f'ALTER TABLE frames DROP COLUMN "{name}"')
     conn.execute("UPDATE meta SET value = '1' WHERE key = 'schema_version'")
@@ -156,20 +170,20 @@ def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
     with pytest.raises(StoreError) as refused:
         Store.open(path, writer=False)
     message = str(refused.value)
-    assert "schema version 1" in message and "migrating it to version 3" in message
+    assert "schema version 1" in message and "migrating it to version 4" in message
     assert f"workcell verify --recover --store {path}" in message
     with pytest.raises(StoreError, match="schema version 1"):
         verify_store(path)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
     out = capsys.readouterr().out
-    assert f"migrated: {path} from schema version 1 to 3" in out
+    assert f"migrated: {path} from schema version 1 to 4" in out
     assert "2 sessions were chained when the store was migrated" in out
     with Store.open(path, writer=True) as store:
         meta = store.meta()
         sessions = store.sessions()
         links = store.chain()
         counts = store.counts()
-    assert meta["schema_version"] == "3" and "migrated_wall" in meta
+    assert meta["schema_version"] == "4" and "migrated_wall" in meta
     assert [s.schema_version for s in sessions] == [1, 1]  # as they were recorded
     assert counts.trials == len(ids["trials"]) and counts.frames == 38  # every row kept
     assert len(links) == 8 and all(link.signature is None for link in links)
@@ -184,6 +198,7 @@ def _as_version_2(path: Path) -> None:
     the meta table."""
     conn = sqlite3.connect(path, isolation_level=None)
     conn.execute("BEGIN")
+    _without_tip_and_roots(conn)
     for name in FRAMES.appended:
         conn.execute(f'ALTER TABLE frames DROP COLUMN "{name}"')
     conn.execute("UPDATE meta SET value = '2' WHERE key = 'schema_version'")
@@ -204,11 +219,11 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     before = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     heads = conn.execute("SELECT head FROM chain ORDER BY session_id, position").fetchall()
     conn.close()
-    with pytest.raises(StoreError, match="migrating it to version 3") as refused:
+    with pytest.raises(StoreError, match="migrating it to version 4") as refused:
         Store.open(path, writer=False)
     assert "from before the frames' filtered poses" in str(refused.value)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
-    assert f"migrated: {path} from schema version 2 to 3" in capsys.readouterr().out
+    assert f"migrated: {path} from schema version 2 to 4" in capsys.readouterr().out
     conn = sqlite3.connect(path)
     after = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     assert after == before and len(after) == 38
@@ -220,5 +235,5 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     assert findings == []
     assert stats.migrated_sessions == 0  # the chains were not recomputed: nothing to qualify
     with Store.open(path, writer=True) as store:
-        assert store.meta()["schema_version"] == "3" and "migrated_wall" not in store.meta()
+        assert store.meta()["schema_version"] == "4" and "migrated_wall" not in store.meta()
         assert [s.schema_version for s in store.sessions()] == [2, 2]

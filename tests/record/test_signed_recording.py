@@ -4,12 +4,14 @@ against an export's chain heads."""
 
 from __future__ import annotations
 
+import json
 import re
 import secrets
 from pathlib import Path
 
 import pytest
 
+from tests.record import synthetic
 from workcell.cli.main import main
 from workcell.record import Store
 from workcell.record.chain import ChainKey
@@ -38,7 +40,8 @@ def test_collect_signs_and_verify_checks_the_signatures(
     other.write_text(secrets.token_hex(32))
     assert main(["verify", "--store", str(store), "--key", str(other)]) == 1
     lines = capsys.readouterr().out.splitlines()
-    assert len(lines) == 3 and all(f"signed with key {key_id}, not with" in x for x in lines)
+    assert len(lines) == 4 and all(f"signed with key {key_id}, not with" in x for x in lines)
+    assert ": chain tip: the store's chain tip is signed with key" in lines[-1]
 
     export = tmp_path / "export"
     assert main(["export", "--format", "csv", "--store", str(store), "--out", str(export)]) == 0
@@ -65,3 +68,25 @@ def test_bad_key_files_are_refused_in_one_line(
     assert not store.exists()
     assert main(["verify", "--csv", str(tmp_path), "--key", str(short)]) == 2
     assert "--key applies to --store only" in capsys.readouterr().err
+
+
+def test_a_malformed_or_empty_manifest_is_one_line_per_problem_and_never_matches(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    store = tmp_path / "s.sqlite"
+    synthetic.fill_store(store)
+    with Store.open(store, writer=False) as reader:
+        session = reader.sessions()[0].session_id
+    manifest = tmp_path / "manifest.json"
+    for links in (None, "3", 0, 2.0, True):
+        chain = {"head": "a" * 64, "links": links}
+        manifest.write_text(json.dumps({"sessions": {session: {"chain": chain}}}))
+        assert main(["verify", "--store", str(store), "--manifest", str(manifest)]) == 1
+        captured = capsys.readouterr()
+        (line,) = captured.out.splitlines()
+        assert f"manifest session {session}: its chain entry is malformed" in line, line
+        assert "links must be a whole number of at least 1" in line
+    manifest.write_text(json.dumps({"sessions": {}}))
+    assert main(["verify", "--store", str(store), "--manifest", str(manifest)]) == 1
+    (line,) = capsys.readouterr().out.splitlines()
+    assert "pins no session's chain head, so it vouches for nothing" in line

@@ -64,7 +64,7 @@ class StoreSource:
 
     def __init__(self, path: Path, *, use_blocks: bool = True) -> None:
         self.path = path
-        self._conn = connect(path, writer=False)
+        self._conn = connect(path, writer=False, check=True)
         self._conn.execute(f"PRAGMA mmap_size = {MMAP_BYTES}")
         self._conn.execute("BEGIN")  # the snapshot every read below sees
         self.use_blocks = use_blocks and has_blocks(self._conn)

@@ -51,6 +51,7 @@ def worker_jobs(
 
 
 def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | None) -> int:
+    from workcell.record.chain import ChainKey  # noqa: PLC0415
     from workcell.record.merge import merge_stores  # noqa: PLC0415
     from workcell.recording.shutdown import ShutdownSignals  # noqa: PLC0415
     from workcell.scale.plan import plan_workers  # noqa: PLC0415
@@ -96,7 +97,8 @@ def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | N
             )
     shards = [p.shard for p in plans if p.shard.exists()]
     try:
-        report = merge_stores(shards, store, progress=lambda m: print(m, file=sys.stderr))
+        key = None if args.key is None else ChainKey.from_file(args.key)
+        report = merge_stores(shards, store, progress=lambda m: print(m, file=sys.stderr), key=key)
     except WorkcellError:
         print(f"shards kept in {shard_dir}", file=sys.stderr)
         raise

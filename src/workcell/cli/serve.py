@@ -145,6 +145,7 @@ def options_from(
 def run(args: argparse.Namespace) -> int:
     desk = study_desk_from(args)
     options, generated = options_from(args, desk)
+    from workcell.record.connection import check_intact  # noqa: PLC0415
     from workcell.server.app import create_app  # noqa: PLC0415
     from workcell.server.http_config import uvicorn_config  # noqa: PLC0415
     from workcell.server.seats import Seats  # noqa: PLC0415
@@ -162,6 +163,8 @@ def run(args: argparse.Namespace) -> int:
 
         ray = RaySessions.connect(options.ray, options.max_sessions)
     try:
+        if options.store.exists():  # never record into a damaged file
+            check_intact(options.store)
         seats = Seats(options, desk, ray or SessionProcess)
         for line in seats.merge_leftovers():
             print(line)

@@ -36,7 +36,8 @@ def register(subparsers: Subparsers) -> None:
         type=Path,
         metavar="FILE",
         help="the key the store's chains were signed with (collect/serve --key): every link "
-        "must carry its signature, so a chain recomputed without the key is found",
+        "and the chain tip must carry its signature, so a chain recomputed, cut short or "
+        "grafted without the key is found",
     )
     parser.add_argument(
         "--manifest",

@@ -6,7 +6,8 @@ recomputed them with this project's own functions. The chain adds an order and a
 
 - **start**: when a session is created, link 0 commits to its row as created (status
   ``running``) and to ``previous``, the newest head in the store at that moment (another
-  session's, or empty in a new store), so sessions are chained to one another too;
+  session's, or the store's own root in a new store: :mod:`workcell.record.chain_tip`),
+  so sessions are chained to one another and to their store;
 - **trial**: when a trial closes, a link commits to the head before it, the trial's row
   (whose ``content_checksum`` covers every frame and event of the trial), its frame
   block, and the session-level events recorded since the previous link;
@@ -20,7 +21,9 @@ so the last head depends on every row of the session and on their order. With a 
 recomputed without the key no longer verifies. The heads go into export manifests, so a
 copy of the manifest kept elsewhere anchors the session as it was exported.
 
-Links are written by whoever closes the trial or session, in the same transaction: the
+Every link also moves the store's chain tip (:mod:`workcell.record.chain_tip`), so that
+deleting the newest links shows. Links are written by whoever closes the trial or
+session, in the same transaction: the
 store writer process while recording (never the simulation's thread), the store itself
 after a storage error, crash recovery for what a dead writer left open.
 """
@@ -28,56 +31,18 @@ after a storage error, crash recovery for what a dead writer left open.
 from __future__ import annotations
 
 import hashlib
-import hmac
 import sqlite3
 import time
 from dataclasses import dataclass
-from pathlib import Path
 
-from workcell.record import rowio
+from workcell.record import chain_tip, rowio
 from workcell.record.batch import RowBatch
+from workcell.record.chain_key import ChainKey as ChainKey  # noqa: PLC0414 (re-exported)
 from workcell.record.checksum import aggregate_checksum
-from workcell.record.errors import StoreError
 from workcell.record.schema import SESSIONS
 
 START, TRIAL, END = "start", "trial", "end"
 KINDS = (START, TRIAL, END)
-MIN_KEY_BYTES = 16
-
-
-@dataclass(frozen=True, repr=False)
-class ChainKey:
-    """The secret that signs chain heads; :attr:`key_id` names it publicly."""
-
-    secret: bytes
-
-    @classmethod
-    def from_file(cls, path: str | Path) -> ChainKey:
-        """The key in ``path`` (its bytes, surrounding white space removed)."""
-        try:
-            secret = Path(path).read_bytes().strip()
-        except OSError as error:
-            raise StoreError(
-                f"key file {path}: cannot be read ({error.strerror or error})"
-            ) from None
-        if len(secret) < MIN_KEY_BYTES:
-            raise StoreError(
-                f"key file {path}: holds {len(secret)} bytes; a key needs at least "
-                f"{MIN_KEY_BYTES} (make one: python -c 'import secrets; "
-                f"print(secrets.token_hex(32))' > {path})"
-            )
-        return cls(secret)
-
-    @property
-    def key_id(self) -> str:
-        """16 hex digits that tell keys apart without revealing them."""
-        return hashlib.sha256(b"workcell/key-id/v1\0" + self.secret).hexdigest()[:16]
-
-    def sign(self, head: str) -> str:
-        return hmac.new(self.secret, head.encode(), hashlib.sha256).hexdigest()
-
-    def __repr__(self) -> str:
-        return f"ChainKey({self.key_id})"
 
 
 @dataclass(frozen=True)
@@ -220,6 +185,7 @@ def _append(
             time.time(),
         ),
     )
+    chain_tip.write_tip(conn, key)
 
 
 def _events_so_far(conn: sqlite3.Connection, session_id: str) -> tuple[int, int]:
@@ -247,7 +213,7 @@ def link_start(
         digest=digest,
         events_through=-1,
         key=key,
-        previous=store_tip(conn),
+        previous=store_tip(conn) or chain_tip.own_root(conn),
     )
 
 

@@ -6,14 +6,19 @@ created and follows a head that exists in the store (else a session was deleted)
 is one trial link per closed trial in ``trial_index`` order, each committing to its
 trial's row (hence every frame and event of the trial), frame block and the
 session-level events of its range, and a closed session ends with a link committing to
-its closed row. With a key, every link must be signed by it. Against a manifest, every
+its closed row. A chain starts from another session's head or from a root of the store
+(its own, or of a store merged into it: a session copied in from elsewhere does not), no
+two sessions start from the same point, and the store's chain tip names its newest link
+(:mod:`workcell.record.chain_tip`). With a key, every link and the tip must be signed by
+it. Against a manifest, every
 session it lists must still be in the store with the head it had when it was exported.
 
 What this cannot show, and the README says so: a store rewritten as a whole with this
 project's own functions (rows, checksums and chains recomputed) verifies, unless the
 chains were signed with a key the rewriter lacks or a manifest kept elsewhere pins the
-heads; the deletion of the newest session, which no later session's chain refers to,
-shows only against such a manifest.
+heads; the deletion of the newest links with the tip rewritten to fit shows only with the
+key or such a manifest, and a store replaced by an older copy of itself only against a
+manifest.
 """
 
 from __future__ import annotations
@@ -24,11 +29,12 @@ from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from workcell.record import chain, rowio
+from workcell.record import chain, chain_tip, rowio
 from workcell.record.batch import RowBatch
 from workcell.record.chain import END, START, TRIAL, ChainKey, Link
 from workcell.record.schema import SESSIONS
 
+HEAD_DIGITS, HEX = 64, "0123456789abcdef"
 Report = Callable[[str, str, str], None]
 """``report(table, row, problem)``."""
 
@@ -59,6 +65,11 @@ def check_chains(
     for link in chain.links(conn):
         by_session.setdefault(link.session_id, []).append(link)
     heads = {link.head: link.session_id for links in by_session.values() for link in links}
+    roots = chain_tip.roots(conn)
+    if chain_tip.own_root(conn) not in roots:
+        report("chain", "roots", "the store's own root is not among its chain roots: its "
+               "identity (meta store_id) or its roots were rewritten")  # fmt: skip
+    started: dict[str, str] = {}
     for row in rowio.select(conn, SESSIONS, order="created_wall, session_id"):
         session_id = row["session_id"]
         links = by_session.pop(session_id, [])
@@ -66,8 +77,21 @@ def check_chains(
         stats.links += len(links)
         if migrated_wall is not None and row["created_wall"] < migrated_wall:
             stats.migrated_sessions += 1
-        _SessionChain(conn, row, links, report).check(heads)
+        _SessionChain(conn, row, links, report).check(heads, roots)
         _check_signatures(links, key, report, stats)
+        if links and links[0].position == 0 and links[0].previous != chain_tip.LEGACY_ROOT:
+            other = started.setdefault(links[0].previous, session_id)
+            if other != session_id:
+                report(
+                    "chain",
+                    f"session {session_id} link 0",
+                    f"starts from {_short(links[0].previous)} as session {other} does: two "
+                    "chains grow from one point, so one of them was copied in from another "
+                    "copy of this store",
+                )
+    tip = chain_tip.tip_problem(conn, key)
+    if tip is not None:
+        report("chain", "tip", tip[0])
     for session_id, links in by_session.items():
         report(
             "chain",
@@ -121,13 +145,13 @@ class _SessionChain:
         where = f"session {self.session_id}"
         self.report("chain", where if position is None else f"{where} link {position}", problem)
 
-    def check(self, heads: Mapping[str, str]) -> None:
+    def check(self, heads: Mapping[str, str], roots: Mapping[str, object]) -> None:
         if not self.links:
             self.add("has no hash chain: its links were deleted")
             return
         if not self._whole():
             return  # later checks would only repeat what is broken
-        self._start(heads)
+        self._start(heads, roots)
         self._trials()
         self._end()
 
@@ -150,7 +174,7 @@ class _SessionChain:
                 whole = False
         return whole
 
-    def _start(self, heads: Mapping[str, str]) -> None:
+    def _start(self, heads: Mapping[str, str], roots: Mapping[str, object]) -> None:
         first = self.links[0]
         if first.kind != START or first.subject_id != self.session_id:
             self.add(f"link 0 is a {first.kind} link of {first.subject_id}, not the start", 0)
@@ -163,12 +187,22 @@ class _SessionChain:
                 0,
             )
         owner = heads.get(first.previous)
-        if first.previous and (owner is None or owner == self.session_id):
+        if owner not in (None, self.session_id) or first.previous in roots:
+            return
+        if first.previous == chain_tip.LEGACY_ROOT:
             self.add(
-                f"its chain follows head {_short(first.previous)}, which no other session of "
-                "this store has: the session recorded before it was deleted or rewritten",
+                "its chain starts from an empty head, as chains recorded before schema "
+                "version 4 did, in a store that has none: it was copied in from another store",
                 0,
             )
+            return
+        self.add(
+            f"its chain follows head {_short(first.previous)}, which is neither another "
+            "session's head nor a root of this store or of a store merged into it: the "
+            "session recorded before it was deleted or rewritten, or this session was "
+            "copied in from another store",
+            0,
+        )
 
     def _row_intact(self) -> bool:
         """Whether the session row matches its own checksum (if not, that is reported as a
@@ -272,6 +306,15 @@ def check_manifest(
         if not isinstance(pinned_chain, Mapping):
             report("manifest", label, "carries no chain head (exported before hash chains)")
             continue
+        count, head = pinned_chain.get("links"), pinned_chain.get("head")
+        if type(count) is not int or count < 1 or not _is_head(head):
+            report(
+                "manifest",
+                label,
+                f"its chain entry is malformed (links {count!r:.20}, head {head!r:.20}): "
+                "links must be a whole number of at least 1 and head 64 hex digits",
+            )
+            continue
         pinned += 1
         links = chain.links(conn, str(session_id))
         if not links:
@@ -281,17 +324,26 @@ def check_manifest(
                 f"is in the export {where} but not in the store: deleted since the export",
             )
             continue
-        count = int(pinned_chain.get("links", 0))
-        head = str(pinned_chain.get("head", ""))
         if count > len(links) or links[count - 1].head != head:
             now = links[min(count, len(links)) - 1].head
             report(
                 "manifest",
                 label,
-                f"differs from the export {where}: its chain head there is {_short(head)}, "
+                f"differs from the export {where}: its chain head there is {_short(str(head))}, "
                 f"here {_short(now)} — the session's record changed since it was exported",
             )
+    if not sessions:
+        report(
+            "manifest",
+            where,
+            "pins no session's chain head, so it vouches for nothing: give the manifest.json "
+            "of an export that holds sessions (exported since hash chains)",
+        )
     return pinned
+
+
+def _is_head(value: object) -> bool:
+    return isinstance(value, str) and len(value) == HEAD_DIGITS and set(value) <= set(HEX)
 
 
 def manifest_entry(links: list[Link]) -> dict[str, Any]:

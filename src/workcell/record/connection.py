@@ -13,9 +13,12 @@ import os
 import sqlite3
 import time
 import urllib.parse
+from collections.abc import Iterator
 from pathlib import Path
 
 from workcell import __version__
+from workcell.record import chain_tip
+from workcell.record.chain_key import ChainKey
 from workcell.record.diagnose import storage_advice
 from workcell.record.errors import StorageError, StoreError
 from workcell.record.ids import new_id
@@ -86,9 +89,14 @@ def writer_active(path: Path) -> bool:
     return False
 
 
-def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
+def connect(
+    path: Path, *, writer: bool, check: bool = False, key: ChainKey | None = None
+) -> sqlite3.Connection:
     """A connection to the store at ``path`` with the schema checked (created when a writer
-    opens a new file). Transactions are explicit (``isolation_level=None``)."""
+    opens a new file); with ``check``, SQLite's quick integrity check first (a damaged
+    file raises :class:`StoreError` instead of being read). Transactions are explicit
+    (``isolation_level=None``). A writer migrating an older store signs its chain tip with
+    ``key``."""
     if not writer and not path.is_file():
         raise StoreError(f"no store at {path}: give the path of a store a recorder wrote")
     if writer:
@@ -98,13 +106,17 @@ def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
         conn = sqlite3.connect(uri, uri=True, isolation_level=None)
     try:
         conn.execute(f"PRAGMA busy_timeout = {BUSY_TIMEOUT_MS}")
-        _check_or_create(conn, path, writer=writer)
+        if check:
+            quick_check(conn, path)
+        _check_or_create(conn, path, writer=writer, key=key)
         conn.execute("PRAGMA foreign_keys = ON")
         conn.execute("PRAGMA synchronous = NORMAL")
         if not writer:
             conn.execute("PRAGMA query_only = ON")
     except sqlite3.DatabaseError as error:
         conn.close()
+        if is_damage(error) and "not a database" not in str(error):
+            raise damaged(path, error) from None
         if _storage_trouble(error):
             cause = str(error).strip()
             raise StorageError(
@@ -118,13 +130,63 @@ def connect(path: Path, *, writer: bool) -> sqlite3.Connection:
     return conn
 
 
+def quick_check(conn: sqlite3.Connection, path: Path) -> None:
+    """Raise :class:`StoreError` when SQLite's quick check finds the file damaged."""
+    (first,) = conn.execute("PRAGMA quick_check(1)").fetchone()
+    if first != "ok":
+        raise StoreError(
+            f"store {path} is damaged (SQLite's integrity check: {' '.join(first.split())}); "
+            "nothing was read from it or written to it: restore it from a copy"
+        )
+
+
+def check_intact(path: Path) -> None:
+    """Raise :class:`StoreError` when the existing store file at ``path`` is damaged
+    (SQLite's quick check, read-only; nothing else about the store is checked)."""
+    uri = f"file:{urllib.parse.quote(str(path.resolve()))}?mode=ro"
+    try:
+        with contextlib.closing(sqlite3.connect(uri, uri=True)) as conn:
+            quick_check(conn, path)
+    except sqlite3.DatabaseError as error:
+        if is_damage(error):
+            raise damaged(path, error) from None
+        raise StoreError(f"cannot read store {path} ({str(error).strip()})") from None
+
+
+def is_damage(error: sqlite3.DatabaseError) -> bool:
+    """Whether SQLite failed because the file is damaged or not a database at all."""
+    name = getattr(error, "sqlite_errorname", "") or ""
+    return name.startswith(("SQLITE_CORRUPT", "SQLITE_NOTADB"))
+
+
+def damaged(path: Path, error: sqlite3.DatabaseError) -> StoreError:
+    """The one-line error of a store SQLite found damaged while reading or writing it."""
+    return StoreError(
+        f"store {path} is damaged ({str(error).strip()}); it cannot be read as a store: "
+        "restore it from a copy"
+    )
+
+
+@contextlib.contextmanager
+def damage_as_store_error(path: Path) -> Iterator[None]:
+    """Within: a damaged store's sqlite3 error becomes :func:`damaged`'s StoreError."""
+    try:
+        yield
+    except sqlite3.DatabaseError as error:
+        if is_damage(error):
+            raise damaged(path, error) from None
+        raise
+
+
 def _storage_trouble(error: sqlite3.DatabaseError) -> bool:
     """Whether SQLite failed for the disk (full, I/O, cannot open) rather than the file."""
     name = getattr(error, "sqlite_errorname", "") or ""
     return name.startswith(("SQLITE_FULL", "SQLITE_IOERR", "SQLITE_CANTOPEN", "SQLITE_READONLY"))
 
 
-def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> None:
+def _check_or_create(
+    conn: sqlite3.Connection, path: Path, *, writer: bool, key: ChainKey | None
+) -> None:
     application_id = conn.execute("PRAGMA application_id").fetchone()[0]
     version = conn.execute("PRAGMA user_version").fetchone()[0]
     n_tables = conn.execute("SELECT count(*) FROM sqlite_schema").fetchone()[0]
@@ -161,8 +223,10 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
             "not written by Workcell or was altered"
         )
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
-    required = {"meta", *(layout.name for layout in LAYOUTS)} | (
-        {"chain"} if version >= 2 else set()
+    required = (
+        {"meta", *(layout.name for layout in LAYOUTS)}
+        | ({"chain"} if version >= 2 else set())
+        | ({"chain_roots"} if version >= 4 else set())
     )
     missing = sorted(required - tables)
     if missing:
@@ -170,7 +234,7 @@ def _check_or_create(conn: sqlite3.Connection, path: Path, *, writer: bool) -> N
     if writer and "frame_blocks" not in tables:  # a store from before frame blocks
         conn.execute(FRAME_BLOCKS_SQL)
     if version < SCHEMA_VERSION:
-        migrate(conn, version)
+        migrate(conn, version, key, str(path))
 
 
 def _create(conn: sqlite3.Connection) -> None:
@@ -180,15 +244,17 @@ def _create(conn: sqlite3.Connection) -> None:
     try:
         for statement in schema_statements():
             conn.execute(statement)
+        store_id = new_id()
         conn.executemany(
             "INSERT INTO meta (key, value) VALUES (?, ?)",
             [
                 ("schema_version", str(SCHEMA_VERSION)),
                 ("software_version", __version__),
-                ("store_id", new_id()),
+                ("store_id", store_id),
                 ("created_wall", repr(time.time())),
             ],
         )
+        chain_tip.declare_root(conn, chain_tip.store_root(store_id), store_id, chain_tip.CREATED)
         conn.execute("COMMIT")
     except BaseException:
         with contextlib.suppress(sqlite3.Error):

@@ -78,7 +78,7 @@ def export_csv(
         raise ExportError(
             f"output {out} exists and is not an empty directory; give a new or empty directory"
         )
-    conn = connect(store_path, writer=False)
+    conn = connect(store_path, writer=False, check=True)
     try:
         conn.execute("BEGIN")  # one snapshot for every file
         out.mkdir(parents=True, exist_ok=True)

@@ -1,7 +1,10 @@
 """Combine store shards (one per worker) into one store, and verify the result.
 
 Ids are unique across stores, so rows are copied as they are, hash-chain links included
-(their heads and signatures stay valid); each shard's camera videos join the output's media
+(their heads and signatures stay valid), the shard's chain roots become roots of the
+output and the output's chain tip (:mod:`workcell.record.chain_tip`) moves to the last
+link copied, signed with the key given (a signed shard is merged only with a key); each
+shard's camera videos join the output's media
 folder (:mod:`workcell.record.media_paths`). Shards a dead worker left
 open are recovered first, like any crashed store. Shards whose sessions disagree on what a
 frame means (joint order, metrics version) or whose schema differs are refused.
@@ -9,12 +12,16 @@ frame means (joint order, metrics version) or whose schema differs are refused.
 
 from __future__ import annotations
 
+import contextlib
 import sqlite3
+import time
 from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Literal
 
+from workcell.record import chain_tip
+from workcell.record.chain import ChainKey
 from workcell.record.errors import StoreError
 from workcell.record.frame_blocks import has_blocks
 from workcell.record.media_paths import copy_media, media_dir_for
@@ -41,9 +48,9 @@ class MergeReport:
     """Camera videos copied (or linked) into the output's media folder."""
 
 
-def _compatibility(path: Path) -> tuple[int, set[tuple[str, str]], int]:
+def _compatibility(path: Path, key: ChainKey | None) -> tuple[int, set[tuple[str, str]], int]:
     """(schema version, {(joint order, metrics version)}, recovered trials) of a shard."""
-    with Store.open(path, writer=True) as store:  # a writer recovers a crashed shard
+    with Store.open(path, writer=True, key=key) as store:  # a writer recovers a crashed shard
         recovered = len(store.recovered)
         version = int(store.meta().get("schema_version", SCHEMA_VERSION))
     conn = sqlite3.connect(f"file:{path}?mode=ro", uri=True)
@@ -54,16 +61,29 @@ def _compatibility(path: Path) -> tuple[int, set[tuple[str, str]], int]:
     return version, kinds, recovered
 
 
+def _signed_by(path: Path) -> str | None:
+    """The id of a key that signed some link of the store at ``path`` (None: unsigned)."""
+    row = None
+    with (
+        contextlib.suppress(sqlite3.Error),  # no chain yet, or damaged: opening it says so
+        contextlib.closing(sqlite3.connect(f"file:{path}?mode=ro", uri=True)) as conn,
+    ):
+        row = conn.execute("SELECT key_id FROM chain WHERE key_id IS NOT NULL LIMIT 1").fetchone()
+    return None if row is None else str(row[0])
+
+
 def merge_stores(
     shards: Sequence[Path],
     out: Path,
     progress: Callable[[str], None] | None = None,
     *,
     verify: Literal["output", "shards"] = "output",
+    key: ChainKey | None = None,
 ) -> MergeReport:
     """Copy every shard into ``out`` (created if absent), then verify ``out``; with
     ``verify="shards"``, verify each shard before it is copied instead (what a growing
-    store needs: the cost is the shards', not the whole output's)."""
+    store needs: the cost is the shards', not the whole output's). ``key``: the key the
+    shards were recorded with, which signs what recovering a crashed shard closes."""
     if not shards:
         raise MergeError("no shards given: name at least one store to merge")
     say = progress or (lambda _: None)
@@ -74,7 +94,13 @@ def merge_stores(
             raise MergeError(f"no store at {shard}: give the paths of existing shards")
         if Path(shard).resolve() == Path(out).resolve():
             raise MergeError(f"shard {shard} is the output store: give a different --out")
-        version, kinds, shard_recovered = _compatibility(Path(shard))
+        signed = _signed_by(Path(shard))
+        if key is None and signed:
+            raise MergeError(
+                f"shard {shard} is signed with key {signed}: give that key (--key FILE) to "
+                "merge it, so that the merged store's chain tip is signed too"
+            )
+        version, kinds, shard_recovered = _compatibility(Path(shard), key)
         recovered += shard_recovered
         if shard_recovered:
             say(f"{shard}: recovered {shard_recovered} trial(s) a dead writer left open")
@@ -93,12 +119,14 @@ def merge_stores(
             raise MergeError(f"shard {shard} mixes joint orders or metrics versions")
         if verify == "shards" and (problems := verify_store(shard)):
             raise MergeError(f"shard {shard} does not verify: {problems[0]}")
-    with Store.open(out, writer=True):  # creates the schema, holds the writer lock
+    # creates the schema, holds the writer lock; the whole output is checked when it is
+    # verified as a whole
+    with Store.open(out, writer=True, key=key, check=verify == "output"):
         conn = sqlite3.connect(out, isolation_level=None)
         try:
             conn.execute("PRAGMA foreign_keys = ON")
             for shard in shards:
-                _copy(conn, Path(shard), Path(out))
+                _copy(conn, Path(shard), Path(out), key)
                 say(f"merged {shard}")
         finally:
             conn.close()
@@ -113,7 +141,7 @@ def merge_stores(
     return MergeReport(len(shards), counts.sessions, counts.trials, counts.frames, recovered, media)
 
 
-def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
+def _copy(conn: sqlite3.Connection, shard: Path, out: Path, key: ChainKey | None) -> None:
     conn.execute("ATTACH DATABASE ? AS shard", (f"file:{shard}?mode=ro",))
     try:
         clash = conn.execute(
@@ -128,7 +156,14 @@ def _copy(conn: sqlite3.Connection, shard: Path, out: Path) -> None:
                 conn.execute(f"INSERT INTO main.{table} SELECT * FROM shard.{table}")
             if has_blocks(conn, "shard"):
                 conn.execute("INSERT INTO main.frame_blocks SELECT * FROM shard.frame_blocks")
-            conn.execute("INSERT INTO main.chain SELECT * FROM shard.chain")  # heads unchanged
+            # heads unchanged; the shard's roots become roots of the output, its tip moves
+            conn.execute("INSERT INTO main.chain SELECT * FROM shard.chain ORDER BY rowid")
+            conn.execute(
+                "INSERT OR IGNORE INTO main.chain_roots SELECT root, store_id, ?, ? "
+                "FROM shard.chain_roots",
+                (chain_tip.MERGED, time.time()),
+            )
+            chain_tip.write_tip(conn, key)
             conn.execute("COMMIT")
         except sqlite3.Error as error:
             conn.execute("ROLLBACK")

@@ -7,6 +7,12 @@ uncommitted tail (at most one batch) is gone. Recovery closes such trials as
 links, records why, and closes their sessions as ``recovered``. It runs only under the
 writer lock, so it never touches a live recorder's trial.
 
+Its ``recovery`` event says what it found of the session's chain (links and head before
+the links it added) and whether it signed them: the writer signs them only when the
+store's chain tip is signed with its key (:func:`~workcell.record.chain_tip.writer_check`),
+that is, when nothing was cut off or rewritten since the key last wrote. Otherwise they
+stay unsigned, and ``verify --key`` names them.
+
 A recording process that knows why its session stopped (its store writer process died
 under it) passes that reason: its session's running trial is closed as ``interrupted``
 with that reason and the session as ``interrupted``, so that the store says what the
@@ -60,6 +66,7 @@ def recover(
         return ()
     conn.execute("BEGIN IMMEDIATE")
     try:
+        found = {session_id: _found(conn, session_id) for session_id in sessions}
         for trial_id in orphans:
             (session_id,) = conn.execute(
                 "SELECT session_id FROM trials WHERE trial_id = ?", (trial_id,)
@@ -78,7 +85,7 @@ def recover(
             if session_id in known:
                 lifecycle.close_session(conn, session_id, "interrupted", now, key)
             else:
-                _close_session(conn, session_id, orphans, now, key)
+                _close_session(conn, session_id, orphans, now, key, found=found[session_id])
         conn.execute("COMMIT")
     except BaseException:
         with contextlib.suppress(sqlite3.Error):  # a full disk may have rolled it back
@@ -94,6 +101,8 @@ def _close_session(
     orphans: list[str],
     now: float,
     key: ChainKey | None,
+    *,
+    found: dict[str, object],
 ) -> None:
     recovered = [
         r[0]
@@ -116,11 +125,26 @@ def _close_session(
         trial_id=None,
         seq=lifecycle.next_seq(conn, session_id),
         kind=lifecycle.RECOVERY_EVENT,
-        payload={"reason": CRASH_RECOVERED, "trials": recovered, "recovered_wall": now},
+        payload={
+            "reason": CRASH_RECOVERED,
+            "trials": recovered,
+            "recovered_wall": now,
+            "found": found,
+            "signed": key is not None,
+        },
         t_sim=None,
         t_wall=max(now, last_wall if last_wall is not None else -math.inf),
     )
     lifecycle.close_session(conn, session_id, "recovered", last_wall, key)
+
+
+def _found(conn: sqlite3.Connection, session_id: str) -> dict[str, object]:
+    """What recovery found of the session's chain: its links and head before it closed it."""
+    links = conn.execute(
+        "SELECT position, head FROM chain WHERE session_id = ? ORDER BY position DESC LIMIT 1",
+        (session_id,),
+    ).fetchone()
+    return {"links": 0, "head": ""} if links is None else {"links": links[0] + 1, "head": links[1]}
 
 
 def recover_with_headroom(

@@ -1,4 +1,4 @@
-"""Schema version 3 of a store: the five tables, their column types, and the DDL.
+"""Schema version 4 of a store: the five tables, their column types, and the DDL.
 
 Every table's columns are the interchange contract's names (:mod:`workcell.record.columns`)
 followed by the store's own (``checksum``, ``content_checksum``, ...). The version lives in
@@ -8,7 +8,8 @@ as a Workcell store. Tables are STRICT, so a column holds only its declared type
 Version 2 added the ``chain`` table (:mod:`workcell.record.chain`); version 3 the frames'
 filtered device poses (:data:`~workcell.record.columns.FILTERED_POSE_COLUMNS`), appended
 after the ``checksum`` column as ``ALTER TABLE`` appends them, so that a new store and a
-migrated one have the same tables. A writer migrates an older store
+migrated one have the same tables; version 4 the store's identity in its chains (the
+``chain_roots`` table) and the chain tip kept in ``meta``. A writer migrates an older store
 (:mod:`workcell.record.migrate`).
 """
 
@@ -28,7 +29,7 @@ from workcell.record.columns import (
     TRIAL_COLUMNS,
 )
 
-SCHEMA_VERSION = 3
+SCHEMA_VERSION = 4
 APPLICATION_ID = 0x57434C31
 """``PRAGMA application_id`` of every Workcell store: ASCII "WCL1"."""
 
@@ -327,6 +328,16 @@ CHAIN_SQL = """CREATE TABLE chain (
 ``events_through`` says which session-level events (``trial_id`` NULL, ``seq`` up to it)
 this link or one before it commits to (-1: none)."""
 
+CHAIN_ROOTS_SQL = """CREATE TABLE chain_roots (
+    root TEXT NOT NULL PRIMARY KEY,
+    store_id TEXT NOT NULL,
+    joined TEXT NOT NULL,
+    joined_wall REAL NOT NULL
+) STRICT"""
+"""The points the chains of a store may start from (:mod:`workcell.record.chain_tip`,
+since version 4): this store's own root, the roots of the stores merged into it and, in a
+store migrated from an older version, the empty root its first chains started from."""
+
 
 def schema_statements() -> tuple[str, ...]:
     """Every statement that creates an empty store (run in one transaction)."""
@@ -336,6 +347,7 @@ def schema_statements() -> tuple[str, ...]:
         *INDEXES,
         FRAME_BLOCKS_SQL,
         CHAIN_SQL,
+        CHAIN_ROOTS_SQL,
         f"PRAGMA application_id = {APPLICATION_ID}",
         f"PRAGMA user_version = {SCHEMA_VERSION}",
     )

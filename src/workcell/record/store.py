@@ -33,7 +33,7 @@ from typing import Self
 
 from workcell.closing import Closing
 from workcell.metrics import FrameArrays, MetricThresholds, compute_trial_metrics
-from workcell.record import chain, lifecycle, rowio
+from workcell.record import chain, chain_tip, lifecycle, rowio
 from workcell.record.annotations import annotation_row
 from workcell.record.batch import RowBatch
 from workcell.record.chain import ChainKey
@@ -89,31 +89,40 @@ class Store(StoreReading, Closing):
         writer: bool,
         key: ChainKey | None = None,
         known: Mapping[str, KnownEnd] | None = None,
+        check: bool | None = None,
     ) -> Self:
         """Open (a writer also creates or migrates) the store at ``path``.
 
+        ``check`` (default: for a writer) runs SQLite's quick integrity check first, so
+        that a damaged file is refused with a :class:`StoreError` instead of being read
+        or written into.
+
         A writer takes the store's writer lock, keeps the headroom file beside it, signs
         the chain links it writes with ``key`` (if given), and recovers what a dead writer
-        left open (sessions in ``known`` with the reason given there). Raises
+        left open (sessions in ``known`` with the reason given there), signing what it
+        closes only when the store's chain tip is signed with ``key``. Raises
         :class:`StoreError` for a missing file (reader), a file that is not a store, a
-        store of a newer schema, or a store another process is writing;
+        store of a newer schema, a store another process is writing, or (writer) a store
+        whose chain tip shows that links were deleted or the tip rewritten;
         :class:`StorageError` when the disk has no room for a writer.
         """
         path = Path(path)
+        check = writer if check is None else check
         if not writer:
-            return cls(path, connect(path, writer=False), None)
+            return cls(path, connect(path, writer=False, check=check), None)
         lock = WriterLock(path)
         try:
             no_room = Reserve(path).missing_room()
             if no_room is not None and not path.exists():
                 raise no_room  # nothing to recover: refuse before creating anything
-            store = cls(path, connect(path, writer=True), lock, key)
+            store = cls(path, connect(path, writer=True, check=check, key=key), lock, key)
         except BaseException:
             lock.release()
             raise
         try:
-            store.recovered = recover_with_headroom(
-                store._conn, store._reserve, key=key, known=known or {}
+            vouched = chain_tip.writer_check(store._conn, path, key)
+            store.recovered = recover_with_headroom(  # signed only where the key vouches
+                store._conn, store._reserve, key=key if vouched else None, known=known or {}
             )
             if no_room is not None or not store._reserve.path.exists():
                 store._reserve.ensure()  # raises: the disk is still full

@@ -29,7 +29,7 @@ from workcell.record.columns import (
     OUTCOMES,
     SESSION_STATUSES,
 )
-from workcell.record.connection import connect, writer_active
+from workcell.record.connection import connect, damage_as_store_error, writer_active
 from workcell.record.export_check import verify_export
 from workcell.record.findings import IntegrityFinding
 from workcell.record.frame_check import check_trial_frames
@@ -78,10 +78,13 @@ def verify_store_report(
     try:
         conn.execute("BEGIN")  # one snapshot for every check, even while a recorder writes
         verifier = _Verifier(path, conn)
-        findings = verifier.run()
-        stats = check_chains(conn, verifier.add, key)
-        if manifest is not None:
-            check_manifest(conn, manifest, "manifest", verifier.add)
+        with damage_as_store_error(path):
+            if not verifier.intact():
+                return verifier.findings, ChainStats()  # a damaged file's rows mean nothing
+            findings = verifier.run()
+            stats = check_chains(conn, verifier.add, key)
+            if manifest is not None:
+                check_manifest(conn, manifest, "manifest", verifier.add)
         return findings, stats
     finally:
         conn.close()
@@ -96,6 +99,18 @@ class _Verifier:
 
     def add(self, table: str, row: str, problem: str) -> None:
         self.findings.append(IntegrityFinding(str(self.path), table, row, problem))
+
+    def intact(self) -> bool:
+        """SQLite's quick check of the file; a damaged one is one finding."""
+        (first,) = self.conn.execute("PRAGMA quick_check(1)").fetchone()
+        if first != "ok":
+            self.add(
+                "database",
+                "",
+                f"the file is damaged (SQLite's integrity check: {' '.join(first.split())}); "
+                "nothing else was read from it: restore it from a copy",
+            )
+        return bool(first == "ok")
 
     def run(self) -> list[IntegrityFinding]:
         if not self.check_schema():

@@ -13,6 +13,8 @@ from starlette.routing import Route
 
 from workcell.protocol.api import SessionList, SessionSummary, TrialSummary
 from workcell.protocol.codec import encode
+from workcell.record.connection import damage_as_store_error
+from workcell.record.errors import StoreError
 from workcell.record.store import Store
 from workcell.server.defaults import session_defaults, session_hints
 from workcell.server.diagnostics import diagnostics
@@ -47,7 +49,7 @@ def shown(text: str, most: int = 20) -> str:
 def session_list(path: Path) -> SessionList:
     if not path.exists():
         return SessionList(sessions=())
-    with Store.open(path, writer=False) as store:
+    with damage_as_store_error(path), Store.open(path, writer=False) as store:
         trials = store.trials()
         return SessionList(
             sessions=tuple(
@@ -96,7 +98,10 @@ def routes(seats: Seats) -> list[Route]:
         return json_response(session_hints())
 
     def sessions(request: Request) -> Response:
-        return json_response(session_list(store_path))
+        try:
+            return json_response(session_list(store_path))
+        except StoreError as error:  # a damaged store: say so instead of a bare 500
+            return problem(503, str(error))
 
     def frames(request: Request) -> Response:
         text = request.query_params.get("every", "1")
@@ -106,10 +111,12 @@ def routes(seats: Seats) -> list[Route]:
         if not store_path.exists():
             return problem(404, "the store has no trials yet")
         try:
-            with Store.open(store_path, writer=False) as store:
+            with damage_as_store_error(store_path), Store.open(store_path, writer=False) as store:
                 reply = trial_replay(store, request.path_params["trial_id"], every)
         except TrialNotFoundError as error:
             return problem(404, str(error))
+        except StoreError as error:
+            return problem(503, str(error))
         return json_response(reply)
 
     def diagnostics_route(request: Request) -> Response:

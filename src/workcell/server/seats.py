@@ -53,7 +53,9 @@ class Seats:
         self.launch = launch
         """Makes every seat's sessions: in processes of their own, or in Ray actors
         (:class:`~workcell.server.session_actor.RaySessions`, ``--ray``)."""
-        self.shards = SessionShards(options.store) if options.max_sessions > 1 else None
+        self.shards = (
+            SessionShards(options.store, options.key_file) if options.max_sessions > 1 else None
+        )
         self.conductors: dict[str, Conductor] = {}
         self.unseated: set[Client] = set()
         self._seat_of: dict[Client, Conductor] = {}

@@ -17,6 +17,7 @@ import shutil
 import threading
 from pathlib import Path
 
+from workcell.record.chain import ChainKey
 from workcell.record.errors import StoreError
 from workcell.record.media_paths import media_dir_for
 from workcell.record.merge import MergeReport, merge_stores
@@ -31,8 +32,10 @@ def shard_folder(store: Path) -> Path:
 class SessionShards:
     """The shards of one store (thread-safe: merges run one at a time)."""
 
-    def __init__(self, store: Path) -> None:
+    def __init__(self, store: Path, key_file: Path | None = None) -> None:
         self.store = store
+        self.key = None if key_file is None else ChainKey.from_file(key_file)
+        """The server's key (``--key``): recovering a killed session's shard signs with it."""
         self.folder = shard_folder(store)
         self._merging = threading.Lock()
 
@@ -48,7 +51,7 @@ class SessionShards:
         with self._merging:
             if not shard.is_file():
                 return None
-            report = merge_stores([shard], self.store, verify="shards")
+            report = merge_stores([shard], self.store, verify="shards", key=self.key)
             remove_shard(shard)
             return report
 
