@@ -5,7 +5,7 @@ from __future__ import annotations
 
 from typing import ClassVar
 
-from workcell.tasks.box_transfer import BoxTransfer
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 
 class CarefulTransfer(BoxTransfer):

@@ -21,7 +21,7 @@ from workcell.session.config import SessionConfig, TaskConfig
 from workcell.sim.randomization import RandomizationConfig
 from workcell.task.runner import TrialResult
 from workcell.tasks import CUSTOM, world_of
-from workcell.tasks.box_transfer import BoxTransfer
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 
 def test_the_worlds_widen_from_d0_to_d2() -> None:

@@ -8,7 +8,7 @@ from tests.tasks.external_task import CarefulTransfer
 from workcell.cli.main import main
 from workcell.errors import ConfigError
 from workcell.session.config import TaskConfig
-from workcell.tasks.box_transfer import BoxTransfer
+from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.registry import BUILT_IN, DEFAULT_TASK, load_task, recorded_task, task_class
 
 

@@ -12,7 +12,7 @@ from collections.abc import Mapping
 from typing import Any
 
 from workcell.errors import ConfigError, Problem
-from workcell.tasks.box_transfer import BoxTransfer
+from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.task import Task
 
 BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer,)}

@@ -1,0 +1,55 @@
+"""Box transfer, the paper's task: boxes arrive on the conveyor; the robot picks each one
+up with both hands, carries it to the delivery table and sets it down in the zone."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import ClassVar
+
+from workcell.expert.operator import ExpertOperator
+from workcell.expert.skill import ExpertConfig
+from workcell.task.operator import Operator
+from workcell.tasks.box_transfer.judge import BoxTransferJudge
+from workcell.tasks.box_transfer.stages import TASK_STAGES
+from workcell.tasks.task import Task
+from workcell.tasks.worlds import WorldName, WorldRanges
+
+ONE_BOX = "Carry the box from the conveyor to the delivery table."
+BOXES = "Carry {n} boxes from the conveyor to the delivery table."
+
+D1_SHIFT = 0.1
+"""D1 moves the robot's start and the delivery zone up to 0.1 m and turns the start up to
+0.1 rad: the shifted worlds of ``bench/learn.py``."""
+D2_SCALE = 3.0
+"""D2 widens D1's ranges three times and varies the boxes and the feed too."""
+
+
+class BoxTransfer(Task):
+    name: ClassVar[str] = "box_transfer"
+    summary: ClassVar[str] = (
+        "carry boxes from the conveyor to the delivery table, one at a time, with both hands"
+    )
+    stages: ClassVar[tuple[str, ...]] = TASK_STAGES
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
+        "D0": {},
+        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
+        "D2": {
+            "start_shift": D2_SCALE * D1_SHIFT,
+            "target_shift": D2_SCALE * D1_SHIFT,
+            "start_yaw": D2_SCALE * D1_SHIFT,
+            "box_size": 0.15,
+            "box_mass": 0.3,
+            "box_colour": 0.2,
+            "conveyor_speed": 0.25,
+            "release_interval": 0.25,
+        },
+    }
+
+    def instruction(self, required: int) -> str:
+        return ONE_BOX if required == 1 else BOXES.format(n=required)
+
+    def new_trial(self, required: int) -> BoxTransferJudge:
+        return BoxTransferJudge(required)
+
+    def expert(self, config: ExpertConfig) -> Operator:
+        return ExpertOperator(config)
