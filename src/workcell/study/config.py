@@ -126,20 +126,37 @@ def condition_session(study: StudyConfig, condition: Condition) -> SessionConfig
     return resolve_session_config(flags=_dotted(study.session) | _dotted(condition.settings))
 
 
+def _session_problems(settings: Mapping[str, Any]) -> list[str]:
+    try:
+        resolve_session_config(flags=settings)
+    except ConfigError as error:
+        return list(error.problems)
+    return []
+
+
 def _check_sessions(study: StudyConfig) -> list[str]:
+    """The problems of every condition's sessions. One the ``[session]`` table has in
+    every condition that shows it is reported once, as the table's
+    (``session.world.grsap``); the rest as the condition's."""
     problems: list[str] = []
-    for key in _dotted(study.session):
+    shared = _dotted(study.session)
+    for key in shared:
         if key in SET_BY_STUDY:
             problems.append(f"session.{key}: set by the study for each session; remove it")
+    of_session = _session_problems(shared)
+    reported: set[str] = set()
     for i, condition in enumerate(study.conditions, start=1):
         where = f"conditions[{i}].settings."
-        for key in _dotted(condition.settings):
+        changes = _dotted(condition.settings)
+        for key in changes:
             if key in SET_BY_STUDY:
                 problems.append(f"{where}{key}: set by the study for each session; remove it")
-        try:
-            condition_session(study, condition)
-        except ConfigError as error:
-            problems += [f"{where}{line}" for line in error.problems]
+        for line in _session_problems(shared | changes):
+            if line not in of_session:
+                problems.append(f"{where}{line}")
+            elif line not in reported:
+                reported.add(line)
+                problems.append(f"session.{line}")
     return problems
 
 
@@ -207,7 +224,7 @@ def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
 
 def load_study(path: Path) -> StudyConfig:
     """Read and validate a study file."""
-    data = load_toml(path)
+    data = load_toml(path, "study file")
     try:
         return study_from_mapping(data)
     except ConfigError as error:
