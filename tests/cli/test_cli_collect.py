@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
@@ -15,6 +16,7 @@ import pytest
 from tests.record.processes import collect, wait_for_trials
 from workcell.cli.main import main
 from workcell.record import Store
+from workcell.record.verify import verify_store
 from workcell.session.config import SessionConfig
 from workcell.session.load import resolve_session_config
 
@@ -175,3 +177,32 @@ def test_what_collect_prints_is_what_the_store_holds_when_it_ends_in_a_countdown
     score = printed[0]["score"]
     assert f"1 trials, 1 succeeded, total score {score}" in err.splitlines()
     assert f"recorded session {session.session_id} ({frames} frames) in {store}" in err
+
+
+def test_workers_whose_output_closes_end_like_sigint_and_merge_what_they_recorded(
+    tmp_path: Path,
+) -> None:
+    """``collect --workers 2 --json | head -n 1``: no traceback, every worker ends its
+    trial as on SIGINT, the shards are merged into a store that verifies, and the summary
+    counts what the store holds; exit 141 (the run left its shards unmerged and workers
+    running)."""
+    store = tmp_path / "s.sqlite"
+    process = collect(store, "--mode", "collection", "--trials", "6", "--workers", "2")
+    assert process.stdout is not None and process.stderr is not None
+    first = json.loads(process.stdout.readline())
+    process.stdout.close()
+    err = process.stderr.read()
+    process.wait(timeout=300)
+    assert process.returncode == 128 + signal.SIGPIPE, err
+    assert "Traceback" not in err and "BrokenPipe" not in err, err
+    assert first["outcome"] == "success"
+    assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        sessions = reader.sessions()
+        trials = reader.trials()
+    assert [s.status for s in sessions] == ["interrupted", "interrupted"]
+    merged = r"^(\d+) trials, \d+ succeeded; merged 2 shards .*: 2 sessions, (\d+) trials"
+    summary = re.search(merged, err, re.MULTILINE)
+    assert summary is not None, err
+    assert int(summary[1]) == int(summary[2]) == len(trials)
+    assert not (tmp_path / "s.sqlite.shards").exists()

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
@@ -19,9 +18,6 @@ from workcell.errors import ConfigError, WorkcellError
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
 
-EXIT_OUTPUT_CLOSED = 128 + signal.SIGPIPE
-"""Standard output's reader went away (``collect ... | head``): the shell's status for a
-process SIGPIPE ended."""
 DEFAULT_STORE = "workcell.sqlite"
 
 
@@ -183,7 +179,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_parallel(args, config.seed, cameras)
 
-    from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
+    from workcell.cli.collect_output import EXIT_OUTPUT_CLOSED, TrialPrinter  # noqa: PLC0415
     from workcell.recording.headless import headless_status, run_headless  # noqa: PLC0415
     from workcell.recording.recorded_session import (  # noqa: PLC0415
         RecordedSession,

@@ -4,7 +4,8 @@ Standard output may be a pipe whose reader goes away (``workcell collect --json 
 1``). That is not an error of the run: :class:`TrialPrinter` notices it, either when a
 write fails or, earlier, when the pipe reports that its reader has closed, and from then
 on prints nothing more; the caller ends the run as it does on SIGINT (the running trial
-``interrupted``, the session closed) and exits with status 141 (128 + SIGPIPE).
+``interrupted``, the session closed) and exits with status 141 (128 + SIGPIPE); so do the workers of
+``collect --workers``, whose shards are merged as after SIGINT.
 """
 
 from __future__ import annotations
@@ -13,6 +14,7 @@ import contextlib
 import json
 import os
 import select
+import signal
 import stat
 import sys
 from typing import IO, TYPE_CHECKING, Any
@@ -24,6 +26,9 @@ if TYPE_CHECKING:
 
     from workcell.task.runner import SessionRunner, TrialResult
 
+EXIT_OUTPUT_CLOSED = 128 + signal.SIGPIPE
+"""Standard output's reader went away (``collect ... | head``): the shell's status for a
+process SIGPIPE ended."""
 COLUMNS = ("index", "mode", "round", "level", "outcome", "boxes", "score", "elapsed")
 OUTCOME_WIDTH = max(len(f"interrupted:{reason}") for reason in INTERRUPTION_REASONS)
 """Wide enough for every outcome label, ``interrupted:application_quit`` the longest."""
@@ -106,7 +111,7 @@ class TrialPrinter:
 
     def header(self) -> None:
         if not self.as_json:
-            self._out(table_header())
+            self.out(table_header())
 
     def progress(self, runner: SessionRunner) -> None:
         if not self.live:
@@ -126,7 +131,7 @@ class TrialPrinter:
     def row(self, result: TrialResult) -> None:
         if self.live:
             self._err("\r" + " " * 70 + "\r", end="")
-        self._out(json.dumps(trial_json(result)) if self.as_json else table_row(result))
+        self.out(json.dumps(trial_json(result)) if self.as_json else table_row(result))
 
     def stored(self, path: Path, session_id: str, frames: int) -> None:
         self.note(f"recorded session {session_id} ({frames} frames) in {path}")
@@ -153,9 +158,10 @@ class TrialPrinter:
         if self.as_json:
             self._err(line)
         else:
-            self._out(line)
+            self.out(line)
 
-    def _out(self, line: str) -> None:
+    def out(self, line: str) -> None:
+        """A line on standard output, unless its reader has gone."""
         if self.output_closed:
             return
         try:
