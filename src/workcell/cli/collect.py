@@ -179,7 +179,8 @@ def run(args: argparse.Namespace) -> int:
 
         return run_parallel(args, config.seed, cameras)
 
-    from workcell.cli.collect_output import EXIT_OUTPUT_CLOSED, TrialPrinter  # noqa: PLC0415
+    from workcell.cli.closed_output import EXIT_OUTPUT_CLOSED  # noqa: PLC0415
+    from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
     from workcell.recording.headless import headless_status, run_headless  # noqa: PLC0415
     from workcell.recording.recorded_session import (  # noqa: PLC0415
         RecordedSession,

@@ -30,6 +30,7 @@ from workcell.cli import (
     train,
     verify,
 )
+from workcell.cli.closed_output import EXIT_OUTPUT_CLOSED, discard_stdout, reader_gone
 from workcell.cli.command import CommandModule, RunFunc, Subparsers
 from workcell.errors import ConfigError, WorkcellError
 
@@ -103,6 +104,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         _print_error("interrupted")
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        if not reader_gone(sys.stdout):
+            raise  # another pipe: a fault, not the reader of the output going away
+        discard_stdout()
+        return EXIT_OUTPUT_CLOSED
 
 
 def _print_error(message: str) -> None:

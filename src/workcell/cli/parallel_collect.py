@@ -11,7 +11,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from workcell.cli.collect_output import EXIT_OUTPUT_CLOSED, TrialPrinter, trial_json
+from workcell.cli.closed_output import EXIT_OUTPUT_CLOSED
+from workcell.cli.collect_output import TrialPrinter, trial_json
 from workcell.errors import WorkcellError
 from workcell.recording.shutdown import exit_status
 
