@@ -149,3 +149,20 @@ def test_a_value_where_a_flag_needs_a_section_is_one_error_line(tmp_path: Path) 
     (tmp_path / "flat.toml").write_text("task = 3\n")
     error = _one_error("collect", "--config", "flat.toml", "--mode", "collection", cwd=tmp_path)
     assert error == "task = 3: must be a [task] section"
+
+
+def test_a_frame_rate_too_fast_for_a_video_is_refused_before_recording(tmp_path: Path) -> None:
+    """--cameras records one video frame per recorded frame: a rate the video encoder
+    refuses is a bad setting, not an error once the first trial's video starts (which left
+    the session and its trial open in the store)."""
+    error = _one_error(
+        "collect",
+        *("--cameras", "head_cam", "--set", "recording.sampling_rate_hz=400"),
+        *("--store", "s.sqlite"),
+        cwd=tmp_path,
+    )
+    assert error == (
+        "recording.sampling_rate_hz = 400: --cameras records a video frame per recorded "
+        "frame: must be between 1 and 240 Hz"
+    )
+    assert not (tmp_path / "s.sqlite").exists()

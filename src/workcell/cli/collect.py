@@ -7,6 +7,7 @@ import math
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from workcell import checks
 from workcell.cli.collect_operator import (
     POLICY_PREFIX,
     driver,
@@ -143,6 +144,19 @@ def _check(args: argparse.Namespace) -> list[str]:
     return problems
 
 
+def _video_rate_problems(rate_hz: float) -> list[str]:
+    """--cameras records one video frame per recorded frame: the frame rate must be one a
+    video can have (checked here, not when the first trial's video starts)."""
+    from workcell.render.video import MAX_FPS  # noqa: PLC0415
+
+    if 1.0 <= rate_hz <= MAX_FPS:
+        return []
+    allowed = (
+        f"--cameras records a video frame per recorded frame: must be between 1 and {MAX_FPS} Hz"
+    )
+    return [checks.problem("recording.sampling_rate_hz", rate_hz, allowed)]
+
+
 def run(args: argparse.Namespace) -> int:
     problems = _check(args)
     from workcell.session.load import resolve_session_config  # noqa: PLC0415
@@ -152,6 +166,7 @@ def run(args: argparse.Namespace) -> int:
     flags["condition"] = args.condition
     if args.mode == "collection" or (args.mode is None and args.trials is not None):
         flags["task.trials"] = args.trials
+    config = None
     try:
         config = resolve_session_config(args.config, args.set, flags)
     except ConfigError as error:
@@ -166,12 +181,14 @@ def run(args: argparse.Namespace) -> int:
             problems += error.problems
         if args.no_store:
             problems.append("--cameras: videos are recorded beside the store; drop --no-store")
+        if config is not None:
+            problems += _video_rate_problems(config.recording.sampling_rate_hz)
     checkpoint = None
     try:
         checkpoint = policy_checkpoint(args)
     except WorkcellError as error:
         problems.append(str(error))
-    if problems:
+    if problems or config is None:
         raise ConfigError(problems)
     config = with_operator_id(config, args, checkpoint)
     if args.workers > 1 or args.ray:
