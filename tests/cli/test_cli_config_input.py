@@ -166,3 +166,10 @@ def test_a_frame_rate_too_fast_for_a_video_is_refused_before_recording(tmp_path:
         "frame: must be between 1 and 240 Hz"
     )
     assert not (tmp_path / "s.sqlite").exists()
+
+
+def test_a_flag_given_thousands_of_digits_is_one_short_error_line(tmp_path: Path) -> None:
+    error = _one_error("collect", "--seed", DIGITS_5000, "--no-store", cwd=tmp_path)
+    assert error.startswith("argument --seed: invalid int value: '10000")
+    assert error.endswith("... (5002 characters) (see 'workcell collect --help')")
+    assert len(error) < 200
