@@ -42,7 +42,7 @@ def _show(value: object) -> str:
     if isinstance(value, float):
         return f"{value:g}"
     if isinstance(value, tuple):
-        return _cut("(" + ", ".join(_show(v) for v in value) + ")")
+        return cut("(" + ", ".join(_show(v) for v in value) + ")")
     return shown(value)
 
 
@@ -66,17 +66,19 @@ def shown(value: object, depth: int = 0) -> str:
         inner = "..." if depth >= 2 else ", ".join(shown(v, depth + 1) for v in value[:20])
         if len(value) > 20:
             inner += ", ..."
-        return _cut(f"[{inner}]" if isinstance(value, list) else f"({inner})")
+        return cut(f"[{inner}]" if isinstance(value, list) else f"({inner})")
     if isinstance(value, dict):
-        return _cut("{...}" if value else "{}")
+        return cut("{...}" if value else "{}")
     try:
         text = repr(value)
     except (ValueError, RecursionError):
         return f"a {type(value).__name__}"
-    return _cut(text)
+    return cut(text)
 
 
-def _cut(text: str) -> str:
+def cut(text: str) -> str:
+    """``text``, or its first characters and its length when it is longer than 100 (a key
+    or value a user typed, in a problem line)."""
     if len(text) <= LONGEST_SHOWN:
         return text
     return f"{text[: LONGEST_SHOWN - 3]}... ({len(text)} characters)"

@@ -178,3 +178,14 @@ def test_bad_command_lines_are_one_error_each(
     assert main(["study", str(study_file), "--participant", "p7", "--store", store]) == EXIT_USAGE
     assert "the study's are p01 to p02" in capsys.readouterr().err
     assert not Path(store).exists()
+
+
+def test_a_key_of_thousands_of_characters_is_named_in_one_short_line() -> None:
+    data = tomllib.loads(TEMPLATE)
+    data["k" * 3000] = 1
+    data["conditions"][0]["j" * 3000] = 1
+    data["session"] = {"i" * 3000: 1}
+    with pytest.raises(ConfigError) as raised:
+        study_from_mapping(data)
+    lines = list(raised.value.problems)
+    assert len(lines) == 3 and all(len(line) < 300 for line in lines), lines

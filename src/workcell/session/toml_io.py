@@ -16,7 +16,7 @@ from collections.abc import Callable, Mapping, Sequence
 from pathlib import Path
 from typing import Any, Literal, TypeVar, Union, get_args, get_origin, get_type_hints
 
-from workcell.errors import ConfigError, Problem, shown
+from workcell.errors import ConfigError, Problem, cut, shown
 
 T = TypeVar("T")
 _MISSING = object()
@@ -135,7 +135,8 @@ def from_mapping(cls: type[T], data: Mapping[str, Any], path: str = "") -> T:
     for key in data:
         if key not in fields:
             allowed = f"unknown setting; allowed here: {', '.join(fields)}"
-            problems.append(Problem(f"{path}{key}", data[key], allowed, f"{path}{key}: {allowed}"))
+            where = cut(f"{path}{key}")
+            problems.append(Problem(f"{path}{key}", data[key], allowed, f"{where}: {allowed}"))
     kwargs: dict[str, Any] = {}
     for name in fields:
         value = data.get(name, _MISSING)

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from workcell.errors import ConfigError
+from workcell.errors import ConfigError, cut, shown
 from workcell.session.config import Mode, SessionConfig
 from workcell.session.load import resolve_session_config
 from workcell.session.toml_io import from_mapping, load_toml
@@ -175,7 +175,7 @@ def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
     allowed_all = (*allowed, "conditions", "steps")
     for key in data:
         if key not in allowed_all:
-            problems.append(f"{key}: unknown study key; allowed: {', '.join(allowed_all)}")
+            problems.append(f"{cut(key)}: unknown study key; allowed: {', '.join(allowed_all)}")
     session = data.get("session", {})
     if not isinstance(session, Mapping):
         problems.append("session: must be a table of session settings")
@@ -191,7 +191,7 @@ def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
         extra = set(item) - {"name", "settings"}
         if extra:
             problems.append(
-                f"conditions[{i}]: unknown keys {sorted(extra)}; allowed: name, settings"
+                f"conditions[{i}]: unknown keys {shown(sorted(extra))}; allowed: name, settings"
             )
         try:
             conditions.append(Condition(item.get("name", ""), dict(settings)))
