@@ -6,6 +6,7 @@ every derived value can be computed; never in another exception."""
 from __future__ import annotations
 
 import datetime
+import functools
 import math
 import tomllib
 from collections.abc import Callable
@@ -121,24 +122,24 @@ def _derive_everything(config: SessionConfig) -> None:
     assert environment.countdown_steps >= 0
 
 
-def _outcome(declared: Declared, shown: str, build: Callable[[], SessionConfig]) -> str | None:
+def _outcome(declared: Declared, label: str, build: Callable[[], SessionConfig]) -> str | None:
     """What went wrong building a configuration with a hostile value (None: nothing)."""
     try:
         config = build()
     except ConfigError as error:
         lines = list(error.problems)
         if not any(declared.key in line for line in lines):
-            return f"{declared.key} = {shown}: no line names the setting: {lines}"
+            return f"{declared.key} = {label}: no line names the setting: {lines}"
         for line in lines:
             if "\n" in line or len(line) > LONGEST_LINE:
-                return f"{declared.key} = {shown}: not one short line: {line[:200]!r}..."
+                return f"{declared.key} = {label}: not one short line: {line[:200]!r}..."
         return None
     except Exception as error:
-        return f"{declared.key} = {shown}: {type(error).__name__}: {str(error)[:200]}"
+        return f"{declared.key} = {label}: {type(error).__name__}: {str(error)[:200]}"
     try:
         _derive_everything(config)
     except Exception as error:
-        return f"{declared.key} = {shown} passed validation, then {type(error).__name__}: {error}"
+        return f"{declared.key} = {label} passed validation, then {type(error).__name__}: {error}"
     return None
 
 
@@ -184,18 +185,14 @@ def test_a_hostile_value_is_a_clean_error_or_a_valid_configuration(
         *parents, leaf = declared.key.split(".")
         table = f"[{'.'.join(parents)}]\n" if parents else ""
         path.write_text(f"{table}{leaf} = {text}\n", encoding="utf-8")
-        shown = text[:40]
-        failures.append(_outcome(declared, shown, lambda: resolve_session_config(path)))
-        overrides = [f"{declared.key}={text}"]
-        failures.append(
-            _outcome(declared, shown, lambda o=overrides: resolve_session_config(None, o))  # type: ignore[misc]
-        )
+        label = text[:40]
+        from_file = functools.partial(resolve_session_config, path)
+        from_set = functools.partial(resolve_session_config, None, [f"{declared.key}={text}"])
+        failures += [_outcome(declared, label, from_file), _outcome(declared, label, from_set)]
     for value in _values(declared):
-        data = _nested(declared.key, value)
-        shown = type(value).__name__
-        failures.append(
-            _outcome(declared, shown, lambda d=data: from_mapping(SessionConfig, d))  # type: ignore[misc]
-        )
+        mapping = _nested(declared.key, value)
+        from_data = functools.partial(from_mapping, SessionConfig, mapping)
+        failures.append(_outcome(declared, type(value).__name__, from_data))
     found = [f for f in failures if f is not None]
     assert not found, "\n".join(found)
 
