@@ -13,14 +13,25 @@ def problem(field: str, value: object, allowed: str) -> Problem:
     return Problem(field, value, allowed)
 
 
+def finite_number(value: object) -> bool:
+    """An int or float a float can hold: not a bool, NaN, an infinity or a whole number too
+    large to convert (which would raise OverflowError in the arithmetic that follows)."""
+    if isinstance(value, bool) or not isinstance(value, int | float):
+        return False
+    try:
+        return math.isfinite(value)
+    except OverflowError:
+        return False
+
+
 def positive(field: str, value: float, unit: str = "") -> list[str]:
-    if not math.isfinite(value) or value <= 0:
+    if not finite_number(value) or value <= 0:
         return [problem(field, value, f"must be a finite number > 0{(' ' + unit) if unit else ''}")]
     return []
 
 
 def in_range(field: str, value: float, low: float, high: float, unit: str = "") -> list[str]:
-    if not math.isfinite(value) or not low <= value <= high:
+    if not finite_number(value) or not low <= value <= high:
         suffix = f" {unit}" if unit else ""
         return [problem(field, value, f"must be between {low:g} and {high:g}{suffix}")]
     return []

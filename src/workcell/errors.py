@@ -6,6 +6,7 @@ names what was wrong and what is allowed, so the command line can print it as on
 
 from __future__ import annotations
 
+import math
 from collections.abc import Sequence
 
 
@@ -41,8 +42,53 @@ def _show(value: object) -> str:
     if isinstance(value, float):
         return f"{value:g}"
     if isinstance(value, tuple):
-        return "(" + ", ".join(_show(v) for v in value) + ")"
-    return repr(value)
+        return cut("(" + ", ".join(_show(v) for v in value) + ")")
+    return shown(value)
+
+
+LONGEST_SHOWN = 100
+"""Characters of a value a problem line shows; a longer one is cut and its length given."""
+WIDEST_NUMBER = 30
+"""Digits of a whole number a problem line shows; a wider one is shown as its width."""
+
+
+def shown(value: object, depth: int = 0) -> str:
+    """``value`` as a problem line shows it: its ``repr``, but a whole number of more than
+    30 digits as its count of digits (Python refuses to write one of more than 4300), lists
+    within lists within lists as ``[...]`` and anything longer than 100 characters cut, so
+    that a hostile value still makes one short line."""
+    if isinstance(value, int) and not isinstance(value, bool):
+        digits = decimal_digits(value)
+        if digits > WIDEST_NUMBER:
+            return f"a {'negative ' if value < 0 else ''}{digits}-digit number"
+        return repr(value)
+    if isinstance(value, list | tuple):
+        inner = "..." if depth >= 2 else ", ".join(shown(v, depth + 1) for v in value[:20])
+        if len(value) > 20:
+            inner += ", ..."
+        return cut(f"[{inner}]" if isinstance(value, list) else f"({inner})")
+    if isinstance(value, dict):
+        return cut("{...}" if value else "{}")
+    try:
+        text = repr(value)
+    except (ValueError, RecursionError):
+        return f"a {type(value).__name__}"
+    return cut(text)
+
+
+def cut(text: str) -> str:
+    """``text``, or its first characters and its length when it is longer than 100 (a key
+    or value a user typed, in a problem line)."""
+    if len(text) <= LONGEST_SHOWN:
+        return text
+    return f"{text[: LONGEST_SHOWN - 3]}... ({len(text)} characters)"
+
+
+def decimal_digits(number: int) -> int:
+    """How many decimal digits ``number`` has, counted without writing it out."""
+    magnitude = abs(number)
+    digits = int((max(magnitude.bit_length(), 1) - 1) * math.log10(2)) + 1
+    return digits + 1 if magnitude >= 10**digits else digits
 
 
 class ConfigError(WorkcellError):

@@ -4,16 +4,19 @@ from __future__ import annotations
 
 import json
 import os
+import re
 import signal
 import subprocess
 import sys
-import time
 import tomllib
 from pathlib import Path
 
 import pytest
 
+from tests.record.processes import collect, wait_for_trials
 from workcell.cli.main import main
+from workcell.record import Store
+from workcell.record.verify import verify_store
 from workcell.session.config import SessionConfig
 from workcell.session.load import resolve_session_config
 
@@ -129,7 +132,8 @@ def test_a_signal_ends_the_running_trial_as_application_quit(
     header = process.stdout.readline().rstrip("\n")
     first = process.stdout.readline().rstrip("\n")  # one trial finished: the next runs
     assert first.split()[4] == "success"
-    time.sleep(0.5)
+    # past the next trial's countdown (a trial stopped in its countdown never started)
+    wait_for_trials(tmp_path / "s.sqlite", 2)
     process.send_signal(signum)
     out, err = process.communicate(timeout=60)
     assert process.returncode == 128 + signum  # 130 for SIGINT, 143 for SIGTERM
@@ -139,3 +143,66 @@ def test_a_signal_ends_the_running_trial_as_application_quit(
     assert len(header) == len(first) == len(last)
     assert _column_ends(header) == _column_ends(first) == _column_ends(last)
     assert "Traceback" not in err
+
+
+@pytest.mark.parametrize("end", ["closed output", "SIGINT"])
+def test_what_collect_prints_is_what_the_store_holds_when_it_ends_in_a_countdown(
+    tmp_path: Path, end: str
+) -> None:
+    """``collect --json | head -n 1``, or Ctrl-C, during the next trial's countdown: that
+    trial never started, so the store holds no row of it, and neither the printed rows nor
+    the summary count it (the summary said 2 trials where the store held 1)."""
+    store = tmp_path / "s.sqlite"
+    countdown = ("--set", "task.countdown_s=30")
+    process = collect(store, "--mode", "collection", "--trials", "3", *countdown)
+    assert process.stdout is not None and process.stderr is not None
+    printed = [json.loads(process.stdout.readline())]  # the first trial ended: 30 s countdown
+    if end == "SIGINT":
+        process.send_signal(signal.SIGINT)
+        printed += [json.loads(line) for line in process.stdout.read().splitlines()]
+        expected = 128 + signal.SIGINT
+    else:
+        process.stdout.close()
+        expected = 128 + signal.SIGPIPE
+    err = process.stderr.read()
+    process.wait(timeout=120)
+    assert process.returncode == expected, err
+    assert "Traceback" not in err
+    with Store.open(store, writer=False) as reader:
+        (session,) = reader.sessions()
+        trials = reader.trials()
+        frames = reader.counts().frames
+    assert session.status == "interrupted"
+    assert [t.outcome for t in trials] == [p["outcome"] for p in printed] == ["success"]
+    score = printed[0]["score"]
+    assert f"1 trials, 1 succeeded, total score {score}" in err.splitlines()
+    assert f"recorded session {session.session_id} ({frames} frames) in {store}" in err
+
+
+def test_workers_whose_output_closes_end_like_sigint_and_merge_what_they_recorded(
+    tmp_path: Path,
+) -> None:
+    """``collect --workers 2 --json | head -n 1``: no traceback, every worker ends its
+    trial as on SIGINT, the shards are merged into a store that verifies, and the summary
+    counts what the store holds; exit 141 (the run left its shards unmerged and workers
+    running)."""
+    store = tmp_path / "s.sqlite"
+    process = collect(store, "--mode", "collection", "--trials", "6", "--workers", "2")
+    assert process.stdout is not None and process.stderr is not None
+    first = json.loads(process.stdout.readline())
+    process.stdout.close()
+    err = process.stderr.read()
+    process.wait(timeout=300)
+    assert process.returncode == 128 + signal.SIGPIPE, err
+    assert "Traceback" not in err and "BrokenPipe" not in err, err
+    assert first["outcome"] == "success"
+    assert verify_store(store) == []
+    with Store.open(store, writer=False) as reader:
+        sessions = reader.sessions()
+        trials = reader.trials()
+    assert [s.status for s in sessions] == ["interrupted", "interrupted"]
+    merged = r"^(\d+) trials, \d+ succeeded; merged 2 shards .*: 2 sessions, (\d+) trials"
+    summary = re.search(merged, err, re.MULTILINE)
+    assert summary is not None, err
+    assert int(summary[1]) == int(summary[2]) == len(trials)
+    assert not (tmp_path / "s.sqlite.shards").exists()

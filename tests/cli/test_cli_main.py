@@ -3,8 +3,10 @@
 from __future__ import annotations
 
 import os
+import signal
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -94,3 +96,31 @@ def test_python_dash_m_workcell() -> None:
     )
     assert done.returncode == 0, done.stderr
     assert done.stdout.strip() == f"workcell {__version__}"
+
+
+@pytest.mark.parametrize(
+    "argv", [["config", "--defaults"], ["study", "--defaults"], ["study", "study.toml", "--json"]]
+)
+def test_a_closed_standard_output_ends_a_command_without_a_traceback(
+    tmp_path: Path, argv: list[str]
+) -> None:
+    """``workcell ... | head -n 1`` whose reader is gone before the command writes: exit
+    141 (128 + SIGPIPE) as a command SIGPIPE ended, and nothing on standard error."""
+    from workcell.study.template import TEMPLATE
+
+    (tmp_path / "study.toml").write_text(TEMPLATE)
+    read_end, write_end = os.pipe()
+    os.close(read_end)
+    try:
+        done = subprocess.run(
+            [sys.executable, "-m", "workcell", *argv],
+            check=False,
+            stdout=write_end,
+            stderr=subprocess.PIPE,
+            text=True,
+            cwd=tmp_path,
+            timeout=120,
+        )
+    finally:
+        os.close(write_end)
+    assert (done.returncode, done.stderr) == (128 + signal.SIGPIPE, "")

@@ -145,3 +145,13 @@ def test_bad_override_syntax(tmp_path: Path) -> None:
 def test_task_config_rejects_mismatched_levels_directly() -> None:
     with pytest.raises(ConfigError, match="one limit per level"):
         TaskConfig(level_boxes=(1, 2, 3, 4))
+
+
+def test_a_key_of_thousands_of_characters_is_named_in_one_short_line() -> None:
+    long_key = "k" * 3000
+    with pytest.raises(ConfigError) as caught:
+        resolve_session_config(None, [f"{long_key}=1", f"world.{long_key}.x=1"])
+    assert [len(line) < 300 for line in caught.value.problems] == [True, True]
+    assert caught.value.problems[0].startswith("kkkk")
+    assert caught.value.problems[1].startswith("world.kkkk")
+    assert "... (3000 characters): unknown setting; allowed here: task" in caught.value.problems[0]

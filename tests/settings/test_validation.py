@@ -62,7 +62,11 @@ def problems(make: Any) -> list[str]:
         ),
         (
             lambda: RobotConfig(start_pose=(0.0, math.inf, 0.0)),
-            "robot.start_pose = (0, inf, 0): every component must be a finite number (m, m, rad)",
+            "robot.start_pose = (0, inf, 0): every component must be between -5 and 5 m, m, rad",
+        ),
+        (  # inside the walls: far beyond them the physics fails silently on the first step
+            lambda: RobotConfig(start_pose=(1e308, 0.0, 0.0)),
+            "robot.start_pose = (1e+308, 0, 0): every component must be between -5 and 5 m, m, rad",
         ),
         (
             lambda: SessionConfig(seed=-1),

@@ -91,7 +91,10 @@ def test_session_settings_are_checked_per_condition(tmp_path: Path) -> None:
         study_from_mapping(data)
     lines = list(raised.value.problems)
     assert "session.operator_id: set by the study for each session; remove it" in lines
-    assert any(p.startswith("conditions[1].settings.task.time_limit_s = 0: must be") for p in lines)
+    # a problem of the [session] table is reported once, as the table's
+    assert [p for p in lines if "time_limit_s" in p] == [
+        "session.task.time_limit_s = 0: must be > 0 and at most 3600 s"
+    ]
     assert any(p.startswith("conditions[2].settings.world.grasp = 'magnetic'") for p in lines)
 
 
@@ -178,3 +181,14 @@ def test_bad_command_lines_are_one_error_each(
     assert main(["study", str(study_file), "--participant", "p7", "--store", store]) == EXIT_USAGE
     assert "the study's are p01 to p02" in capsys.readouterr().err
     assert not Path(store).exists()
+
+
+def test_a_key_of_thousands_of_characters_is_named_in_one_short_line() -> None:
+    data = tomllib.loads(TEMPLATE)
+    data["k" * 3000] = 1
+    data["conditions"][0]["j" * 3000] = 1
+    data["session"] = {"i" * 3000: 1}
+    with pytest.raises(ConfigError) as raised:
+        study_from_mapping(data)
+    lines = list(raised.value.problems)
+    assert len(lines) == 3 and all(len(line) < 300 for line in lines), lines

@@ -124,6 +124,20 @@ def test_interruption_ends_the_trial_and_the_session() -> None:
     assert any(isinstance(e, ev.TrialInterrupted) and e.reason == "operator_stop" for e in seen)
 
 
+def test_an_interruption_in_a_countdown_ends_the_session_with_no_trial() -> None:
+    """A trial counting down has not started: the store keeps no row of it, so the
+    runner keeps no result of it either (what collect prints is what is stored)."""
+    runner, seen = make_runner(TaskConfig(mode="collection", trials=5, countdown_s=1.0))
+    runner.start()
+    for _ in range(20):  # half the countdown
+        runner.step()
+    assert runner.hud().phase is HudPhase.COUNTDOWN
+    runner.interrupt("operator_stop")
+    assert runner.phase is HudPhase.FINISHED
+    assert runner.results == []
+    assert not any(isinstance(e, ev.TrialInterrupted | ev.TrialEnded) for e in seen)
+
+
 def test_five_trial_collection_with_the_expert() -> None:
     runner, seen = make_runner(TaskConfig(mode="collection", trials=5), ExpertOperator())
     results = runner.run()

@@ -4,10 +4,10 @@ from __future__ import annotations
 
 import argparse
 import math
-import signal
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
+from workcell import checks
 from workcell.cli.collect_operator import (
     POLICY_PREFIX,
     driver,
@@ -20,9 +20,6 @@ from workcell.errors import ConfigError, WorkcellError
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
 
-EXIT_OUTPUT_CLOSED = 128 + signal.SIGPIPE
-"""Standard output's reader went away (``collect ... | head``): the shell's status for a
-process SIGPIPE ended."""
 DEFAULT_STORE = "workcell.sqlite"
 
 
@@ -149,6 +146,19 @@ def _check(args: argparse.Namespace) -> list[str]:
     return problems
 
 
+def _video_rate_problems(rate_hz: float) -> list[str]:
+    """--cameras records one video frame per recorded frame: the frame rate must be one a
+    video can have (checked here, not when the first trial's video starts)."""
+    from workcell.render.video import MAX_FPS  # noqa: PLC0415
+
+    if 1.0 <= rate_hz <= MAX_FPS:
+        return []
+    allowed = (
+        f"--cameras records a video frame per recorded frame: must be between 1 and {MAX_FPS} Hz"
+    )
+    return [checks.problem("recording.sampling_rate_hz", rate_hz, allowed)]
+
+
 def run(args: argparse.Namespace) -> int:
     problems = _check(args)
     from workcell.session.load import resolve_session_config  # noqa: PLC0415
@@ -158,6 +168,7 @@ def run(args: argparse.Namespace) -> int:
     flags["condition"] = args.condition
     if args.mode == "collection" or (args.mode is None and args.trials is not None):
         flags["task.trials"] = args.trials
+    config = None
     try:
         flags.update(task_flags(args, args.set))
         config = resolve_session_config(args.config, args.set, flags)
@@ -176,12 +187,14 @@ def run(args: argparse.Namespace) -> int:
             problems += error.problems
         if args.no_store:
             problems.append("--cameras: videos are recorded beside the store; drop --no-store")
+        if config is not None:
+            problems += _video_rate_problems(config.recording.sampling_rate_hz)
     checkpoint = None
     try:
         checkpoint = policy_checkpoint(args)
     except WorkcellError as error:
         problems.append(str(error))
-    if problems:
+    if problems or config is None:
         raise ConfigError(problems)
     config = with_operator_id(config, args, checkpoint)
     if args.workers > 1 or args.ray:
@@ -189,6 +202,7 @@ def run(args: argparse.Namespace) -> int:
 
         return run_parallel(args, config.seed, cameras)
 
+    from workcell.cli.closed_output import EXIT_OUTPUT_CLOSED  # noqa: PLC0415
     from workcell.cli.collect_output import TrialPrinter  # noqa: PLC0415
     from workcell.recording.headless import headless_status, run_headless  # noqa: PLC0415
     from workcell.recording.recorded_session import (  # noqa: PLC0415

@@ -4,19 +4,19 @@ Standard output may be a pipe whose reader goes away (``workcell collect --json 
 1``). That is not an error of the run: :class:`TrialPrinter` notices it, either when a
 write fails or, earlier, when the pipe reports that its reader has closed, and from then
 on prints nothing more; the caller ends the run as it does on SIGINT (the running trial
-``interrupted``, the session closed) and exits with status 141 (128 + SIGPIPE).
+``interrupted``, the session closed) and exits with status 141 (128 + SIGPIPE); so do
+the workers of ``collect --workers``, whose shards are merged as after SIGINT (see
+:mod:`workcell.cli.closed_output`).
 """
 
 from __future__ import annotations
 
 import contextlib
 import json
-import os
-import select
-import stat
 import sys
-from typing import IO, TYPE_CHECKING, Any
+from typing import TYPE_CHECKING, Any
 
+from workcell.cli.closed_output import discard_stdout, reader_gone
 from workcell.record.columns import INTERRUPTION_REASONS
 
 if TYPE_CHECKING:
@@ -73,19 +73,6 @@ def table_header() -> str:
     return "  ".join(c.rjust(w) for c, w in zip(COLUMNS, WIDTHS, strict=True))
 
 
-def _reader_gone(stream: IO[str]) -> bool:
-    """True when ``stream`` is a pipe or socket whose reading end has been closed."""
-    try:
-        fd = stream.fileno()
-        if not stat.S_ISFIFO(os.fstat(fd).st_mode) and not stat.S_ISSOCK(os.fstat(fd).st_mode):
-            return False
-        poller = select.poll()
-        poller.register(fd, select.POLLOUT)
-        return any(events & (select.POLLERR | select.POLLHUP) for _, events in poller.poll(0))
-    except (OSError, ValueError):
-        return False
-
-
 class TrialPrinter:
     """Prints a run's rows (``as_json``: JSON lines), the progress line on a terminal, and
     notices when standard output's reader has gone (:attr:`output_closed`)."""
@@ -100,13 +87,13 @@ class TrialPrinter:
     def check_output(self) -> bool:
         """Whether standard output can no longer be written (looked at every few calls)."""
         self._checks += 1
-        if not self.output_closed and self._checks % CHECK_EVERY == 0 and _reader_gone(sys.stdout):
+        if not self.output_closed and self._checks % CHECK_EVERY == 0 and reader_gone(sys.stdout):
             self._output_gone()
         return self.output_closed
 
     def header(self) -> None:
         if not self.as_json:
-            self._out(table_header())
+            self.out(table_header())
 
     def progress(self, runner: SessionRunner) -> None:
         if not self.live:
@@ -126,7 +113,7 @@ class TrialPrinter:
     def row(self, result: TrialResult) -> None:
         if self.live:
             self._err("\r" + " " * 70 + "\r", end="")
-        self._out(json.dumps(trial_json(result)) if self.as_json else table_row(result))
+        self.out(json.dumps(trial_json(result)) if self.as_json else table_row(result))
 
     def stored(self, path: Path, session_id: str, frames: int) -> None:
         self.note(f"recorded session {session_id} ({frames} frames) in {path}")
@@ -153,9 +140,10 @@ class TrialPrinter:
         if self.as_json:
             self._err(line)
         else:
-            self._out(line)
+            self.out(line)
 
-    def _out(self, line: str) -> None:
+    def out(self, line: str) -> None:
+        """A line on standard output, unless its reader has gone."""
         if self.output_closed:
             return
         try:
@@ -168,10 +156,6 @@ class TrialPrinter:
             print(text, end=end, file=sys.stderr, flush=True)
 
     def _output_gone(self) -> None:
-        """Stop printing, and point standard output at /dev/null so that the flush at
-        exit does not fail again (the remedy the Python documentation gives for SIGPIPE)."""
+        """Stop printing; what is left for standard output goes to /dev/null."""
         self.output_closed = True
-        with contextlib.suppress(OSError, ValueError):
-            devnull = os.open(os.devnull, os.O_WRONLY)
-            os.dup2(devnull, sys.stdout.fileno())
-            os.close(devnull)
+        discard_stdout()

@@ -10,6 +10,7 @@ unless already set.)
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 from collections.abc import Sequence
 from typing import NoReturn, cast
@@ -31,8 +32,9 @@ from workcell.cli import (
     train,
     verify,
 )
+from workcell.cli.closed_output import EXIT_OUTPUT_CLOSED, discard_stdout, reader_gone
 from workcell.cli.command import CommandModule, RunFunc, Subparsers
-from workcell.errors import ConfigError, WorkcellError
+from workcell.errors import ConfigError, WorkcellError, shown
 
 __all__ = ["COMMANDS", "EXIT_INTERRUPTED", "EXIT_USAGE", "PROG", "Subparsers", "main"]
 
@@ -68,6 +70,8 @@ class _Parser(argparse.ArgumentParser):
     """An argument parser that reports bad input as one line instead of usage + exit."""
 
     def error(self, message: str) -> NoReturn:
+        # argparse quotes the value it refused whole: cut one of thousands of characters
+        message = re.sub(r"'[^']{100,}'", lambda long: shown(long[0][1:-1]), message)
         raise UsageError(f"{message} (see '{self.prog} --help')")
 
 
@@ -105,6 +109,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     except KeyboardInterrupt:
         _print_error("interrupted")
         return EXIT_INTERRUPTED
+    except BrokenPipeError:
+        if not reader_gone(sys.stdout):
+            raise  # another pipe: a fault, not the reader of the output going away
+        discard_stdout()
+        return EXIT_OUTPUT_CLOSED
 
 
 def _print_error(message: str) -> None:

@@ -11,7 +11,8 @@ from collections.abc import Sequence
 from pathlib import Path
 from typing import TYPE_CHECKING, Any
 
-from workcell.cli.collect_output import trial_json
+from workcell.cli.closed_output import EXIT_OUTPUT_CLOSED
+from workcell.cli.collect_output import TrialPrinter, trial_json
 from workcell.errors import WorkcellError
 from workcell.recording.shutdown import exit_status
 
@@ -62,7 +63,7 @@ def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | N
     shard_dir.mkdir(parents=True, exist_ok=False)
     plans = plan_workers(args.workers, seed, args.trials, shard_dir)
     jobs = worker_jobs(args, plans, cameras)
-    out = sys.stderr if args.json else sys.stdout
+    printer = TrialPrinter(args.json)
     where = f"Ray tasks on {args.ray}" if args.ray else "worker processes"
     print(f"{len(plans)} {where} writing shards in {shard_dir}", file=sys.stderr)
     counts = {"trials": 0, "successes": 0}
@@ -72,13 +73,12 @@ def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | N
         counts["trials"] += 1
         counts["successes"] += row.get("outcome") == "success"
         if args.json:
-            print(json.dumps({"worker": worker, **row}), flush=True)
+            printer.out(json.dumps({"worker": worker, **row}))
         else:
-            print(
+            printer.out(
                 f"worker {worker:2d}  trial {row['trial_index']:4d}  {row['outcome']:11s}  "
                 f"boxes {row['boxes_delivered']}/{row['required_boxes']}  "
-                f"score {row['score']:4d}  {row['elapsed_s']:7.2f} s",
-                flush=True,
+                f"score {row['score']:4d}  {row['elapsed_s']:7.2f} s"
             )
 
     with ShutdownSignals() as shutdown:
@@ -87,7 +87,11 @@ def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | N
 
             exits = run_ray_workers(args.ray, jobs, on_trial)
         else:
-            exits = run_local_workers(jobs, on_trial, lambda: shutdown.requested is not None)
+            # standard output closed (| head): the workers stop as on SIGINT
+            def should_stop() -> bool:
+                return shutdown.requested is not None or printer.check_output()
+
+            exits = run_local_workers(jobs, on_trial, should_stop)
     for exit_ in exits:
         if exit_.returncode not in (0, 130, 143):  # stopped by SIGINT or SIGTERM
             print(
@@ -105,12 +109,13 @@ def run_parallel(args: argparse.Namespace, seed: int, cameras: CameraOptions | N
     shutil.rmtree(shard_dir)
     if not any(shard_dir.parent.iterdir()):
         shard_dir.parent.rmdir()
-    print(
+    printer.note(
         f"{counts['trials']} trials, {counts['successes']} succeeded; merged {report.shards} "
         f"shards into {store}: {report.sessions} sessions, {report.trials} trials, "
-        f"{report.frames} frames, verified",
-        file=out,
+        f"{report.frames} frames, verified"
     )
     if shutdown.requested is not None:
         return exit_status(shutdown.requested)
+    if printer.output_closed:
+        return EXIT_OUTPUT_CLOSED
     return 0 if all(e.returncode == 0 for e in exits) else 1

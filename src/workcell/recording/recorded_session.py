@@ -173,10 +173,10 @@ class RecordedSession:
             self._report(on_trial)
 
         self.start()
-        results = self.runner.run(stop_reason, stepped)
+        self.runner.run(stop_reason, stepped)
         self._report(on_trial)
         if self.recorder is not None:
-            self.recorder.close(interrupted=bool(results) and results[-1].outcome == "interrupted")
+            self.recorder.close(interrupted=ended != "completed")
             self._report(on_trial)  # the last trials' ends are written now
         return ended
 

@@ -21,11 +21,18 @@ def resolve_session_config(
     data: dict[str, Any] = load_toml(config_file) if config_file is not None else {}
     data = apply_overrides(data, overrides)
     for key, value in (flags or {}).items():
-        if value is None:
-            continue
-        table = data
-        *parents, leaf = key.split(".")
-        for part in parents:
-            table = table.setdefault(part, {})
-        table[leaf] = value
+        if value is not None:
+            _put(data, key, value)
     return from_mapping(SessionConfig, data)
+
+
+def _put(data: dict[str, Any], key: str, value: Any) -> None:
+    """``value`` at the dotted ``key`` of ``data``, unless a value stands where ``key``
+    needs a section (``task = 3`` in the file): that is reported when the file is read."""
+    table = data
+    *parents, leaf = key.split(".")
+    for part in parents:
+        table = table.setdefault(part, {})
+        if not isinstance(table, dict):
+            return
+    table[leaf] = value

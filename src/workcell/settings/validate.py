@@ -4,7 +4,6 @@ the value and what is allowed, in the words the template and the README use."""
 from __future__ import annotations
 
 import dataclasses
-import math
 import re
 from typing import Any, Literal, get_args, get_origin
 
@@ -77,7 +76,7 @@ def _admits(spec: Spec, value: object, whole: bool) -> bool:
     if whole:
         if type(value) is not int:
             return False
-    elif not (_is_number(value) and math.isfinite(value)):  # type: ignore[arg-type]
+    elif not checks.finite_number(value):
         return False
     number: float = value  # type: ignore[assignment]
     if spec.low is not None and (number <= spec.low if spec.low_open else number < spec.low):

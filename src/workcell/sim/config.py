@@ -142,7 +142,12 @@ class RobotConfig:
         3.0, "base angular acceleration limit", unit="rad/s^2", low=0.1, high=20.0
     )
     start_pose: tuple[float, float, float] = setting(
-        (1.4, 0.0, math.pi), "x, y and yaw of the base at every reset", unit="m, m, rad", length=3
+        (1.4, 0.0, math.pi),
+        "x, y and yaw of the base at every reset, inside the walls at +-5 m",
+        unit="m, m, rad",
+        low=-5.0,
+        high=5.0,
+        length=3,
     )
     start_spine: float = setting(0.1, "spine height at reset", unit="m", low=0.0, high=0.35)
     human_clearance: float = setting(

@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
-from workcell.errors import ConfigError
+from workcell.errors import ConfigError, cut, shown
 from workcell.session.config import Mode, SessionConfig
 from workcell.session.load import resolve_session_config
 from workcell.session.toml_io import from_mapping, load_toml
@@ -133,20 +133,37 @@ def condition_session(study: StudyConfig, condition: Condition) -> SessionConfig
     return resolve_session_config(flags=_dotted(study.session) | _dotted(condition.settings))
 
 
+def _session_problems(settings: Mapping[str, Any]) -> list[str]:
+    try:
+        resolve_session_config(flags=settings)
+    except ConfigError as error:
+        return list(error.problems)
+    return []
+
+
 def _check_sessions(study: StudyConfig) -> list[str]:
+    """The problems of every condition's sessions. One the ``[session]`` table has in
+    every condition that shows it is reported once, as the table's
+    (``session.world.grsap``); the rest as the condition's."""
     problems: list[str] = []
-    for key in _dotted(study.session):
+    shared = _dotted(study.session)
+    for key in shared:
         if key in SET_BY_STUDY:
             problems.append(f"session.{key}: set by the study for each session; remove it")
+    of_session = _session_problems(shared)
+    reported: set[str] = set()
     for i, condition in enumerate(study.conditions, start=1):
         where = f"conditions[{i}].settings."
-        for key in _dotted(condition.settings):
+        changes = _dotted(condition.settings)
+        for key in changes:
             if key in SET_BY_STUDY:
                 problems.append(f"{where}{key}: set by the study for each session; remove it")
-        try:
-            condition_session(study, condition)
-        except ConfigError as error:
-            problems += [f"{where}{line}" for line in error.problems]
+        for line in _session_problems(shared | changes):
+            if line not in of_session:
+                problems.append(f"{where}{line}")
+            elif line not in reported:
+                reported.add(line)
+                problems.append(f"session.{line}")
     return problems
 
 
@@ -174,7 +191,7 @@ def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
     allowed_all = (*allowed, "conditions", "steps")
     for key in data:
         if key not in allowed_all:
-            problems.append(f"{key}: unknown study key; allowed: {', '.join(allowed_all)}")
+            problems.append(f"{cut(key)}: unknown study key; allowed: {', '.join(allowed_all)}")
     session = data.get("session", {})
     if not isinstance(session, Mapping):
         problems.append("session: must be a table of session settings")
@@ -190,7 +207,7 @@ def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
         extra = set(item) - {"name", "settings"}
         if extra:
             problems.append(
-                f"conditions[{i}]: unknown keys {sorted(extra)}; allowed: name, settings"
+                f"conditions[{i}]: unknown keys {shown(sorted(extra))}; allowed: name, settings"
             )
         try:
             conditions.append(Condition(item.get("name", ""), dict(settings)))
@@ -223,7 +240,7 @@ def study_from_mapping(data: Mapping[str, Any]) -> StudyConfig:
 
 def load_study(path: Path) -> StudyConfig:
     """Read and validate a study file."""
-    data = load_toml(path)
+    data = load_toml(path, "study file")
     try:
         return study_from_mapping(data)
     except ConfigError as error:

@@ -131,8 +131,10 @@ class SessionRunner:
             self._check_end()
 
     def interrupt(self, reason: ev.InterruptionReason) -> None:
-        """End the current trial as interrupted and finish the session."""
-        if self.phase is HudPhase.FINISHED or self._spec is None:
+        """End the current trial as interrupted and finish the session. A trial still
+        counting down never started: it ends with no result and no event, as the store
+        never holds a row of it."""
+        if self.phase in (HudPhase.FINISHED, HudPhase.COUNTDOWN) or self._spec is None:
             self.phase = HudPhase.FINISHED
             return
         t = self.trial_time
