@@ -121,12 +121,13 @@ class SessionRunner:
         elif running:
             self._check_end()
 
-    def interrupt(self, reason: ev.InterruptionReason) -> None:
-        """End the current trial as interrupted and finish the session."""
+    def interrupt(self, reason: ev.InterruptionReason, at: float | None = None) -> None:
+        """End the current trial as interrupted and finish the session; ``at``: the trial
+        time it ended at when not now (after recording failed: the last the store holds)."""
         if self.phase is HudPhase.FINISHED or self._spec is None:
             self.phase = HudPhase.FINISHED
             return
-        t = self.trial_time
+        t = self.trial_time if at is None else at
         self.bus.publish(ev.TrialInterrupted(self._spec.trial_index, t, reason))
         self._end("interrupted", reason, max(t, 0.0))
 
