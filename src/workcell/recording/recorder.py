@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sqlite3
 from collections.abc import Callable, Mapping
 from pathlib import Path
 from typing import Protocol
@@ -310,7 +311,7 @@ class Recorder:
         try:
             with Store.open(self.store.path, writer=False) as reader:
                 trials = reader.trials(self.session_id)
-        except WorkcellError:
+        except (WorkcellError, sqlite3.Error, OSError):  # then the runner's own time
             return None
         return next((t.elapsed_s for t in trials if t.trial_id == trial_id), None)
 
