@@ -23,6 +23,7 @@ from workcell.recording.recorded_session import (
     RecordedSessionConfig,
 )
 from workcell.session.config import SessionConfig, TaskConfig
+from workcell.task import events as ev
 from workcell.task.pacing import StopRequest
 from workcell.task.runner import TrialResult
 
@@ -110,12 +111,51 @@ def test_a_dead_writer_ends_the_session_as_storage_error_within_one_hand_over(
     assert _stored(tmp_path / "s.sqlite") == ("interrupted", [("interrupted", "storage_error")])
 
 
+def test_a_dead_writer_stops_the_session_at_the_next_control_period_as_the_store_says(
+    tmp_path: Path,
+) -> None:
+    """The writer dies just after a hand-over of frames: the session stops at the next
+    control period, not at the next hand-over, and the trial's elapsed time, in the results
+    and in the TrialEnded its listeners hear, is the one the store closed it with."""
+    task = TaskConfig(mode="practice", time_limit_s=30.0, countdown_s=0.0)
+    config = RecordedSessionConfig(session=SessionConfig(task=task), store=tmp_path / "s.sqlite")
+    killed_at: list[float] = []
+    heard: list[ev.TrialEnded] = []
+    with RecordedSession.open(config) as session:
+        writer = writer_of(os.getpid())
+        runner = session.runner
+        runner.bus.subscribe(lambda e: heard.append(e) if isinstance(e, ev.TrialEnded) else None)
+        assert session.recorder is not None
+        store = session.recorder.store
+
+        def kill_at_one_second() -> None:  # frames were handed over at 0.95 s
+            if not killed_at and runner.trial_time >= 1.0:
+                os.kill(writer, signal.SIGKILL)
+                deadline = time.monotonic() + 30
+                while not store.failure_pending():  # the store heard the writer's pipe close
+                    assert time.monotonic() < deadline, "the writer's death went unnoticed"
+                    time.sleep(0.005)
+                killed_at.append(runner.trial_time)
+
+        ended = session.run(after_step=kill_at_one_second)
+    assert ended == "storage_error"
+    assert runner.trial_time - killed_at[0] <= session.sim.control_dt + 1e-9
+    with Store.open(tmp_path / "s.sqlite", writer=False) as reader:
+        (trial,) = reader.trials()
+    (result,) = runner.results
+    (told,) = heard
+    assert (trial.outcome, trial.interruption_reason) == ("interrupted", "storage_error")
+    assert told.elapsed_s == result.elapsed_s == trial.elapsed_s
+    assert told.t_sim == trial.elapsed_s
+
+
 def test_a_failure_while_a_trial_ends_is_what_the_results_and_the_store_both_say(
     tmp_path: Path,
 ) -> None:
-    """The writer dies after the trial's last hand-over of frames, so the failure comes as
-    its timeout is written: the store closes the trial interrupted (storage_error), and the
-    results say so too, without the next trial the runner began, which was never recorded."""
+    """The writer stops after the trial's last hand-over of frames and dies as the trial's
+    timeout is sent to it, so the failure comes as that end is written: the store closes
+    the trial interrupted (storage_error), and the results say so too, without the next
+    trial the runner began, which was never recorded."""
     task = TaskConfig(mode="collection", trials=0, time_limit_s=1.0, countdown_s=0.0)
     config = RecordedSessionConfig(
         session=SessionConfig(seed=3, task=task),
@@ -124,16 +164,24 @@ def test_a_failure_while_a_trial_ends_is_what_the_results_and_the_store_both_say
         max_trials=3,
     )
     reported: list[TrialResult] = []
+    signalled: list[signal.Signals] = []
     with RecordedSession.open(config) as session:
         writer = writer_of(os.getpid())
         runner = session.runner
 
-        def kill_after_the_last_hand_over() -> None:
-            if runner.trial_time >= 0.975 and session.failure is None and not reported:
-                os.kill(writer, signal.SIGKILL)
-                wait_until_dead(writer)
+        def stop_after_the_last_hand_over() -> None:
+            if runner.trial_time >= 0.975 and not signalled:
+                os.kill(writer, signal.SIGSTOP)  # what is sent now stays unread
+                signalled.append(signal.SIGSTOP)
 
-        ended = session.run(after_step=kill_after_the_last_hand_over, on_trial=reported.append)
+        def kill_as_the_trial_ends(event: ev.TaskEvent) -> None:
+            if isinstance(event, ev.TrialEnded) and signalled == [signal.SIGSTOP]:
+                os.kill(writer, signal.SIGKILL)  # the recorder has sent the trial's end
+                wait_until_dead(writer)
+                signalled.append(signal.SIGKILL)
+
+        runner.bus.subscribe(kill_as_the_trial_ends)  # called after the recorder
+        ended = session.run(after_step=stop_after_the_last_hand_over, on_trial=reported.append)
     assert ended == "storage_error"
     expected = [(0, "interrupted", "storage_error")]
     assert [(r.spec.trial_index, r.outcome, r.interruption_reason) for r in reported] == expected

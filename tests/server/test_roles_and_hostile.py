@@ -122,6 +122,55 @@ def test_a_flood_is_rate_limited(tmp_path: Path) -> None:
     asyncio.run(scenario())
 
 
+def test_inputs_well_within_the_rate_while_a_session_starts_are_not_rate_limited(
+    tmp_path: Path,
+) -> None:
+    """The operator drives on at a normal rate while its session starts (which takes a
+    process start, far longer than the burst lasts at this rate)."""
+
+    async def scenario() -> None:
+        with running_server(tmp_path, max_messages_per_s=100.0, burst=10) as server:
+            async with client(server) as operator:
+                await operator.hello()
+                await operator.send(m.StartSession(settings=FAST_SETTINGS))
+
+                async def drive() -> None:
+                    while True:
+                        await operator.input()
+                        await asyncio.sleep(1 / 40)
+
+                driver = asyncio.create_task(drive())
+                try:
+                    await operator.wait_for(lambda x: isinstance(x, m.SessionStarted), 30)
+                    await asyncio.sleep(0.5)
+                finally:
+                    driver.cancel()
+                await operator.send(m.Stop())
+                await operator.wait_for(lambda x: isinstance(x, m.SessionEnded))
+                refused = [x for x in operator.received if isinstance(x, m.Error)]
+                assert refused == []
+                stats = server.get_json("/api/diagnostics")
+                assert all(c["errors"] == {} for c in stats["clients"])
+
+    asyncio.run(scenario())
+
+
+def test_a_stop_sent_right_after_start_session_stops_the_session_it_started(
+    tmp_path: Path,
+) -> None:
+    async def scenario() -> None:
+        with running_server(tmp_path) as server:
+            async with client(server) as operator:
+                await operator.hello()
+                await operator.send(m.StartSession(settings=FAST_SETTINGS))
+                await operator.send(m.Stop())
+                await operator.wait_for(lambda x: isinstance(x, m.SessionEnded), 30)
+                assert any(isinstance(x, m.SessionStarted) for x in operator.received)
+                assert not any(isinstance(x, m.Error) for x in operator.received)
+
+    asyncio.run(scenario())
+
+
 def test_messages_before_hello_are_refused(tmp_path: Path) -> None:
     async def scenario() -> None:
         with running_server(tmp_path) as server:

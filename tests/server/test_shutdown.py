@@ -1,4 +1,5 @@
-"""``workcell serve`` in its own process: SIGTERM ends the running trial application_quit."""
+"""``workcell serve`` in its own process: SIGTERM ends the running trial application_quit;
+a SIGKILL of the server alone, which closes nothing, leaves it recorded as a crash."""
 
 from __future__ import annotations
 
@@ -19,6 +20,7 @@ from tests.server.harness import FAST_SETTINGS
 from workcell.protocol import messages as m
 from workcell.protocol.codec import decode_server, encode
 from workcell.record.store import Store
+from workcell.record.verify import verify_store
 
 LAUNCH = """
 import argparse, sys
@@ -38,9 +40,8 @@ def _free_port() -> int:
         return int(s.getsockname()[1])
 
 
-def test_sigterm_closes_the_running_trial_as_application_quit(tmp_path: Path) -> None:
-    store = tmp_path / "store.sqlite"
-    port = _free_port()
+def _serve(store: Path, port: int) -> subprocess.Popen[str]:
+    """``workcell serve`` on ``store`` and ``port``, once it says where it listens."""
     env = {**os.environ, "MUJOCO_GL": "egl"}
     process = subprocess.Popen(
         [sys.executable, "-c", LAUNCH, "--store", str(store), "--port", str(port)],
@@ -49,11 +50,18 @@ def test_sigterm_closes_the_running_trial_as_application_quit(tmp_path: Path) ->
         text=True,
         env=env,
     )
+    assert process.stdout is not None
+    line = process.stdout.readline()
+    assert re.search(rf"open http://127\.0\.0\.1:{port}/", line), line
+    return process
+
+
+def test_sigterm_closes_the_running_trial_as_application_quit(tmp_path: Path) -> None:
+    store = tmp_path / "store.sqlite"
+    port = _free_port()
+    process = _serve(store, port)
     try:
-        assert process.stdout is not None
-        line = process.stdout.readline()
-        assert re.search(rf"open http://127\.0\.0\.1:{port}/", line), line
-        heard = asyncio.run(_start_then_terminate(port, process))
+        heard = asyncio.run(_start_then_signal(port, process, signal.SIGTERM))
         output, _ = process.communicate(timeout=30)
     finally:
         if process.poll() is None:
@@ -67,8 +75,41 @@ def test_sigterm_closes_the_running_trial_as_application_quit(tmp_path: Path) ->
     assert heard == "application_quit"  # the connected operator was told why
 
 
-async def _start_then_terminate(port: int, process: subprocess.Popen[str]) -> str | None:
-    """Start a session, send SIGTERM while still connected; the SessionEnded reason."""
+def test_a_sigkill_of_the_server_alone_leaves_its_trial_recorded_as_a_crash(
+    tmp_path: Path,
+) -> None:
+    """The session's process outlives the server and finds its pipe closed without being
+    asked to stop: not an orderly shutdown (application_quit) but a crash."""
+    store = tmp_path / "store.sqlite"
+    port = _free_port()
+    process = _serve(store, port)
+    try:
+        heard = asyncio.run(_start_then_signal(port, process, signal.SIGKILL))
+        process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert heard is None  # nobody was left to tell the operator
+    deadline = time.monotonic() + 60
+    while True:  # the session's process closes what it recorded, then exits
+        with Store.open(store, writer=False) as reader:
+            (session,) = reader.sessions()
+            trials = reader.trials()
+        if session.status != "running":
+            break
+        assert time.monotonic() < deadline, "the session's process did not close the session"
+        time.sleep(0.1)
+    assert [(t.outcome, t.interruption_reason) for t in trials] == [
+        ("interrupted", "crash_recovered")
+    ]
+    assert verify_store(store) == []
+
+
+async def _start_then_signal(
+    port: int, process: subprocess.Popen[str], signum: signal.Signals
+) -> str | None:
+    """Start a session, send ``signum`` while still connected; the SessionEnded reason
+    (None: the connection closed first)."""
     deadline = time.monotonic() + 20
     while True:
         try:
@@ -82,7 +123,7 @@ async def _start_then_terminate(port: int, process: subprocess.Popen[str]) -> st
         await ws.send(encode(m.StartSession(settings=FAST_SETTINGS)))
         while not isinstance(decode_server(await ws.recv()), m.State):
             pass
-        process.send_signal(signal.SIGTERM)
+        process.send_signal(signum)
         with contextlib.suppress(ConnectionClosed):
             while True:
                 message = decode_server(await asyncio.wait_for(ws.recv(), 20))

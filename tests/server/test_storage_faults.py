@@ -8,7 +8,6 @@ from __future__ import annotations
 import asyncio
 import os
 import signal
-import time
 from pathlib import Path
 
 import pytest
@@ -19,6 +18,7 @@ from tests.server.harness import FAST_SETTINGS, Client, RunningServer, client, r
 from workcell.protocol import messages as m
 from workcell.record import Store
 from workcell.record.verify import verify_store
+from workcell.task import events as ev
 
 HAND_OVER_S = 0.25
 """Sim time between two hand-overs of frames to the store writer."""
@@ -44,31 +44,35 @@ def _ended_as_storage_error(server: RunningServer) -> str:
 
 
 def test_a_killed_writer_stops_the_session_within_one_hand_over(tmp_path: Path) -> None:
-    async def scenario(server: RunningServer) -> tuple[float, float]:
+    async def scenario(server: RunningServer) -> tuple[float, m.SessionEnded, ev.TrialEnded]:
         async with client(server) as operator:
             await _start(operator)
+            writer = writer_of(os.getpid())
             state = await operator.wait_for(lambda x: isinstance(x, m.State) and x.t_sim > 1.0)
-            os.kill(writer_of(os.getpid()), signal.SIGKILL)
-            killed_at = time.monotonic()
-            first = await operator.wait_for(lambda x: isinstance(x, m.State))
-            assert isinstance(state, m.State) and isinstance(first, m.State)
-            last = first.t_sim
+            assert isinstance(state, m.State)
+            os.kill(writer, signal.SIGKILL)
+            last = state.t_sim
             while True:
                 message = await operator.next(10.0)
                 if isinstance(message, m.State):
                     last = message.t_sim
                 if isinstance(message, m.SessionEnded):
-                    assert message.reason == "storage_error"
-                    return last - first.t_sim, time.monotonic() - killed_at
+                    (told,) = [x for x in operator.received if isinstance(x, ev.TrialEnded)]
+                    return last - state.t_sim, message, told
 
     with running_server(tmp_path) as server:
-        simulated, waited = asyncio.run(scenario(server))
+        simulated, ended, told = asyncio.run(scenario(server))
         # the sim runs in real time: what it simulated after the kill is one hand-over at
         # most (plus a State period and the scheduling of a loaded machine)
         assert simulated <= HAND_OVER_S + 0.15, simulated
-        assert waited < 5.0
         error = _ended_as_storage_error(server)
         assert "the store writer process was killed (SIGKILL)" in error
+        # the clients are told why, and the trial's time the store has
+        assert ended.reason == "storage_error" and ended.detail == error
+        assert told.interruption_reason == "storage_error"
+        with Store.open(server.options.store, writer=False) as reader:
+            (trial,) = reader.trials()
+        assert told.elapsed_s == trial.elapsed_s
         assert server.get("/api/sessions")[0] == 200  # the server carries on
 
 
@@ -80,6 +84,7 @@ def test_a_full_disk_ends_the_session_as_storage_error(
             await _start(operator)
             ended = await operator.wait_for(lambda x: isinstance(x, m.SessionEnded), 120.0)
             assert isinstance(ended, m.SessionEnded) and ended.reason == "storage_error"
+            assert f"the disk holding {disk} is full" in ended.detail  # the clients are told
             await operator.send(m.StartSession(settings=FAST_SETTINGS))  # the disk is full
             refused = await operator.wait_for(lambda x: isinstance(x, m.Error))
             assert isinstance(refused, m.Error)

@@ -119,7 +119,7 @@ def _derive_everything(config: SessionConfig) -> None:
     assert environment.fps >= 1
     assert environment.control_steps_per_frame >= 1
     assert environment.max_episode_steps >= 0
-    assert environment.countdown_steps >= 0
+    assert environment.episode_session.task.time_limit_s == environment.limit_s
 
 
 def _outcome(declared: Declared, label: str, build: Callable[[], SessionConfig]) -> str | None:

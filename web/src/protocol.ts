@@ -403,7 +403,10 @@ export interface SessionEnded {
   readonly trials: number;
   readonly successes: number;
   readonly total_score: number;
-  /** What went wrong, when ``reason`` is ``"error"``. */
+  /**
+   * What went wrong, when ``reason`` is ``"error"`` or ``"storage_error"`` (e.g. the
+   * disk is full, the store writer process died).
+   */
   readonly detail: string;
   readonly type: "session_ended";
 }

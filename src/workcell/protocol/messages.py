@@ -291,7 +291,8 @@ class SessionEnded:
     successes: int
     total_score: int
     detail: str = ""
-    """What went wrong, when ``reason`` is ``"error"``."""
+    """What went wrong, when ``reason`` is ``"error"`` or ``"storage_error"`` (e.g. the
+    disk is full, the store writer process died)."""
     type: Literal["session_ended"] = "session_ended"
 
 

@@ -31,6 +31,10 @@ class InProcessStore(Store):
         batch = self._formatter.batch(frames, session_id, trial_id, first_index)
         return self.add_frames(trial_id, batch)
 
+    def failure_pending(self) -> bool:
+        """False: in-process, a failure is raised by the call that met it."""
+        return False
+
     def trial_end_written(self, trial_id: str) -> bool:
         """True: in-process, :meth:`Store.end_trial` has written the end (or raised)
         before it returns."""

@@ -8,8 +8,10 @@ whether it stops and why:
 
 - the schedule ends it (the mode's trials are done, a challenge campaign is complete) or
   the trial cap does (``max_trials``): the session is ``completed``;
-- the recorder failed (a full disk, an I/O error, the writer process dead — noticed at
-  the next hand-over of frames): the running trial ends ``interrupted``/``storage_error``;
+- the recorder failed (a full disk, an I/O error, the writer process dead — noticed
+  before the next control period, or at the latest at the next hand-over of frames): the
+  running trial ends ``interrupted``/``storage_error``, at the trial time the store closed
+  it with;
 - a :class:`~workcell.task.pacing.StopRequest` (from any thread, e.g. the operator's stop
   or the server quitting) or the caller's own reason (SIGINT, a closed standard output):
   the running trial ends ``interrupted`` with that reason.
@@ -163,6 +165,10 @@ class RecordedSession:
                 reason = self._stop_reason(None)  # requested while the pacer waited
             if reason is not None:
                 ended = reason
+            if reason == "storage_error" and self.recorder is not None:
+                # the trial ends when the store says it did (the runner's own interrupt
+                # that follows finds it ended)
+                self.runner.interrupt(reason, at=self.recorder.stored_end)
             return reason
 
         def stepped() -> None:
@@ -181,6 +187,8 @@ class RecordedSession:
         return ended
 
     def _stop_reason(self, should_stop: StopReason | None) -> ev.InterruptionReason | None:
+        if self.recorder is not None:
+            self.recorder.check()
         if self.failure is not None:
             return "storage_error"
         if self.stop.is_set():

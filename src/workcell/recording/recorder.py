@@ -7,7 +7,10 @@ handed to the store in batches covering at most 0.25 s of sim time, so a killed 
 loses at most that much. At each trial's end the store computes the metrics of
 docs/architecture.md from the frames as stored and closes the trial. A storage failure
 stops recording, is kept in :attr:`Recorder.failure`, and the caller interrupts the session
-(``storage_error``).
+(``storage_error``) at the trial time the store closed the running trial with
+(:attr:`Recorder.stored_end`), so that what the operator is told is what the store says. A
+failure the store already knows of (its writer process died) is found before each control
+period (:meth:`Recorder.check`), not only at the next hand-over of frames.
 
 Recording through a :class:`~workcell.recording.store_process.StoreProcess` (as ``workcell
 collect`` and ``workcell serve`` do) leaves formatting, checksums and SQLite to a writer
@@ -18,9 +21,12 @@ from __future__ import annotations
 
 import dataclasses
 import math
+import sqlite3
 from collections.abc import Callable, Mapping
+from pathlib import Path
 from typing import Protocol
 
+from workcell.errors import WorkcellError
 from workcell.metrics import (
     METRIC_DEFINITIONS,
     METRICS_VERSION,
@@ -28,6 +34,7 @@ from workcell.metrics import (
 )
 from workcell.record.entries import SessionInfo, TrialEnd, TrialStart
 from workcell.record.errors import StorageError
+from workcell.record.store import Store
 from workcell.recording.frame_capture import (
     CapturedFrames,
     FrameCapture,
@@ -49,6 +56,8 @@ class RecordingStore(Protocol):
     """What a recorder writes to: an :class:`~workcell.recording.in_process.InProcessStore`
     opened for writing, or a :class:`~workcell.recording.store_process.StoreProcess`."""
 
+    path: Path
+
     def create_session(self, info: SessionInfo) -> str: ...
 
     def start_trial(self, session_id: str, start: TrialStart) -> str: ...
@@ -69,6 +78,8 @@ class RecordingStore(Protocol):
     def add_captured_frames(self, trial_id: str, frames: CapturedFrames) -> int: ...
 
     def commit(self) -> None: ...
+
+    def failure_pending(self) -> bool: ...
 
     def end_trial(
         self, trial_id: str, end: TrialEnd, *, thresholds: MetricThresholds | None = None
@@ -125,6 +136,10 @@ class Recorder:
         written yet)."""
         self.results_at_failure = 0
         """How many trial results the runner had when recording failed."""
+        self.stored_end: float | None = None
+        """After recording failed: the trial time the store closed the running trial at
+        (its last frame or event), None when no trial was running or the store could not
+        close it."""
         self.frames_written = 0
         self._steps_per_frame = self.config.physics_steps_per_frame
         rate = self.config.recording.sampling_rate_hz
@@ -162,6 +177,17 @@ class Recorder:
                 self._flush()
             except StorageError as error:
                 self._fail(error)
+
+    def check(self) -> None:
+        """Stop recording now if the store already knows it cannot write (its writer
+        process died, a write sent earlier failed), rather than at the next hand-over of
+        frames; asked before each control period, it costs no system call."""
+        if self.failure is not None or not self.store.failure_pending():
+            return
+        try:
+            self.store.commit()
+        except StorageError as error:
+            self._fail(error)
 
     # --- events -----------------------------------------------------------------------------
 
@@ -269,12 +295,25 @@ class Recorder:
         self.runner.sim.world.sampler = None
         self._capture.take()
         running = None if self._trial_id is None else self._trial_index
+        running_id = self._trial_id
         self._trial_id = None
         self._trial_index = None
-        self.store.try_interrupt_session(self.session_id, "storage_error")
+        closed = self.store.try_interrupt_session(self.session_id, "storage_error")
+        if closed and running_id is not None:
+            self.stored_end = self._elapsed_in_store(running_id)
         # answered after every call before it: the ends written are known now
         unwritten = {i for i, t in self._ending.items() if not self.store.trial_end_written(t)}
         self.lost_trials = frozenset(unwritten | ({running} if running is not None else set()))
+
+    def _elapsed_in_store(self, trial_id: str) -> float | None:
+        """The elapsed time the store has for ``trial_id`` (read by a reader of its own:
+        the writer may be gone)."""
+        try:
+            with Store.open(self.store.path, writer=False) as reader:
+                trials = reader.trials(self.session_id)
+        except (WorkcellError, sqlite3.Error, OSError):  # then the runner's own time
+            return None
+        return next((t.elapsed_s for t in trials if t.trial_id == trial_id), None)
 
     # --- the end ----------------------------------------------------------------------------
 

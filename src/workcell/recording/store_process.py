@@ -19,9 +19,11 @@ Guarantees are those of :class:`~workcell.record.store.Store`, kept across the p
 - if the recording process dies, however it dies, the writer still writes everything
   it was sent and then exits, leaving the running trial for crash recovery; what was
   not yet handed over is at most one commit interval;
-- if the writer dies, however it dies, the recording process notices at the next
-  hand-over (every 0.25 s of sim time: one ``waitpid`` per batch), raises
-  :class:`StorageError` naming how it died, and closes the session itself
+- if the writer dies, however it dies, the recording process notices at once (the
+  reader thread finds the answer pipe closed: :meth:`StoreProcess.failure_pending`, which
+  the recorder asks before each control period) or at the latest at the next hand-over
+  (every 0.25 s of sim time: one ``waitpid`` per batch), raises :class:`StorageError`
+  naming how it died, and closes the session itself
   (:meth:`StoreProcess.try_interrupt_session`: the trial ``interrupted`` with the reason
   given, ``storage_error``), so that the store says what the operator was told;
 - the writer holds the store's writer lock, so no second writer opens the store until
@@ -80,6 +82,9 @@ class StoreProcess(Closing):
         self._pending: list[Call] = []
         self._replies: queue.SimpleQueue[tuple[Any, ...] | None] = queue.SimpleQueue()
         self._failure: Exception | None = None
+        self._answers_closed = False
+        """The writer's answer pipe reached its end (told on the reader thread): the
+        writer has exited, or is exiting."""
         self._reader: threading.Thread | None = None
         self._ring: FrameRing | None = None
         self._ring_layout: FrameLayout | None = None
@@ -201,6 +206,12 @@ class StoreProcess(Closing):
         if backlog > ring.capacity // 2:
             self._wake_writer()  # more than half full: do not wait for the writer's poll
         return len(frames)
+
+    def failure_pending(self) -> bool:
+        """Whether the next call will raise a failure already known here: a call sent
+        without waiting failed, or the writer's answer pipe closed (it died). Costs no
+        system call: asked before every control period."""
+        return self._failure is not None or self._answers_closed
 
     def commit(self) -> None:
         """Send the events added since the last commit (frames are on their way already).
@@ -354,7 +365,7 @@ class StoreProcess(Closing):
     def _check_writer(self) -> None:
         """Raise the writer's failure, or :class:`StorageError` if it has died (one
         ``waitpid``, no message)."""
-        if self._failure is None and self._process.poll() is not None:
+        if self._failure is None and (self._answers_closed or self._process.poll() is not None):
             self._died()
         if self._failure is not None:
             raise self._failure
@@ -365,6 +376,7 @@ class StoreProcess(Closing):
             try:
                 answer = receive(self._answers)
             except (EOFError, OSError, ValueError):
+                self._answers_closed = True
                 self._replies.put(None)
                 return
             ended = None if answer[1] is None else self._ends_sent.pop(answer[1], None)

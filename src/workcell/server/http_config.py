@@ -6,15 +6,19 @@ request: a client that connects and sends half a request line, or one header byt
 few seconds, holds its connection (and a file descriptor) for ever. Here every connection
 must deliver a complete request head within :attr:`ServerOptions.header_timeout_s
 <workcell.server.options.ServerOptions.header_timeout_s>` of connecting or of the end of
-the previous response, however it trickles; then it is closed. Headers are also limited
-in size (h11's ``max_incomplete_event_size``: larger is a 400).
+the previous response, however it trickles; then it is closed. Request heads are also
+limited to :data:`MAX_HEADER_BYTES`, however they arrive (larger is a 400): h11's own
+``max_incomplete_event_size`` only counts a head still incomplete after a read, so a head
+that arrives whole in one read (up to 256 KiB) would pass it.
 """
 
 from __future__ import annotations
 
 import asyncio
+import re
 from typing import Any
 
+import h11
 import uvicorn
 from uvicorn.protocols.http.h11_impl import H11Protocol
 
@@ -27,6 +31,8 @@ KEEP_ALIVE_S = 5.0
 WS_MAX_BYTES = 1024 * 1024
 """WebSocket frames above this close the connection (1009); above 64 KiB they get an
 Error reply."""
+_HEAD_END = re.compile(rb"\n\r?\n")
+"""The blank line that ends a request head (h11 accepts bare newlines too)."""
 
 
 class HeaderDeadlineH11(H11Protocol):
@@ -46,6 +52,9 @@ class HeaderDeadlineH11(H11Protocol):
         self._arm()
 
     def data_received(self, data: bytes) -> None:
+        if self._head_too_large(data):
+            self._refuse_head()
+            return
         super().data_received(data)
         if self._deadline is not None and self.scope is not self._armed_for:
             self._disarm()
@@ -59,6 +68,21 @@ class HeaderDeadlineH11(H11Protocol):
     def connection_lost(self, exc: Exception | None) -> None:
         self._disarm()
         super().connection_lost(exc)
+
+    def _head_too_large(self, data: bytes) -> bool:
+        """Whether the request head being received, with ``data``, exceeds the limit."""
+        if self.conn.their_state not in (h11.IDLE, h11.DONE):
+            return False  # a body, or a protocol switch: the head has been read
+        pending, _ = self.conn.trailing_data
+        received = pending + data
+        end = _HEAD_END.search(received)
+        return (end.end() if end else len(received)) > MAX_HEADER_BYTES
+
+    def _refuse_head(self) -> None:
+        if self.conn.our_state is h11.IDLE:
+            self.send_400_response(f"Request head larger than {MAX_HEADER_BYTES} bytes.")
+        else:  # a response to an earlier request is under way: no room for a 400
+            self.transport.close()
 
     def _arm(self) -> None:
         self._disarm()

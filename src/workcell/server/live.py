@@ -171,8 +171,9 @@ class LiveSession:
 
             reason = session.run(after_step=after_step)
             detail = ""
-            if reason == "storage_error":
-                logger.warning("session %s stopped: %s", session.session_id, session.failure)
+            if reason == "storage_error":  # the clients are told what failed, too
+                detail = str(session.failure or "")
+                logger.warning("session %s stopped: %s", session.session_id, detail)
         except WorkcellError as error:  # e.g. non-finite physics
             detail = str(error)
             # the trial stays open in the store: the next writer closes it as

@@ -109,13 +109,15 @@ def run_child(conn: Connection, args: SessionArgs) -> threading.Thread | None:
 
 
 def _obey(conn: Connection, live: LiveSession) -> None:
-    """Apply the server's requests until the pipe closes; a closed pipe (the server died)
-    ends the trial as ``application_quit``."""
+    """Apply the server's requests until the pipe closes. The server closes it only after
+    the session has ended (an orderly shutdown first asks for ``application_quit``), so a
+    pipe closed while the session runs means the server died: the trial ends as
+    ``crash_recovered``, as if a crash recovery had closed it."""
     while True:
         try:
             kind, *body = conn.recv()
         except (EOFError, OSError):
-            live.request_stop("application_quit")
+            live.request_stop("crash_recovered")
             return
         if kind == "input":
             live.operator.submit(body[0])

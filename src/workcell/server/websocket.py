@@ -2,6 +2,12 @@
 
 Every refused message (malformed, too large, not allowed, flooding) gets an Error reply
 and a counter; the connection, the simulation and the other clients carry on.
+
+Messages are read (and counted against the client's rate) as they arrive, also while the
+client's session starts, which takes seconds: were they left unread until then, a client
+driving at a normal rate would have them arrive all at once and be refused as a flood.
+Inputs, pings and frame reports are handled while the session starts (an input then has
+nothing to drive, as between sessions); any other message waits for the start, in order.
 """
 
 from __future__ import annotations
@@ -9,6 +15,8 @@ from __future__ import annotations
 import asyncio
 import contextlib
 import time
+from collections.abc import Coroutine
+from typing import Any
 
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
@@ -20,6 +28,8 @@ from workcell.server.seats import Seats
 
 CLOSE_PROTOCOL_MISMATCH = 4000
 """Close code for a client that does not speak this protocol version."""
+OVERTAKE_A_START = (m.Input, m.Ping, m.FrameStats)
+"""Messages handled while the client's session is starting (see the module)."""
 
 
 async def refuse_version(websocket: WebSocket) -> None:
@@ -44,36 +54,56 @@ async def serve_client(websocket: WebSocket, seats: Seats) -> None:
     )
     seats.connected(client)
     sender = asyncio.create_task(client.run_sender())
+    start: asyncio.Task[None] | None = None
     try:
         while not client.closed:
             received = await websocket.receive()
             if received["type"] == "websocket.disconnect":
                 break
             raw = received.get("text")
-            await _handle(client, seats, raw if raw is not None else received.get("bytes"))
+            message = _admit(client, seats, raw if raw is not None else received.get("bytes"))
+            if message is None:
+                continue
+            if start is not None and not isinstance(message, OVERTAKE_A_START):
+                starting, start = start, None
+                await starting
+            slow = await _handle(client, seats, message)
+            if slow is not None:
+                start = asyncio.create_task(slow)
     except WebSocketDisconnect:
         pass
     finally:
-        client.close()
-        seats.disconnected(client)
-        sender.cancel()
-        with contextlib.suppress(asyncio.CancelledError, Exception):
-            await sender
+        try:
+            if start is not None:  # the seat hears of the disconnect once its session runs
+                await start
+        finally:
+            client.close()
+            seats.disconnected(client)
+            sender.cancel()
+            with contextlib.suppress(asyncio.CancelledError, Exception):
+                await sender
 
 
-async def _handle(client: Client, seats: Seats, raw: str | bytes | None) -> None:
+def _admit(client: Client, seats: Seats, raw: str | bytes | None) -> m.ClientMessage | None:
+    """The message ``raw`` decodes to, or None when it is refused (flood, malformed)."""
     client.stats.received += 1
     if not client.limiter.allow():
         client.refuse(
             "rate_limited",
             f"more than {seats.options.max_messages_per_s:g} messages/s: message dropped",
         )
-        return
+        return None
     try:
-        message = decode_client(raw if raw is not None else b"")
+        return decode_client(raw if raw is not None else b"")
     except ProtocolError as error:
         client.refuse(error.code, str(error), error.problem)
-        return
+        return None
+
+
+async def _handle(
+    client: Client, seats: Seats, message: m.ClientMessage
+) -> Coroutine[Any, Any, None] | None:
+    """Handle ``message``; a session's start is returned to run beside later messages."""
     if isinstance(message, m.Ping):
         client.stats.rtt_ms = message.rtt_ms
         client.send(m.Pong(t_client=message.t_client, t_server=time.time()))
@@ -84,10 +114,11 @@ async def _handle(client: Client, seats: Seats, raw: str | bytes | None) -> None
     elif isinstance(message, m.Input):
         conductor.input(client, message)
     elif isinstance(message, m.StartSession):
-        await conductor.start_session(client, message)
+        return conductor.start_session(client, message)
     elif isinstance(message, m.Stop):
         conductor.stop(client)
     elif isinstance(message, m.Act):
         conductor.act(client, message)
     elif isinstance(message, m.FrameStats):
         conductor.frame_stats(client, message)
+    return None

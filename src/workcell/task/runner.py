@@ -130,14 +130,15 @@ class SessionRunner:
         elif running:
             self._check_end()
 
-    def interrupt(self, reason: ev.InterruptionReason) -> None:
-        """End the current trial as interrupted and finish the session. A trial still
-        counting down never started: it ends with no result and no event, as the store
-        never holds a row of it."""
+    def interrupt(self, reason: ev.InterruptionReason, at: float | None = None) -> None:
+        """End the current trial as interrupted and finish the session; ``at``: the trial
+        time it ended at when not now (after recording failed: the last the store holds).
+        A trial still counting down never started: it ends with no result and no event, as
+        the store never holds a row of it."""
         if self.phase in (HudPhase.FINISHED, HudPhase.COUNTDOWN) or self._spec is None:
             self.phase = HudPhase.FINISHED
             return
-        t = self.trial_time
+        t = self.trial_time if at is None else at
         self.bus.publish(ev.TrialInterrupted(self._spec.trial_index, t, reason))
         self._end("interrupted", reason, max(t, 0.0))
 

@@ -47,14 +47,15 @@ export function trialEndSummary(ended: TrialEnded): HudLine[] {
   return lines;
 }
 
-/** The end-of-session screen's summary from a session_ended message; an error names what
- * went wrong. */
+/** The end-of-session screen's summary from a session_ended message; an error or a failed
+ * recording names what went wrong (a full disk, a dead store writer) and stands out. */
 export function sessionEndSummary(ended: SessionEnded): HudLine[] {
   const by = ended.detail !== "" ? `${ended.reason}: ${ended.detail}` : ended.reason;
+  const failed = ended.reason === "error" || ended.reason === "storage_error";
   return [
     { label: "Trials", value: String(ended.trials) },
     { label: "Successes", value: String(ended.successes) },
     { label: "Total score", value: String(ended.total_score) },
-    { label: "Ended by", value: by, alert: ended.reason === "error" },
+    { label: "Ended by", value: by, alert: failed },
   ];
 }

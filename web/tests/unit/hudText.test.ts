@@ -29,4 +29,10 @@ describe("sessionEndSummary", () => {
     const lines = sessionEndSummary(ended({ reason: "error", detail: "solver exploded" }));
     expect(lines[3]).toEqual({ label: "Ended by", value: "error: solver exploded", alert: true });
   });
+
+  it("says what failed when recording stopped, and makes it stand out", () => {
+    const detail = "store s.sqlite: the disk holding /data is full (12 KiB free): free space";
+    const lines = sessionEndSummary(ended({ reason: "storage_error", detail }));
+    expect(lines[3]).toEqual({ label: "Ended by", value: `storage_error: ${detail}`, alert: true });
+  });
 });
