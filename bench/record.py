@@ -52,6 +52,7 @@ from workcell.recording.recorder import Recorder, session_info
 from workcell.recording.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 VARIANTS = ("none", "none again", "process", "inline")
 LABELS = {
@@ -100,7 +101,7 @@ def session(
 def block(config: SessionConfig, repeats: int, first: int, folder: str) -> Block:
     """One fresh process: a session of each variant per round, in a random order (the
     stores stay open for the whole block, as a server keeps its store)."""
-    sim = Simulation(config.world)
+    sim = Simulation(config.world, BoxTransfer().scene())
     results: Block = {v: [] for v in (*VARIANTS, "writer cpu", "frames")}
     with (
         StoreProcess.open(Path(folder) / f"process-{first}.sqlite") as process,
@@ -147,7 +148,7 @@ def median_interval(ratios: list[list[float]], resamples: int = 4000) -> tuple[f
 def durable_rate(folder: Path, config: SessionConfig, variant: str, batches: int) -> float:
     """Captured frames per second through add_captured_frames + commit, 5 a batch, until
     the writer has committed them all (end_session waits for everything before it)."""
-    sim = Simulation(config.world)
+    sim = Simulation(config.world, BoxTransfer().scene())
     sim.reset(0)
     capture = FrameCapture(sim.world, sim.controller, capacity=5)
     command = Command()

@@ -30,6 +30,7 @@ from workcell.control.simulation import Simulation
 from workcell.expert import ExpertConfig, ExpertOperator
 from workcell.sim.config import RobotConfig, WorldConfig
 from workcell.sim.events import BoxDelivered
+from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.teleop.operator import measured_tcp
 
 TRIAL_LIMIT_S = 120.0
@@ -49,7 +50,7 @@ class RawPhysics:
     the figure."""
 
     def __init__(self, config: WorldConfig) -> None:
-        sim = Simulation(config)
+        sim = Simulation(config, BoxTransfer().scene())
         sim.reset(0)
         expert = ExpertOperator(ExpertConfig(), seed=0)
         while sim.time < 14.0:
@@ -120,7 +121,8 @@ def main() -> None:
     rates = [float(hz) for hz in args.ik_hz.split(",")]
     sims = {
         hz: Simulation(
-            WorldConfig(grasp=args.grasp, robot=RobotConfig(control_hz=args.control_hz, ik_hz=hz))
+            WorldConfig(grasp=args.grasp, robot=RobotConfig(control_hz=args.control_hz, ik_hz=hz)),
+            BoxTransfer().scene(),
         )
         for hz in rates
     }

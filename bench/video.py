@@ -88,7 +88,7 @@ def render_frames(store_path: Path, size: ImageSize) -> list[NDArray[np.uint8]]:
         (session,) = store.sessions()
         (trial,) = store.trials()
         states = RecordedStates.from_frames(store.frames(trial.trial_id))
-    world = ReplayWorld(session_config(session).world, size)
+    world = ReplayWorld(session_config(session), size)
     try:
         return [images[CAMERA] for images in world.images(states, [CAMERA])]
     finally:

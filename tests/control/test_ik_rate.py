@@ -16,6 +16,7 @@ from workcell.expert.episode import deliver_one_box
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.sim.config import RobotConfig, WorldConfig
+from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.teleop.rate import at_teleop_rate
 
 
@@ -44,7 +45,7 @@ def test_an_ik_rate_that_does_not_divide_the_control_rate_is_refused() -> None:
 def _reach(ik_hz: float, periods: int) -> tuple[int, float, np.ndarray]:
     """The left arm follows a target 12 cm from where it starts: IK solves, the TCP's
     distance from the target at the end (m), the arm's joints."""
-    sim = Simulation(_world(ik_hz))
+    sim = Simulation(_world(ik_hz), BoxTransfer().scene())
     sim.reset(0)
     for _ in range(5):
         sim.step(Command())
@@ -79,7 +80,7 @@ def test_half_the_ik_rate_solves_half_as_often_and_reaches_the_same_target() -> 
 
 
 def test_the_expert_delivers_with_the_ik_at_half_the_control_rate() -> None:
-    sim = Simulation(_world(20.0))
+    sim = Simulation(_world(20.0), BoxTransfer().scene())
     result = deliver_one_box(sim, ExpertOperator(ExpertConfig(), seed=3), 3)
     assert result.delivered
 

@@ -12,6 +12,7 @@ from workcell.expert import ExpertConfig, ExpertOperator
 from workcell.expert.episode import OneBoxResult, deliver_one_box
 from workcell.sim.config import GraspMode, WorldConfig
 from workcell.sim.events import BoxDelivered
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 SEEDS = range(20)
 REQUIRED = {"assisted": 19, "physical": 16}
@@ -20,7 +21,7 @@ REQUIRED = {"assisted": 19, "physical": 16}
 def run_seeds(
     grasp: GraspMode, skill: float = 1.0, seeds: range = SEEDS, limit_s: float = 120.0
 ) -> list[OneBoxResult]:
-    sim = Simulation(WorldConfig(grasp=grasp))
+    sim = Simulation(WorldConfig(grasp=grasp), BoxTransfer().scene())
     results = []
     for seed in seeds:
         results.append(
@@ -48,7 +49,7 @@ def test_low_skill_is_slower_and_can_time_out() -> None:
     best_mean = np.mean([r.sim_time_s for r in best])
     clumsy_mean = np.mean([r.sim_time_s for r in clumsy])
     assert clumsy_mean > best_mean + 10.0
-    sim = Simulation(WorldConfig())
+    sim = Simulation(WorldConfig(), BoxTransfer().scene())
     short = deliver_one_box(sim, ExpertOperator(ExpertConfig(skill=0.0), seed=1), 1, 25.0)
     assert not short.delivered
     assert short.sim_time_s == pytest.approx(25.0, abs=sim.control_dt)
@@ -56,7 +57,7 @@ def test_low_skill_is_slower_and_can_time_out() -> None:
 
 def test_replaying_the_experts_commands_reproduces_the_delivery() -> None:
     """The expert drives the robot through Commands alone: replayed, they do the same."""
-    sim = Simulation(WorldConfig())
+    sim = Simulation(WorldConfig(), BoxTransfer().scene())
     sim.reset(7)
     expert = ExpertOperator(ExpertConfig(), seed=7)
     commands: list[Command] = []
@@ -70,7 +71,7 @@ def test_replaying_the_experts_commands_reproduces_the_delivery() -> None:
     assert delivered_at is not None
     final_qpos = sim.world.data.qpos.copy()
 
-    replay = Simulation(WorldConfig())
+    replay = Simulation(WorldConfig(), BoxTransfer().scene())
     replay.reset(7)
     replay_delivered_at = None
     for command in commands:

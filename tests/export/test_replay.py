@@ -29,7 +29,7 @@ def test_changed_joints_fail_the_check(recorded: Stores) -> None:
         trial = store.trials()[0]
         config = session_config(store.sessions()[0])
         states = RecordedStates.from_frames(store.frames(trial.trial_id))
-    world = ReplayWorld(config.world)
+    world = ReplayWorld(config)
     assert world.check(states, trial.trial_id).position_m <= TCP_TOLERANCE_M
     bent = dataclasses.replace(states, joints=states.joints + 0.01)
     with pytest.raises(ReplayMismatchError, match=f"trial {trial.trial_id}: restoring"):
@@ -41,7 +41,7 @@ def test_restored_frames_render_what_the_robot_saw(recorded: Stores) -> None:
         trial = store.trials()[0]
         config = session_config(store.sessions()[0])
         states = RecordedStates.from_frames(store.frames(trial.trial_id))
-    world = ReplayWorld(config.world, ImageSize(64, 48))
+    world = ReplayWorld(config, ImageSize(64, 48))
     try:
         images = [frame["head_cam"] for frame in world.images(states, ["head_cam"])]
     finally:

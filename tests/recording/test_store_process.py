@@ -29,13 +29,16 @@ from workcell.recording.recorder import Recorder
 from workcell.recording.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 REPO = Path(__file__).resolve().parents[2]
 WALL_CLOCK_COLUMNS = ("t_wall", "step_wall_ms")
 
 
 def _record(store: InProcessStore | StoreProcess, config: SessionConfig) -> None:
-    runner = SessionRunner(config, Simulation(config.world), ExpertOperator())
+    runner = SessionRunner(
+        config, Simulation(config.world, BoxTransfer().scene()), ExpertOperator()
+    )
     recorder = Recorder(store, runner)
     runner.run()
     recorder.close(interrupted=False)
@@ -75,7 +78,9 @@ def test_the_writer_process_records_what_the_store_records_in_process(tmp_path: 
 
 def test_the_frame_ring_is_made_before_the_first_trial_and_once(tmp_path: Path) -> None:
     config = SessionConfig(task=TaskConfig(mode="collection", trials=2), seed=4)
-    runner = SessionRunner(config, Simulation(config.world), ExpertOperator())
+    runner = SessionRunner(
+        config, Simulation(config.world, BoxTransfer().scene()), ExpertOperator()
+    )
     with StoreProcess.open(tmp_path / "s.sqlite") as store:
         recorder = Recorder(store, runner)
         ring = store._ring
@@ -86,7 +91,7 @@ def test_the_frame_ring_is_made_before_the_first_trial_and_once(tmp_path: Path) 
 
 
 def _capture(n: int = 5) -> FrameCapture:
-    sim = Simulation(SessionConfig().world)
+    sim = Simulation(SessionConfig().world, BoxTransfer().scene())
     sim.reset(0)
     return FrameCapture(sim.world, sim.controller, capacity=n)
 

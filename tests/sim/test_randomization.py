@@ -18,6 +18,7 @@ from workcell.record import Store
 from workcell.sim.config import TargetConfig, WorldConfig
 from workcell.sim.randomization import RandomizationConfig
 from workcell.sim.trial_conditions import TrialConditions
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 WIDE = RandomizationConfig(
     box_size=0.15,
@@ -73,7 +74,7 @@ def test_bad_ranges_are_rejected(make: object, field: str) -> None:
 
 
 def test_conditions_are_applied_to_the_model() -> None:
-    sim = Simulation(WorldConfig(randomization=WIDE))
+    sim = Simulation(WorldConfig(randomization=WIDE), BoxTransfer().scene())
     conditions = sim.reset(3)
     model = sim.world.model
     slot = sim.world.boxes.slots[0]
@@ -95,7 +96,7 @@ def test_conditions_are_applied_to_the_model() -> None:
 
 
 def test_expert_delivers_under_randomized_conditions() -> None:
-    sim = Simulation(WorldConfig(randomization=WIDE))
+    sim = Simulation(WorldConfig(randomization=WIDE), BoxTransfer().scene())
     delivered = 0
     for seed in range(5):
         delivered += deliver_one_box(sim, ExpertOperator(seed=seed), seed, 120.0).delivered

@@ -17,6 +17,7 @@ from workcell.task.bus import EventBus
 from workcell.task.hud import HudPhase
 from workcell.task.operator import Operator
 from workcell.task.runner import SessionRunner, trial_seed
+from workcell.tasks.box_transfer.task import BoxTransfer
 
 
 class IdleOperator:
@@ -39,7 +40,9 @@ def make_runner(
     bus = EventBus()
     seen: list[ev.TaskEvent] = []
     bus.subscribe(seen.append)
-    runner = SessionRunner(config, Simulation(config.world), operator or IdleOperator(), bus)
+    runner = SessionRunner(
+        config, Simulation(config.world, BoxTransfer().scene()), operator or IdleOperator(), bus
+    )
     return runner, seen
 
 

@@ -107,8 +107,9 @@ def run(args: argparse.Namespace) -> int:
     from workcell.control.simulation import Simulation  # noqa: PLC0415
     from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
     from workcell.expert.episode import deliver_one_box  # noqa: PLC0415
+    from workcell.tasks.box_transfer.task import BoxTransfer  # noqa: PLC0415
 
-    sim = Simulation(WorldConfig(grasp=args.grasp))
+    sim = Simulation(WorldConfig(grasp=args.grasp), BoxTransfer().scene())
     expert = ExpertOperator(ExpertConfig(skill=args.skill), seed=args.seed)
     progress = _Progress(args.time_limit)
     if size is None:

@@ -9,26 +9,28 @@ from workcell.control.controller import RobotController
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import WorldEvent
 from workcell.sim.trial_conditions import TrialConditions
-from workcell.sim.world import World
+from workcell.sim.world import TaskScene, World
 
 
 class Simulation:
-    """Physics, control, grasping and the feeder, advanced one control period per command."""
+    """Physics, control, grasping, the feeder and the task's scene (``scene``; None: the
+    bare factory), advanced one control period per command."""
 
-    def __init__(self, config: WorldConfig) -> None:
+    def __init__(self, config: WorldConfig, scene: TaskScene | None = None) -> None:
         self.config = config
-        self.world = World(config)
+        self.world = World(config, scene)
         self.controller = RobotController(self.world)
         self.reset()
 
     def reset(self, seed: int = 0) -> TrialConditions:
         """Back to the start state; the same ``seed`` gives the same trial conditions, start
         and feed. Returns the trial's conditions (drawn when randomization is on)."""
-        draw_stream, feed_stream = np.random.SeedSequence(seed).spawn(2)
+        draw_stream, feed_stream, task_stream = np.random.SeedSequence(seed).spawn(3)
         conditions = TrialConditions.draw(self.config, np.random.default_rng(draw_stream))
         joints = self.controller.home_joints
         feed_seed = int(feed_stream.generate_state(1)[0])
-        self.world.reset(joints, feed_seed, conditions)
+        task_rng = np.random.default_rng(task_stream)
+        self.world.reset(joints, feed_seed, conditions, task_rng)
         self.controller.reset(conditions.start_pose, joints)
         return conditions
 

@@ -83,7 +83,7 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         self.config = config
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": config.fps}
-        self.sim = Simulation(config.session.world)
+        self.sim = Simulation(config.session.world, self.task.scene())
         self._observations = ObservationBuilder(self.sim, config.cameras, config.camera_size)
         self.observation_space = observation_space(config)
         self.action_space = action_space(config, self.sim.world)

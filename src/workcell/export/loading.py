@@ -60,7 +60,7 @@ def load_episodes(
         states = RecordedStates.from_frames(frames, arrays.boxes)
         world = None
         if worlds is not None:
-            world = worlds.get(source.configs[trial.session_id].world)
+            world = worlds.get(source.configs[trial.session_id])
             world.check(states, trial.trial_id)
         yield LoadedEpisode(index, episode, Provenance.of(index, episode), arrays, states, world)
         if progress is not None:

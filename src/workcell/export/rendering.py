@@ -67,7 +67,7 @@ def render_trials(
             config = session_config(sessions[trial.session_id])
             fps = round(config.recording.sampling_rate_hz)
             states = RecordedStates.from_frames(store.frames(trial.trial_id))
-            world = worlds.get(config.world)
+            world = worlds.get(config)
             replay = world.check(states, trial.trial_id)
             paths = tuple(out / video_name(trial.trial_id, camera) for camera in cameras)
             writers = [VideoWriter(path, size.width, size.height, fps) for path in paths]

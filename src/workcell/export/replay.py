@@ -28,6 +28,7 @@ from workcell.export.source import session_config
 from workcell.record.store import Store
 from workcell.sim.joints import SIDES
 from workcell.sim.world import World
+from workcell.tasks.registry import load_task
 
 TCP_TOLERANCE_M = 1e-6
 """Largest TCP position error (m) the replay check accepts."""
@@ -101,7 +102,7 @@ def replay_check(store: Store, trial_id: str) -> float:
         )
     session = next(s for s in store.sessions() if s.session_id == trial.session_id)
     config = session_config(session)
-    world = World(config.world)
+    world = World(config.world, load_task(config.task.kind).scene())
     frames = store.frames(trial_id)
     boxes = parse_boxes(frames["boxes"], config.world.feeder.pool_size)
     states = RecordedStates.from_frames(frames, boxes)

@@ -20,15 +20,17 @@ from workcell.export.replay import TCP_TOLERANCE_M, ReplayErrors, replay_errors
 from workcell.export.restore import RecordedStates, StateRestorer
 from workcell.render.quality import CAMERA_QUALITY
 from workcell.render.renderer import OffscreenRenderer
+from workcell.session.config import SessionConfig
 from workcell.sim.config import WorldConfig
 from workcell.sim.world import World
+from workcell.tasks.registry import load_task
 
 
 class ReplayWorld:
     """One world configuration, restoring recorded frames into its MuJoCo state."""
 
-    def __init__(self, config: WorldConfig, size: ImageSize | None = None) -> None:
-        self.world = World(config)
+    def __init__(self, config: SessionConfig, size: ImageSize | None = None) -> None:
+        self.world = World(config.world, load_task(config.task.kind).scene())
         self.restorer = StateRestorer(self.world)
         self.size = size
         self._renderer: OffscreenRenderer | None = None
@@ -82,12 +84,14 @@ class WorldPool(Closing):
 
     def __init__(self, size: ImageSize | None = None) -> None:
         self.size = size
-        self._worlds: dict[WorldConfig, ReplayWorld] = {}
+        self._worlds: dict[tuple[str, WorldConfig], ReplayWorld] = {}
 
-    def get(self, config: WorldConfig) -> ReplayWorld:
-        if config not in self._worlds:
-            self._worlds[config] = ReplayWorld(config, self.size)
-        return self._worlds[config]
+    def get(self, config: SessionConfig) -> ReplayWorld:
+        """The replay world of ``config``'s task and world."""
+        key = (config.task.kind, config.world)
+        if key not in self._worlds:
+            self._worlds[key] = ReplayWorld(config, self.size)
+        return self._worlds[key]
 
     def close(self) -> None:
         for world in self._worlds.values():

@@ -42,6 +42,7 @@ from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.pacing import Pacer, PacingStats, StopRequest
 from workcell.task.runner import SessionRunner, TrialResult
+from workcell.tasks.registry import load_task
 
 StopReason = Callable[[], ev.InterruptionReason | None]
 """Why the session must stop now (its running trial is interrupted so), or None."""
@@ -85,7 +86,7 @@ class RecordedSession:
         self.config = config
         self.stop = stop if stop is not None else StopRequest()
         """Set from any thread to end the running trial (see :meth:`StopRequest.request`)."""
-        self.sim = Simulation(config.session.world)
+        self.sim = Simulation(config.session.world, load_task(config.session.task.kind).scene())
         self._driving = config.driver.build(config.session, self.sim)
         self.operator = self._driving.operator
         self.runner = SessionRunner(

@@ -31,6 +31,7 @@ from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
+from workcell.tasks.registry import load_task
 
 logger = logging.getLogger(__name__)
 
@@ -366,7 +367,7 @@ class Conductor:
 
 def _scene_of(config: SessionConfig) -> m.Scene:
     """The scene of a freshly reset world with ``config`` (what an idle client draws)."""
-    world = Simulation(config.world).world
+    world = Simulation(config.world, load_task(config.task.kind).scene()).world
     return describe(world.model, world.data)
 
 

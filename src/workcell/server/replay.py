@@ -24,6 +24,7 @@ from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
 from workcell.sim.world import World
+from workcell.tasks.registry import load_task
 
 MAX_FRAMES = 20_000
 """Most frames one reply carries (``every`` is raised to stay under it)."""
@@ -50,7 +51,8 @@ def trial_replay(store: Store, trial_id: str, every: int) -> TrialReplay:
         raise TrialNotFoundError(f"trial {trial_id[:64]!r} is not in the store")
     trial = trials[0]
     session = next(s for s in store.sessions() if s.session_id == trial.session_id)
-    world = World(_config(session.parameters).world)
+    config = _config(session.parameters)
+    world = World(config.world, load_task(config.task.kind).scene())
     model, data = world.model, world.data
     mujoco.mj_kinematics(model, data)
     frames = store.frames(trial_id)

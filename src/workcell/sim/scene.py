@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from typing import Protocol
+
 import mujoco
 
 from workcell.sim.arena import build_arena
@@ -13,7 +15,15 @@ CONVEYOR_PROXY = "conveyor_proxy"
 """Mocap body of the IK model standing in for the conveyor, in the base frame."""
 
 
-def world_spec(config: WorldConfig) -> mujoco.MjSpec:
+class SceneBuilder(Protocol):
+    """What a task adds to the shared factory's model (:class:`workcell.sim.world.TaskScene`)."""
+
+    def build(self, spec: mujoco.MjSpec, config: WorldConfig) -> None:
+        """Add the task's elements (pallets, shelves, tables, marks) to ``spec``."""
+
+
+def world_spec(config: WorldConfig, task: SceneBuilder | None = None) -> mujoco.MjSpec:
+    """The full scene's spec: the arena, then ``task``'s elements, then the robot."""
     spec = mujoco.MjSpec()
     spec.modelname = "workcell"
     spec.compiler.degree = False
@@ -25,13 +35,16 @@ def world_spec(config: WorldConfig) -> mujoco.MjSpec:
     spec.visual.global_.offwidth = 1280
     spec.visual.global_.offheight = 720
     build_arena(spec, config)
+    if task is not None:
+        task.build(spec, config)
     build_robot(spec, mobile=True)
     return spec
 
 
-def build_world_model(config: WorldConfig) -> mujoco.MjModel:
-    """The full scene: arena, boxes and the mobile robot with its actuators."""
-    return world_spec(config).compile()
+def build_world_model(config: WorldConfig, task: SceneBuilder | None = None) -> mujoco.MjModel:
+    """The full scene: arena, boxes, ``task``'s elements and the mobile robot with its
+    actuators."""
+    return world_spec(config, task).compile()
 
 
 def build_ik_model(config: WorldConfig) -> mujoco.MjModel:

@@ -1,7 +1,9 @@
-"""The simulated workcell: physics, the box feeder, grasping and delivery detection.
+"""The simulated workcell: physics, the box feeder and grasping, and the task's scene.
 
 The world knows nothing about operators; :class:`workcell.simulation.Simulation` drives it
-with commands through the robot controller.
+with commands through the robot controller. What a task adds to the shared factory and
+watches in it each control period (box transfer: a released box resting in the delivery
+zone is delivered) is the task's :class:`TaskScene` (:mod:`workcell.tasks`).
 """
 
 from __future__ import annotations
@@ -17,15 +19,13 @@ from workcell.errors import SimulationError
 from workcell.sim.boxes import BoxPool, BoxSlot, BoxState
 from workcell.sim.conditions import apply_conditions
 from workcell.sim.config import WorldConfig
-from workcell.sim.events import BoxDelivered, BoxReleased, GraspChanged, WorldEvent
+from workcell.sim.events import BoxReleased, GraspChanged, WorldEvent
 from workcell.sim.grasp import Grasp
 from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
 from workcell.sim.scene import build_world_model
 from workcell.sim.target import DeliveryZone
 from workcell.sim.trial_conditions import TrialConditions
 
-DELIVERED_CLEAR_S = 1.0
-"""A delivered box is taken away (parked) this long after delivery."""
 FLOOR_CLEAR_S = 5.0
 """A box lying on the floor is taken away after this long."""
 
@@ -43,12 +43,34 @@ class Sampler(Protocol):
         ...
 
 
-class World:
-    """One MuJoCo model and data with the task-level machinery around them."""
+class TaskScene(Protocol):
+    """What a task adds to the shared factory and watches in it (:mod:`workcell.tasks`)."""
 
-    def __init__(self, config: WorldConfig) -> None:
+    @property
+    def task_name(self) -> str:
+        """The name of the task whose scene this is."""
+        ...
+
+    def build(self, spec: mujoco.MjSpec, config: WorldConfig) -> None:
+        """Add the task's elements to the world's model before it is compiled."""
+
+    def reset(self, world: World, rng: np.random.Generator) -> None:
+        """Set the task's part of a trial's start (``rng``: the trial's own stream)."""
+
+    def watch(self, world: World, t: float) -> list[WorldEvent]:
+        """What happened to the task's objects in the last control period, after the grasp
+        was updated (the world's clock ``t``)."""
+        ...
+
+
+class World:
+    """One MuJoCo model and data with the task-level machinery around them; ``scene`` is
+    the task's (None: the bare factory, whose boxes nobody delivers)."""
+
+    def __init__(self, config: WorldConfig, scene: TaskScene | None = None) -> None:
         self.config = config
-        self.model = build_world_model(config)
+        self.scene = scene
+        self.model = build_world_model(config, scene)
         self.data = mujoco.MjData(self.model)
         self.boxes = BoxPool(self.model, config)
         self.grasp = Grasp(self.model, self.boxes, config.grasp)
@@ -85,9 +107,11 @@ class World:
         joints: NDArray[np.float64],
         seed: int = 0,
         conditions: TrialConditions | None = None,
+        task_rng: np.random.Generator | None = None,
     ) -> None:
         """Start state under ``conditions`` (default: the configured ones): the robot at
-        the start pose with ``joints`` (JOINT_ORDER), boxes parked.
+        the start pose with ``joints`` (JOINT_ORDER), boxes parked, the task's scene set
+        from ``task_rng`` (default: a stream of ``seed``'s own).
 
         ``seed`` fixes everything random that follows (where boxes land on the belt)."""
         if conditions is not None and conditions != self.conditions:
@@ -110,6 +134,9 @@ class World:
         self.grasp.reset(self.data)
         self._next_release = self.config.feeder.first_release_s
         self._floor_since.clear()
+        if self.scene is not None:
+            rng = task_rng if task_rng is not None else np.random.default_rng([seed, 1])
+            self.scene.reset(self, rng)
         mujoco.mj_forward(self.model, self.data)
 
     def step(self, close_l: float, close_r: float) -> list[WorldEvent]:
@@ -143,17 +170,11 @@ class World:
         changed = self.grasp.update(self.data, close_l, close_r)
         if changed is not None:
             events.append(GraspChanged(t, changed[0].index, changed[1]))
-        held = self.grasp.holding
+        if self.scene is not None:
+            events += self.scene.watch(self, t)
         for slot in self.boxes.slots:
             if slot.state is BoxState.ACTIVE:
-                if self.zone.delivered(self.data, self.boxes, slot, held):
-                    slot.state = BoxState.DELIVERED
-                    slot.delivered_at = t
-                    events.append(BoxDelivered(t, slot.index))
-                else:
-                    self._clear_if_on_floor(slot, t)
-            elif slot.state is BoxState.DELIVERED and t - slot.delivered_at >= DELIVERED_CLEAR_S:
-                self.boxes.park(self.data, slot)
+                self._clear_if_on_floor(slot, t)
         if t + 1e-6 >= self._next_release and self.boxes.feed_clear(self.data):
             feeder = self.config.feeder
             lateral = float(self._rng.uniform(-feeder.lateral_jitter, feeder.lateral_jitter))

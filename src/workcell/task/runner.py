@@ -19,6 +19,7 @@ import numpy as np
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
+from workcell.errors import SimulationError
 from workcell.session.config import SessionConfig
 from workcell.sim import events as world_events
 from workcell.task import events as ev
@@ -65,6 +66,13 @@ class SessionRunner:
         self.operator = operator
         self.task: Task = load_task(config.task.kind)
         """The task every trial of the session runs (``task.kind``): it judges success."""
+        scene = sim.world.scene
+        if scene is None or scene.task_name != self.task.name:
+            built = "no task's scene" if scene is None else f"the scene of {scene.task_name}"
+            raise SimulationError(
+                f"the simulation was built with {built}, but the session runs "
+                f"{self.task.name}: build it with the task's, Simulation(world, task.scene())"
+            )
         self.bus = bus or EventBus()
         self.max_trials = max_trials
         self.schedule = Schedule(config.task)

@@ -20,7 +20,7 @@ from workcell.tasks.worlds import WorldName, WorldRanges
 if TYPE_CHECKING:
     from workcell.expert.skill import ExpertConfig
     from workcell.sim.events import WorldEvent
-    from workcell.sim.world import World
+    from workcell.sim.world import TaskScene, World
     from workcell.task.operator import Operator
 
 
@@ -73,6 +73,11 @@ class Task(ABC):
     def instruction(self, required: int) -> str:
         """What a trial that must complete ``required`` objects asks, in one sentence
         (the language instruction of every exported episode)."""
+
+    @abstractmethod
+    def scene(self) -> TaskScene:
+        """What the task adds to the shared factory and watches there each control period
+        (a new one for each world: :class:`workcell.sim.world.TaskScene`)."""
 
     @abstractmethod
     def new_trial(self, required: int) -> TrialJudge:

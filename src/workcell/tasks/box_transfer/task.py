@@ -10,6 +10,7 @@ from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
 from workcell.task.operator import Operator
 from workcell.tasks.box_transfer.judge import BoxTransferJudge
+from workcell.tasks.box_transfer.scene import BoxTransferScene
 from workcell.tasks.box_transfer.stages import TASK_STAGES
 from workcell.tasks.task import Task
 from workcell.tasks.worlds import WorldName, WorldRanges
@@ -47,6 +48,9 @@ class BoxTransfer(Task):
 
     def instruction(self, required: int) -> str:
         return ONE_BOX if required == 1 else BOXES.format(n=required)
+
+    def scene(self) -> BoxTransferScene:
+        return BoxTransferScene(self.name)
 
     def new_trial(self, required: int) -> BoxTransferJudge:
         return BoxTransferJudge(required)
