@@ -9,6 +9,7 @@ import json
 import time
 from pathlib import Path
 
+import pytest
 from bench.crowd_operator import ExpertLikeHeadset
 
 from tests.server.harness import client, running_server
@@ -20,6 +21,7 @@ INPUT_PERIOD_S = 1 / 72
 BUDGET_S = 200.0
 
 
+@pytest.mark.slow
 def test_an_expert_like_remote_operator_delivers_a_box(tmp_path: Path) -> None:
     async def scenario() -> dict[str, object]:
         with running_server(tmp_path) as server:

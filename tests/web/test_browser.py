@@ -52,7 +52,7 @@ are on conditions, a delivery ends with its trial, whose limit is simulated time
 slowly a busy machine runs it."""
 SERVER_START_TIMEOUT_S = 90.0
 
-pytestmark = pytest.mark.slow
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 
 def _missing() -> str | None:
