@@ -109,7 +109,7 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   check(s.teleop?.comfort.vignette === 0, "the vignette is on while the base stands still");
 
   // The trial clock runs once the countdown is over; the HUD panel in the headset shows it.
-  s = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
+  s = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
   await sleep(300);
   const panel = await page.evaluate(() => window.__workcell?.capture("hud_panel") ?? null);
   check(panel !== null && panel.startsWith("data:image/png"), "no XR HUD panel");
@@ -173,7 +173,7 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   });
   await checkDrawn(page, path.join(artifacts, "xr-end.png"));
   // Driving in first person narrowed the view; standing still it is clear again.
-  const still = await waitFor(page, (s) => s.teleop?.comfort.vignette === 0, { what: "the vignette to clear", timeout: 5000 });
+  const still = await waitFor(page, (s) => s.teleop?.comfort.vignette === 0, { what: "the vignette to clear" });
   const peak = still.teleop?.comfort.vignette_peak ?? 0;
   log(`tunnel vignette: peak ${peak.toFixed(2)} while driving, ${still.teleop?.comfort.vignette} standing still`);
   check(peak > 0.3, `the tunnel vignette peaked at ${peak.toFixed(2)} while the base drove (wanted > 0.3)`);
