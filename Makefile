@@ -53,14 +53,15 @@ run: setup web-setup
 
 # Static checks (Python and strict TypeScript), the web client's unit tests, then the
 # whole test suite including the browser tests in Debian's chromium and the learning tests (LeRobot); stops at the first
-# failing step.
+# failing step. The two workers take whole files, longest first (tests/conftest.py orders
+# them), so each file's fixtures are built once and no worker idles beside a long file.
 test: setup setup-learn web-setup browser-setup
 	$(BIN)/ruff check src tests bench
 	$(BIN)/ruff format --check src tests bench
 	$(BIN)/mypy
 	$(BIN)/python -m workcell.protocol.typescript --check
 	@$(MAKE) --no-print-directory web-test
-	WORKCELL_BROWSER_TESTS=require WORKCELL_LEARN_TESTS=require $(BIN)/pytest -n 2
+	WORKCELL_BROWSER_TESTS=require WORKCELL_LEARN_TESTS=require $(BIN)/pytest -n 2 --dist loadfile --no-loadscope-reorder
 
 bench: setup
 	$(BIN)/python bench/sim.py

@@ -40,6 +40,27 @@ def matrix_to_quat(rotation: tuple[tuple[float, float, float], ...]) -> Quat:
     return (w, x, y, z)
 
 
+def _rank(item: pytest.Item) -> int:
+    """0: drives a browser, 1: slow, 2: the rest (by its markers)."""
+    if item.get_closest_marker("browser") is not None:
+        return 0
+    return 1 if item.get_closest_marker("slow") is not None else 2
+
+
+def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
+    """The files with the longest tests first, each file's tests together and in their
+    order. ``make test`` hands whole files to its two workers in this order (``--dist
+    loadfile``): the browser tests (one file, run one at a time, the longest) start at once
+    on one worker, the other files with slow tests next, and the many short files fill in
+    at the end, so that neither worker is left alone with a long file while the other
+    idles."""
+    file_rank: dict[str, int] = {}
+    for item in items:
+        file = item.nodeid.split("::")[0]
+        file_rank[file] = min(file_rank.get(file, 2), _rank(item))
+    items.sort(key=lambda item: file_rank[item.nodeid.split("::")[0]])
+
+
 @pytest.fixture(scope="session")
 def tcp_quats() -> dict[str, Quat]:
     """Side-grasp TCP orientations ("l", "r") as base-frame wxyz quaternions."""

@@ -192,6 +192,7 @@ def test_a_policy_for_another_world_is_refused(trained: Path, tmp_path: Path) ->
     assert "observation.environment_state of shape" in done.stderr
 
 
+@pytest.mark.slow
 def test_a_diffusion_policy_trains_and_drives(lerobot_dir: Path, tmp_path: Path) -> None:
     """``--policy diffusion``, with options passed on to LeRobot overriding the defaults."""
     require_learn_extra()

@@ -124,18 +124,33 @@ def writer_of(pid: int, timeout_s: float = 30.0) -> int:
     raise AssertionError(f"process {pid} has no store writer process")
 
 
+def thread_states(pid: int) -> list[str] | None:
+    """The state letter (``R``, ``S``, ``Z``...) of every thread of process ``pid``, or
+    None once the process is gone. A thread that ends between the listing of the threads
+    and the reading of its state is gone: it is left out (reading it then fails with
+    ``FileNotFoundError`` or ``ProcessLookupError``, neither a sign that the process is)."""
+    try:
+        tasks = list(Path(f"/proc/{pid}/task").iterdir())
+    except (FileNotFoundError, ProcessLookupError):
+        return None
+    states: list[str] = []
+    for task in tasks:
+        try:
+            stat = (task / "stat").read_text()
+        except (FileNotFoundError, ProcessLookupError):
+            continue
+        states.append(stat.rsplit(")", 1)[1].split()[0])
+    return states
+
+
 def wait_until_dead(pid: int, timeout_s: float = TIMEOUT_S) -> None:
     """Until the child ``pid`` has exited, every thread of it (a zombie its parent has not
     reaped yet, or gone): only then does ``waitpid`` report it. A SIGKILL takes effect some
     time after ``os.kill`` returns, longer on a busy machine. Does not reap it."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        try:
-            states = [
-                (task / "stat").read_text().rsplit(")", 1)[1].split()[0]
-                for task in Path(f"/proc/{pid}/task").iterdir()
-            ]
-        except FileNotFoundError:
+        states = thread_states(pid)
+        if states is None:
             return
         if all(state in ("Z", "X") for state in states) and len(states) <= 1:
             return

@@ -10,6 +10,7 @@ import os
 import random
 import resource
 import signal
+import subprocess
 import time
 from collections.abc import Callable
 from pathlib import Path
@@ -35,6 +36,32 @@ KILLS = 20
 PARALLEL = 4
 
 
+def _kill_each_after_its_delay(
+    runs: list[tuple[Path, subprocess.Popen[str], float]], timeout_s: float = 120.0
+) -> dict[Path, int]:
+    """SIGKILL each run's process ``delay`` s after its store first showed committed frames
+    (the runs' delays overlap in time); the frames each store had committed just before."""
+    recording_since: dict[Path, float] = {}
+    seen: dict[Path, int] = {}
+    deadline = time.monotonic() + timeout_s
+    while len(seen) < len(runs):
+        for store, process, delay in runs:
+            now = time.monotonic()
+            if store in seen:
+                continue
+            if store not in recording_since:
+                assert now < deadline, f"{store} never received a frame"
+                if committed_frames(store) > 0:
+                    recording_since[store] = now
+            elif now >= recording_since[store] + delay:
+                seen[store] = committed_frames(store)
+                process.send_signal(signal.SIGKILL)
+                process.wait(timeout=30)
+        time.sleep(0.02)
+    return seen
+
+
+@pytest.mark.slow
 def test_sigkill_at_random_moments_loses_nothing_committed(tmp_path: Path) -> None:
     rng = random.Random(20261121)
     # A random moment after recording has begun: within a trial, between two commits, in
@@ -46,13 +73,7 @@ def test_sigkill_at_random_moments_loses_nothing_committed(tmp_path: Path) -> No
         for k in range(wave, wave + PARALLEL):
             store = tmp_path / f"kill{k}.sqlite"
             runs.append((store, collect(store, "--mode", "collection"), delays[k]))
-        seen = {}
-        for store, process, delay in runs:
-            wait_for_recording(store)
-            time.sleep(delay)
-            seen[store] = committed_frames(store)
-            process.send_signal(signal.SIGKILL)
-            process.wait(timeout=30)
+        seen = _kill_each_after_its_delay(runs)
         for store, _, delay in runs:
             with Store.open(store, writer=True) as writer:  # the next open recovers
                 recovered = writer.recovered

@@ -45,6 +45,7 @@ def _record(store: InProcessStore | StoreProcess, config: SessionConfig) -> None
     assert recorder.failure is None
 
 
+@pytest.mark.slow
 def test_the_writer_process_records_what_the_store_records_in_process(tmp_path: Path) -> None:
     config = SessionConfig(task=TaskConfig(mode="collection", trials=2), seed=4)
     inline, child = tmp_path / "inline.sqlite", tmp_path / "child.sqlite"

@@ -55,6 +55,7 @@ def test_an_address_that_answers_but_not_as_ray_is_one_clear_error(
     assert not store.exists()
 
 
+@pytest.mark.slow
 def test_a_ray_head_passes_the_check() -> None:
 
     start_ray(LOCAL, 1)

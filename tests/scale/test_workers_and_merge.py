@@ -70,6 +70,7 @@ def test_a_worker_takes_a_pickled_job_and_hands_back_each_trials_result(
     assert (session.seed, session.operator_id) == (5, "expert")
 
 
+@pytest.mark.slow
 def test_two_workers_merge_into_a_store_that_verifies(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -201,6 +202,7 @@ def test_merge_cli_and_workers_bad_input(
     assert "--workers = 0" in capsys.readouterr().err
 
 
+@pytest.mark.slow
 def test_ray_local_run_merges_into_a_store_that_verifies(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:

@@ -42,14 +42,15 @@ def _actor(session: object) -> SessionActor:
 
 
 def _gone(session: SessionActor) -> bool:
-    """The actor's worker has exited (Ray lets it go once the session is over)."""
-    deadline = time.monotonic() + 10
+    """The actor's worker has exited (Ray lets it go once the session is over; a generous
+    budget, only a machine busy with other work needs it)."""
+    deadline = time.monotonic() + 60
     while time.monotonic() < deadline:
         try:
             with open(f"/proc/{session.pid}/cmdline", "rb") as cmdline:
                 if not cmdline.read().startswith(b"ray::SessionActorBody"):
                     return True
-        except FileNotFoundError:
+        except (FileNotFoundError, ProcessLookupError):  # gone before the open, or the read
             return True
         time.sleep(0.1)
     return False

@@ -153,6 +153,7 @@ def test_five_trial_collection_with_the_expert() -> None:
     assert [e.trial_index for e in delivered] == [0, 1, 2, 3, 4]
 
 
+@pytest.mark.slow
 def test_full_default_challenge_campaign_with_the_expert() -> None:
     runner, seen = make_runner(TaskConfig(mode="challenge"), ExpertOperator())
     results = runner.run()
@@ -166,6 +167,7 @@ def test_full_default_challenge_campaign_with_the_expert() -> None:
     assert runner.campaign_complete
 
 
+@pytest.mark.slow
 def test_low_skill_challenge_retries_a_timed_out_level() -> None:
     runner, seen = make_runner(
         TaskConfig(mode="challenge", rounds=1, level_time_limits_s=(40.0, 30.0, 30.0)),

@@ -7,7 +7,7 @@ import { writeFileSync } from "node:fs";
 import path from "node:path";
 import type { Page } from "playwright-core";
 import type { Pose, TrialEnded } from "../../src/protocol";
-import { check, log, sleep, writeJson } from "./lib.js";
+import { check, log, sleep, summary, writeJson } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
 import { observe } from "./operator.js";
 import type { Base, Decision, Observation, ScriptedOperator } from "./operator.js";
@@ -23,7 +23,6 @@ export interface Seen {
 export interface DeliveryOptions {
   /** Screenshot names start with it (`xr`, `desktop`). */
   prefix: string;
-  budgetMs: number;
   tickMs: number;
   /** How often to keep `debug`'s line (written to operator-trace.log, printed as it goes
    * with E2E_DEBUG set, and its tail printed when the delivery fails). */
@@ -52,15 +51,22 @@ export interface Delivery {
 }
 
 const PHASE_SHOTS = ["squeeze", "carry", "place"];
+/** How long the page may show no new simulated time before the delivery gives up. The
+ * trial's own time limit (simulated time) ends the loop otherwise, however slowly a busy
+ * machine runs it: there is no wall-clock budget to miss. */
+const STALL_MS = 60000;
+/** How long the session may take to end once its trial has (a condition, not a speed). */
+const END_TIMEOUT_MS = 60000;
 /** Trace lines printed when a delivery fails. */
 const TRACE_TAIL = 25;
 /** The most latency the operator anticipates (s): beyond it, it waits rather than guesses. */
 const MAX_LEAD_S = 1.5;
 
-/** Run the operator until the trial ends (or the budget runs out), then wait for the
- * session's end; its trial_ended event must have arrived. */
+/** Run the operator until the trial ends (by success or by its own time limit), then wait
+ * for the session's end; its trial_ended event must have arrived. Fails if the simulated
+ * time stops advancing for STALL_MS. */
 export async function deliver(page: Page, artifacts: string, operator: ScriptedOperator, options: DeliveryOptions): Promise<Delivery> {
-  const { prefix, budgetMs, tickMs, debugEveryMs, look, act, debug, adaptLead = false } = options;
+  const { prefix, tickMs, debugEveryMs, look, act, debug, adaptLead = false } = options;
   const minimumLead = operator.lead;
   let latencyS: number | null = null;
   const trace: string[] = [];
@@ -72,12 +78,22 @@ export async function deliver(page: Page, artifacts: string, operator: ScriptedO
   let shots = 0;
   let debugAt: number | undefined;
   let last: DebugSnapshot | null = null;
-  const deadline = performance.now() + budgetMs;
-  while (performance.now() < deadline) {
+  let simulated = -Infinity; // the newest t_sim the page showed...
+  let advancedAt = performance.now(); // ...and when it first showed it
+  let stalled = false;
+  for (;;) {
     const lookStarted = performance.now();
     const { snap, bodies } = await look();
     last = snap;
     if (snap.ended !== null || snap.last_trial_end !== null) break;
+    const t = snap.state?.t_sim;
+    if (t !== undefined && t > simulated) {
+      simulated = t;
+      advancedAt = lookStarted;
+    } else if (lookStarted - advancedAt > STALL_MS) {
+      stalled = true;
+      break;
+    }
     const base = bodies["base"];
     if (base === undefined) {
       await sleep(tickMs);
@@ -118,7 +134,8 @@ export async function deliver(page: Page, artifacts: string, operator: ScriptedO
   check(last !== null, "the page never showed its state");
   let end: EndedSnapshot;
   try {
-    end = await waitForEnd(page, 10000);
+    check(!stalled, `the simulated time stayed at ${simulated} s for ${STALL_MS / 1000} s; last page state: ${JSON.stringify(summary(last))}`);
+    end = await waitForEnd(page, END_TIMEOUT_MS);
   } catch (error) {
     log(`the operator's last ${Math.min(TRACE_TAIL, trace.length)} trace lines (all in operator-trace.log):\n${trace.slice(-TRACE_TAIL).join("\n")}`);
     throw error;

@@ -9,7 +9,7 @@
 import path from "node:path";
 import type { Keyboard } from "playwright-core";
 import type { Pose } from "../../src/protocol";
-import { check, checkDrawn, runScript, sleep, waitFor } from "./lib.js";
+import { PATIENCE_MS, check, checkDrawn, runScript, sleep, waitFor, waitForFrames } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
 import { ScriptedOperator, controllerCorrections } from "./operator.js";
 import type { Decision, Drive, Observation } from "./operator.js";
@@ -19,7 +19,6 @@ import { checkDelivered, deliver, deliveryResult } from "./delivery.js";
 const TICK_MS = 15;
 const TAP_MS = 110; // a key tap near the goal...
 const SETTLE_MS = 250; // ...then let the base stop before looking again
-const TRIAL_BUDGET_MS = 100000; // the trial's own limit is 120 s (sim time, paced in real time)
 const METRES_PER_PIXEL = 0.0015; // src/input/desktop.ts MOUSE_METRES_PER_PIXEL
 const METRES_PER_WHEEL = 0.0004; // src/input/desktop.ts WHEEL_METRES_PER_UNIT
 const PALM_IN_Z = Math.SQRT1_2; // quaternion z of a controller turned palm-in
@@ -81,18 +80,18 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
   // The key map is on screen.
   const keymap = (await page.textContent("#keymap")) ?? "";
   check(keymap.includes("W A S D") && keymap.includes("G / H"), "the key map is not shown");
-  await sleep(500);
+  await waitForFrames(page);
   await checkDrawn(page, path.join(artifacts, "desktop-view.png"));
 
   // C toggles the view; both views are drawn.
   await page.keyboard.press("c");
   await waitFor(page, (s) => s.teleop?.view === "first", { what: "C to switch to first person" });
-  await sleep(400);
+  await waitForFrames(page);
   await checkDrawn(page, path.join(artifacts, "desktop-first-person.png"));
   await page.keyboard.press("c");
   await waitFor(page, (s) => s.teleop?.view === "third", { what: "C to switch back" });
 
-  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
   await checkDrawn(page, path.join(artifacts, "hud-running.png"), page.locator("#hud"));
 
   const keys = new Keys(page.keyboard);
@@ -156,7 +155,6 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
   };
   const run = await deliver(page, artifacts, operator, {
     prefix: "desktop",
-    budgetMs: TRIAL_BUDGET_MS,
     tickMs: TICK_MS,
     debugEveryMs: 500,
     adaptLead: true,
@@ -170,7 +168,7 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
   });
   await keys.set(new Set());
   if (mouse !== null) await page.mouse.up();
-  await page.waitForSelector("#end-screen.campaign-end");
+  await page.waitForSelector("#end-screen.campaign-end", { timeout: PATIENCE_MS });
   await checkDrawn(page, path.join(artifacts, "end-screen.png"), page.locator("#end-screen"));
   await checkDrawn(page, path.join(artifacts, "view-end.png"));
 

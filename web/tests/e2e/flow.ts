@@ -3,7 +3,7 @@
 
 import path from "node:path";
 import type { Page } from "playwright-core";
-import { check, log, pageUrl, screenshotStats, waitFor } from "./lib.js";
+import { PATIENCE_MS, check, log, pageUrl, screenshotStats, waitFor } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
 
 /** Settings the tests type into the setup form (a faster belt shortens the wait). */
@@ -39,7 +39,7 @@ export async function startSession(
   // server is asked.
   const doc = (await page.textContent('.field[data-field="world.conveyor.speed"] .doc')) ?? "";
   check(doc.includes("(between 0.01 and 1 m/s)"), `conveyor speed documentation reads ${doc}`);
-  await page.waitForSelector('.field[data-unit="s"] input[name="task.time_limit_s"][title]', { timeout: 10000 });
+  await page.waitForSelector('.field[data-unit="s"] input[name="task.time_limit_s"][title]', { timeout: PATIENCE_MS });
 
   // A bad value is rejected by the server and shown beside its field (by its path).
   await page.fill('input[name="task.time_limit_s"]', "-5");
@@ -48,7 +48,7 @@ export async function startSession(
     "a negative time limit is not marked while typing",
   );
   await page.click("button.start");
-  await page.waitForSelector('.field.invalid[data-field="task.time_limit_s"] .problem:not(:empty)', { timeout: 10000 });
+  await page.waitForSelector('.field.invalid[data-field="task.time_limit_s"] .problem:not(:empty)', { timeout: PATIENCE_MS });
   const problem = await page.textContent('.field[data-field="task.time_limit_s"] .problem');
   log(`config rejected beside its field: ${problem}`);
   check(problem?.startsWith("task.time_limit_s = -5") === true, `the problem beside task.time_limit_s reads: ${problem}`);
@@ -61,7 +61,6 @@ export async function startSession(
   await page.click("button.start");
   const s = await waitFor(page, (s) => s.session_active && s.page === "#/teleop" && s.state !== null, {
     what: "the session to start and the teleop page to show",
-    timeout: 20000,
   });
   log(`session ${s.session_id} started`);
   return s;

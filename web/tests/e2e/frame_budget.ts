@@ -34,7 +34,7 @@ async function reports(page: Page, windows: number, presenting: boolean): Promis
         const report = s.teleop?.frame_report ?? null;
         return report !== null && report.presenting === presenting;
       },
-      { what: "a frame report", timeout: 20000 },
+      { what: "a frame report" },
     );
     const report = s.teleop?.frame_report ?? null;
     if (report !== null && JSON.stringify(report) !== JSON.stringify(last)) {
@@ -52,7 +52,7 @@ await runScript("frame_budget", async ({ url, page, artifacts }) => {
   const results: { view: string; reports: FrameReport[] }[] = [];
   for (const view of VIEWS) {
     await startSession(page, url, { operatorId: "bench-frames", query: view.query, artifacts });
-    await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
+    await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
     if (view.headset) {
       await page.click("#enter-vr");
       await waitFor(page, (s) => s.teleop?.presenting === true, { what: "the XR session" });

@@ -99,11 +99,16 @@ export interface WaitOptions {
   what?: string;
 }
 
+/** How long a wait for the page's state gives a condition to come true, unless told: long
+ * enough for a machine busy with other work (a wait ends as soon as its condition holds, so
+ * a generous budget costs nothing where things go well). */
+export const PATIENCE_MS = 60000;
+
 /** Poll `predicate(snapshot)` until it holds; returns the snapshot. */
 export async function waitFor(
   page: Page,
   predicate: (s: DebugSnapshot) => boolean,
-  { timeout = 15000, every = 100, what = "condition" }: WaitOptions = {},
+  { timeout = PATIENCE_MS, every = 100, what = "condition" }: WaitOptions = {},
 ): Promise<DebugSnapshot> {
   const deadline = performance.now() + timeout;
   let last: DebugSnapshot | null = null;
@@ -113,6 +118,13 @@ export async function waitFor(
     await sleep(every);
   }
   throw new CheckFailed(`timed out after ${timeout} ms waiting for ${what}; last page state: ${JSON.stringify(summary(last))}`);
+}
+
+/** Until the teleop view has drawn `count` more frames than now (a screenshot then shows
+ * what the page draws now, however slowly it draws). */
+export async function waitForFrames(page: Page, count = 3): Promise<void> {
+  const from = (await snapshot(page))?.teleop?.frames ?? 0;
+  await waitFor(page, (s) => (s.teleop?.frames ?? 0) >= from + count, { what: `${count} more frames drawn` });
 }
 
 export function summary(s: DebugSnapshot | null): object | null {

@@ -7,7 +7,7 @@
 //   npm run build:e2e && node build/e2e/tests/e2e/sessions_replay.js http://127.0.0.1:8000   (in web/)
 
 import path from "node:path";
-import { check, checkDrawn, log, pageUrl, runScript, sleep, snapshot, waitFor } from "./lib.js";
+import { PATIENCE_MS, check, checkDrawn, log, pageUrl, runScript, sleep, snapshot, waitFor } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
 import { startSession, waitForEnd } from "./flow.js";
 
@@ -58,7 +58,7 @@ await runScript("sessions_replay", async ({ url, page, artifacts }) => {
     mode: "challenge",
   });
   const sessionId = started.session_id;
-  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the trial to run", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the trial to run" });
   const hudText = (await page.textContent("#hud")) ?? "";
   check(/Round\s*1\/5/.test(hudText) && /Level\s*1/.test(hudText), `challenge HUD reads: ${hudText}`);
   await checkDrawn(page, path.join(artifacts, "hud-challenge.png"), page.locator("#hud"));
@@ -95,7 +95,7 @@ await runScript("sessions_replay", async ({ url, page, artifacts }) => {
   // The sessions page lists it, with the trial's outcome and a replay link.
   await page.click('#end-screen a[href="#/sessions"]');
   const row = page.locator(`details.session[data-session-id="${sessionId}"] tr.trial`).first();
-  await row.waitFor({ timeout: 10000 });
+  await row.waitFor({ timeout: PATIENCE_MS });
   const rowText = (await row.textContent()) ?? "";
   check(rowText.includes("interrupted") && rowText.includes("operator_stop") && rowText.includes("R1 L1"), `trial row reads: ${rowText}`);
   await checkDrawn(page, path.join(artifacts, "sessions.png"));

@@ -28,13 +28,12 @@ await runScript("study", async ({ url, page, context, artifacts }) => {
   await page.click("button.start");
   const started = await waitFor(page, (s) => s.session !== null && s.page === "#/teleop", {
     what: "the planned session to start",
-    timeout: 20000,
   });
   const settings = started.session?.settings ?? {};
   log(`started ${started.session_id} as ${started.session?.operator_id}, condition ${String(settings["condition"])}`);
   check(started.session?.operator_id === "p01", `the session's operator is ${started.session?.operator_id}`);
   check(settings["condition"] === "assisted" || settings["condition"] === "physical", "the session has no condition");
-  await waitFor(page, (s) => s.ended !== null, { what: "the session to end", timeout: 30000 });
+  await waitFor(page, (s) => s.ended !== null, { what: "the session to end" });
 
   await page.goto(pageUrl(url, { token: participantToken, quality: "low" }));
   await page.waitForSelector(".study-page .study-next");

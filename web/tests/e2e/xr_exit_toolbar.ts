@@ -7,7 +7,7 @@
 //   npm run build:e2e && node build/e2e/tests/e2e/xr_exit_toolbar.js http://127.0.0.1:8000   (in web/)
 
 import path from "node:path";
-import { check, checkDrawn, log, runScript, waitFor } from "./lib.js";
+import { PATIENCE_MS, check, checkDrawn, log, runScript, waitFor } from "./lib.js";
 import { startSession, waitForEnd } from "./flow.js";
 
 /** In the page: what the pointer would hit at the centre of each toolbar control. */
@@ -35,8 +35,8 @@ await runScript("xr_exit_toolbar", async ({ url, page, artifacts }) => {
   log(`topmost over the toolbar after VR: ${JSON.stringify(after)}`);
   check(after.every((b) => b.ok), `after VR the toolbar is covered: ${JSON.stringify(after)}`);
   // The trial the stop ends must have begun: the whole flow can take less than the countdown.
-  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end", timeout: 15000 });
-  await page.click("#stop-session", { timeout: 5000 }); // a real pointer click
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
+  await page.click("#stop-session", { timeout: PATIENCE_MS }); // a real pointer click
   const end = await waitForEnd(page, 15000);
   const result = { session_id: end.ended.session_id, reason: end.ended.reason, toolbar_after_vr: after };
   console.log(`RESULT ${JSON.stringify(result)}`);

@@ -34,7 +34,7 @@ await runScript("xr_hands", async ({ url, page, artifacts }) => {
   });
   await page.click("#enter-vr");
   await waitFor(page, (s) => s.teleop?.presenting === true && s.teleop.xr_frames > 5, { what: "the XR session" });
-  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the trial to run", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the trial to run" });
 
   let s = await waitFor(page, (s) => s.teleop?.last_input?.source === "xr_hands" && s.teleop.last_input.left.pose !== null, {
     what: "hand-tracked input with a wrist pose",

@@ -50,7 +50,7 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
   await startSession(page, url, { operatorId: "e2e-xr-menu", query: { emulate: "quest3" }, artifacts });
   await page.click("#enter-vr");
   await waitFor(page, (s) => s.teleop?.presenting === true && s.teleop.xr_frames > 5, { what: "the XR session" });
-  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the trial to run", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the trial to run" });
 
   const press = async (side: Side, button: string): Promise<void> => {
     await page.evaluate<void, DeviceChange>(device, { side, button, value: 1 });
@@ -89,14 +89,14 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
   s = await waitFor(page, (s) => s.teleop?.view === "third", { what: "the menu to switch to third person" });
 
   await choose("restart_trial");
-  s = await waitFor(page, (s) => s.events.some((e) => e.kind === "trial_started" && e.trial_index === 1), { what: "a new trial after the restart", timeout: 15000 });
+  s = await waitFor(page, (s) => s.events.some((e) => e.kind === "trial_started" && e.trial_index === 1), { what: "a new trial after the restart" });
   const interrupted = s.events.find((e) => e.kind === "trial_interrupted");
   check(interrupted?.kind === "trial_interrupted" && interrupted.reason === "operator_restart", `the restarted trial ended ${JSON.stringify(interrupted)}`);
 
   // Snap turns: a flick of the right stick turns the base about 30°, the view blacked out.
   await choose("toggle_turn");
   await waitFor(page, (s) => s.teleop?.comfort.turn === "snap", { what: "the menu to switch to snap turns" });
-  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the new trial to run", timeout: 15000 });
+  await waitFor(page, (s) => s.hud?.phase === "running", { what: "the new trial to run" });
   const before = await page.evaluate(baseYaw);
   await page.evaluate<void, DeviceChange>(device, { side: "right", stickX: 0.9 });
   await waitFor(page, (s) => s.teleop?.comfort.blackout === true, { what: "the view to black out while the base turns", every: 20 });
