@@ -21,6 +21,9 @@ def test_defaults_describe_every_setting(tmp_path: Path) -> None:
     mode = by_key["task.mode"]
     assert mode.kind == "choice" and mode.choices == ("practice", "collection", "challenge")
     assert mode.default == "practice" and "practice" in mode.doc
+    kind = by_key["task.kind"]  # the tasks are offered as a choice of the built-in ones
+    assert kind.kind == "choice" and kind.choices == ("box_transfer",)
+    assert kind.default == "box_transfer" and "module:Class" in kind.doc
     assert by_key["task.level_boxes"].kind == "int_list"
     assert by_key["task.level_boxes"].default == [1, 2, 3]
     assert by_key["recording.grip_threshold"].kind == "float"

@@ -98,6 +98,21 @@ def test_session_settings_are_checked_per_condition(tmp_path: Path) -> None:
     assert any(p.startswith("conditions[2].settings.world.grasp = 'magnetic'") for p in lines)
 
 
+def test_a_condition_picks_its_task_and_an_unknown_one_is_named(tmp_path: Path) -> None:
+    data = tomllib.loads(TEMPLATE)
+    careful = "tests.tasks.external_task:CarefulTransfer"
+    data["conditions"][0]["settings"] = {"task.kind": "box_transfer"}
+    data["conditions"][1]["settings"] = {"task.kind": careful}
+    study = study_from_mapping(data)
+    kinds = {p.condition: p.config.task.kind for p in participant_plan(study, "p01")}
+    assert kinds == {"assisted": "box_transfer", "physical": careful}
+    data["conditions"][1]["settings"] = {"task.kind": "juggling"}
+    with pytest.raises(ConfigError) as raised:
+        study_from_mapping(data)
+    (line,) = raised.value.problems
+    assert line.startswith("conditions[2].settings.task.kind = 'juggling': no such task")
+
+
 def test_each_participant_runs_every_condition_on_the_same_worlds() -> None:
     study = StudyConfig(participants=4, seed=10)
     assert participant_ids(study) == ["p01", "p02", "p03", "p04"]

@@ -225,6 +225,7 @@ def check_successful_trial(store: Path, session_id: str, operator_id: str) -> li
     (session,) = _rows(store, "SELECT * FROM sessions WHERE session_id = ?", session_id)
     assert session["operator_id"] == operator_id
     assert session["mode"] == "practice"
+    assert json.loads(session["parameters_json"])["task"]["kind"] == "box_transfer"
     (trial,) = _rows(store, "SELECT * FROM trials WHERE session_id = ?", session_id)
     assert trial["outcome"] == "success", dict(trial)
     assert trial["boxes_delivered"] == 1

@@ -5,6 +5,7 @@ default, documentation and form hint, generated from the declarations of the
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Callable
 from typing import Any, Literal, get_args, get_origin
 
 from workcell.protocol.api import Defaults, SectionInfo, SettingInfo, SettingKind
@@ -14,6 +15,13 @@ from workcell.session.config import SessionConfig
 from workcell.settings.hints import SettingHints, setting_hints
 from workcell.settings.validate import described
 from workcell.settings.walk import Declared, walk
+from workcell.tasks.registry import BUILT_IN
+
+REGISTERED_CHOICES: dict[str, Callable[[], tuple[str, ...]]] = {
+    "task.kind": lambda: tuple(BUILT_IN),
+}
+"""Text settings whose usual values a registry lists: the setup page offers them as a
+choice (a task of one's own, ``module:Class``, is set with ``--set`` or a config file)."""
 
 
 def setting_kind(hint: Any) -> tuple[SettingKind, tuple[str, ...] | None]:
@@ -38,6 +46,9 @@ def session_defaults() -> Defaults:
     for item in walk(SessionConfig):
         if isinstance(item, Declared):
             kind, choices = setting_kind(item.hint)
+            listed = REGISTERED_CHOICES.get(item.key)
+            if listed is not None:
+                kind, choices = "choice", listed()
             default = to_json_value(item.default)
             doc = described(item.spec, item.hint)
             fields.append(SettingInfo(item.key, kind, default, doc, choices))

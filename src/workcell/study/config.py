@@ -23,6 +23,7 @@ from workcell.session.load import resolve_session_config
 from workcell.session.toml_io import from_mapping, load_toml
 from workcell.settings import declared_problems, setting
 from workcell.study.order import Order
+from workcell.tasks.registry import task_class
 
 NAME_PATTERN = r"[\w.-]{1,64}"
 NAME_DOC = "1 to 64 letters, digits, '.', '_' or '-'"
@@ -135,7 +136,7 @@ def condition_session(study: StudyConfig, condition: Condition) -> SessionConfig
 
 def _session_problems(settings: Mapping[str, Any]) -> list[str]:
     try:
-        resolve_session_config(flags=settings)
+        task_class(resolve_session_config(flags=settings).task.kind)
     except ConfigError as error:
         return list(error.problems)
     return []

@@ -10,6 +10,7 @@ import { buildControl, nest, placeProblems, readValue, sectionOf, writeValue } f
 import type { FieldControl } from "./settingsForm";
 import { el } from "../util/dom";
 
+const TASK_KEY = "task.kind";
 const MODE_KEY = "task.mode";
 const OPERATOR_KEY = "operator_id";
 const CONDITION_KEY = "condition";
@@ -66,12 +67,14 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
       })
       .catch((error: unknown) => console.warn("setting hints unavailable:", error));
 
-    // The operator's first choices: mode (as large buttons) and who they are.
+    // The operator's first choices: the task, the mode (as large buttons) and who they are.
+    const task = controls.get(TASK_KEY);
     const mode = controls.get(MODE_KEY);
     const operator = controls.get(OPERATOR_KEY);
     const condition = controls.get(CONDITION_KEY);
     const top = el("fieldset", { className: "top-choices" });
-    top.append(el("legend", { textContent: "Mode and operator" }));
+    top.append(el("legend", { textContent: "Task, mode and operator" }));
+    if (task !== undefined) top.append(task.row);
     if (mode !== undefined) {
       const picker = el("div", { className: "mode-picker", role: "radiogroup" });
       for (const choice of mode.info.choices ?? []) {
@@ -108,7 +111,7 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
     const docs = new Map(defaults.sections.map((s) => [s.key, s.doc]));
     const groups = new Map<string, HTMLElement>();
     for (const control of controls.values()) {
-      if (control === mode || control === operator || control === condition) continue;
+      if (control === task || control === mode || control === operator || control === condition) continue;
       const section = sectionOf(control.info, defaults);
       let group = groups.get(section);
       if (group === undefined) {

@@ -17,12 +17,13 @@ export interface StartOptions {
   query?: Record<string, string>;
   artifacts?: string;
   mode?: "practice" | "collection" | "challenge";
+  task?: string;
 }
 
 export async function startSession(
   page: Page,
   url: string,
-  { operatorId, query = {}, artifacts, mode = "practice" }: StartOptions,
+  { operatorId, query = {}, artifacts, mode = "practice", task = "box_transfer" }: StartOptions,
 ): Promise<DebugSnapshot> {
   await page.goto(pageUrl(url, query));
   await waitFor(page, (s) => s.link.status === "open" && s.role === "operator" && s.scene_bodies > 0, {
@@ -33,6 +34,12 @@ export async function startSession(
   const fields = await page.$$eval(".setup-form .field", (rows) => rows.map((r) => (r as HTMLElement).dataset["field"] ?? ""));
   check(fields.length >= 30, `setup page shows only ${fields.length} settings`);
   check(fields.includes("task.mode") && fields.includes("world.robot.max_linear_speed"), "setup page misses settings");
+  // The tasks are offered first, as a choice of every built-in task.
+  const tasks = await page.$$eval('.top-choices select[name="task.kind"] option', (options) =>
+    options.map((o) => (o as HTMLOptionElement).value),
+  );
+  check(tasks.includes(task), `the setup page offers the tasks ${tasks.join(", ")}, not ${task}`);
+  await page.selectOption('select[name="task.kind"]', task);
 
   // Each setting shows what its declaration allows, and once the hints are in
   // (GET /api/settings/hints) a number typed outside those bounds is marked before the
