@@ -13,6 +13,11 @@ import pytest
 from workcell.audit.run import run_audit
 from workcell.audit.store_source import StoreSource
 from workcell.cli.main import main
+from workcell.envs.actions import action_from_command
+from workcell.envs.box_transfer import BoxTransferEnv
+from workcell.envs.config import BoxTransferConfig
+from workcell.errors import ConfigError
+from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
 from workcell.recording.drivers import ExpertDriver
 from workcell.recording.headless import run_headless
@@ -99,3 +104,30 @@ def test_the_live_stage_is_the_stage_the_audit_reads_from_the_frames(
         assert (result.outcome, result.stage) == ("success", "delivered")
     else:
         assert (result.outcome, result.stage) == ("timeout", STAGE_AT_LIMIT[limit_s])
+
+
+def test_the_environment_rewards_each_stage_once_from_the_tasks_judge() -> None:
+    """With staged rewards, every stage the expert reaches earns its share once; the
+    stages come in order and the episode's rewards sum to 1.0 at delivery."""
+    env = BoxTransferEnv(BoxTransferConfig(reward="staged"))
+    _, info = env.reset(seed=5)
+    assert info["stage"] == "none"
+    expert = ExpertOperator(seed=5)
+    stages, total = [info["stage"]], 0.0
+    terminated = truncated = False
+    while not (terminated or truncated):
+        action = action_from_command(expert.act(env.sim.world))
+        _, reward, terminated, truncated, info = env.step(action)
+        total += reward
+        if info["stage"] != stages[-1]:
+            stages.append(info["stage"])
+            assert reward > 0
+        else:
+            assert reward == 0.0
+    env.close()
+    assert terminated and info["is_success"]
+    assert [s for s in BoxTransfer.stages if s in stages] == stages  # in order
+    assert stages[0] == "none" and stages[-1] == "delivered" and "lifted" in stages
+    assert total == pytest.approx(1.0)
+    with pytest.raises(ConfigError, match="reward = 'dense': must be one of deliveries, staged"):
+        BoxTransferConfig(reward="dense")  # type: ignore[arg-type]

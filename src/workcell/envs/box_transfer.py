@@ -8,7 +8,9 @@ deterministic world reset of a recorded trial whose ``trial_seed`` is ``s`` (fol
 the same idle countdown), so replaying that trial's exported actions from
 ``reset(seed=trial_seed)`` retraces it. Observations are those of
 :mod:`workcell.envs.observation` (LeRobot's gym convention). Rewards and ends follow the
-export (:mod:`workcell.export.episode_data`): 1.0 per box delivered in the step;
+export (:mod:`workcell.export.episode_data`): 1.0 per box delivered in the step (or, with
+``BoxTransferConfig(reward="staged")``, each of the task's stages reached earns its share,
+from the same judge whose stage ``info["stage"]`` names and the audit reads back);
 terminated once the task judges the episode a success (``info["is_success"]``: its
 ``required_boxes`` delivered), truncated at the time limit.
 """
@@ -116,11 +118,14 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         clipped = np.clip(np.asarray(action, dtype=np.float64), space.low, space.high)
         self._actions.command = command_from_action(clipped)
         runner = self._runner
-        done = runner.judge.done
+        done, stage = runner.judge.done, self._stage_index()
         for _ in range(self.config.control_steps_per_frame):
             runner.step()
         self._frames += 1
-        reward = float(runner.judge.done - done)
+        if self.config.reward == "staged":
+            reward = (self._stage_index() - stage) / (len(self.task.stages) - 1)
+        else:
+            reward = float(runner.judge.done - done)
         outcome = runner.results[-1].outcome if runner.results else None
         observation = self._observations.observe(self._actions.command)
         return observation, reward, outcome == "success", outcome == "timeout", self._info()
@@ -157,10 +162,14 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         """The episode's step limit, where LeRobot's rollout looks for it."""
         return self.config.max_episode_steps
 
+    def _stage_index(self) -> int:
+        return self.task.stages.index(self._runner.stage)
+
     def _info(self) -> dict[str, Any]:
         return {
             "t_sim": self.t_sim,
             "boxes_delivered": self._runner.judge.done,
+            "stage": self._runner.stage,
             "is_success": self.is_success,
             "world_seed": self._world_seed,
         }

@@ -6,7 +6,7 @@ import dataclasses
 import math
 from collections.abc import Mapping
 from dataclasses import dataclass, field
-from typing import Any
+from typing import Any, Literal, get_args
 
 from workcell.errors import ConfigError
 from workcell.export.options import ROBOT_CAMERAS, ImageSize
@@ -16,13 +16,18 @@ from workcell.settings import divides, steps_per
 from workcell.sim.randomization import RandomizationConfig
 from workcell.tasks import Task, WorldName
 
+RewardKind = Literal["deliveries", "staged"]
+REWARD_KINDS: tuple[str, ...] = get_args(RewardKind)
+
 
 @dataclass(frozen=True)
 class BoxTransferConfig:
     """The world, frame rate and countdown come from ``session``; an episode ends when
     ``required_boxes`` are delivered (terminated) or at the time limit (truncated).
     ``cameras`` adds their images to every observation (``pixels``) at ``camera_size``;
-    ``render_camera`` and ``render_size`` are what :meth:`render` shows."""
+    ``render_camera`` and ``render_size`` are what :meth:`render` shows. ``reward``:
+    ``deliveries`` (1.0 per box delivered) or ``staged`` (each stage of the task reached
+    earns its share, the episode's rewards summing to 1.0 at the last stage)."""
 
     session: SessionConfig = field(default_factory=SessionConfig)
     required_boxes: int = 1
@@ -32,9 +37,12 @@ class BoxTransferConfig:
     camera_size: ImageSize = field(default_factory=lambda: ImageSize(128, 128))
     render_camera: str = "head_cam"
     render_size: ImageSize = field(default_factory=ImageSize)
+    reward: RewardKind = "deliveries"
 
     def __post_init__(self) -> None:
         problems: list[str] = []
+        if self.reward not in REWARD_KINDS:
+            problems.append(f"reward = {self.reward!r}: must be one of {', '.join(REWARD_KINDS)}")
         pool = self.session.world.feeder.pool_size
         if type(self.required_boxes) is not int or not 1 <= self.required_boxes <= pool:
             problems.append(

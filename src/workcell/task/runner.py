@@ -193,6 +193,12 @@ class SessionRunner:
         return last is not None and self.schedule.completes(last.spec, last.outcome)
 
     @property
+    def stage(self) -> str:
+        """The furthest of the task's stages the current (or last) trial reached, as its
+        judge said at the latest frame instant."""
+        return self._stage
+
+    @property
     def judge(self) -> TrialJudge:
         """The task's judge of the current (or last) trial."""
         return self._judge
