@@ -54,7 +54,21 @@ def main() -> None:
     world = World(SessionConfig().world)
     mujoco.mj_forward(world.model, world.data)
     reader = PoseReader(world.model)
-    hud = Hud(HudPhase.RUNNING, "practice", 0, None, None, None, 0, 1, 0.0, 39.79, 40)
+    hud = Hud(
+        HudPhase.RUNNING,
+        "practice",
+        0,
+        None,
+        None,
+        None,
+        0,
+        1,
+        0.0,
+        39.79,
+        40,
+        "box_transfer",
+        "lifted",
+    )
 
     def build() -> State:
         poses = reader.poses(world.data)

@@ -85,7 +85,21 @@ def test_encoding_in_one_pass_writes_the_converted_json(cls: type, data: st.Data
 
 def test_a_state_with_numpy_values_and_a_non_finite_float_is_written_as_converted() -> None:
     pose: Any = (np.float64(0.5), 1.0, np.float32(0.25), 1.0, 0.0, 0.0, 0.0)
-    hud = Hud(HudPhase.RUNNING, "practice", 0, None, None, None, 0, 1, 0.0, 39.79, 40)
+    hud = Hud(
+        HudPhase.RUNNING,
+        "practice",
+        0,
+        None,
+        None,
+        None,
+        0,
+        1,
+        0.0,
+        39.79,
+        40,
+        "box_transfer",
+        "lifted",
+    )
     state = m.State(
         seq=np.int64(3),  # type: ignore[arg-type]  # what a careless builder might pass
         t_sim=1.5,

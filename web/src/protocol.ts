@@ -18,7 +18,11 @@ export type ErrorCode = "malformed" | "too_large" | "invalid_value" | "not_allow
 export type SettingKind = "int" | "float" | "text" | "choice" | "int_list" | "float_list" | "bool";
 export type ParticipantState = "offline" | "waiting" | "running" | "finished";
 
-/** What the operator sees: mode, progress, clock and score. */
+/**
+ * What the operator sees: mode, progress, clock and score; ``task`` is the session's
+ * task and ``stage`` the furthest of its stages the trial has reached (its judge's word
+ * at the latest frame instant: :mod:`workcell.tasks`).
+ */
 export interface Hud {
   readonly phase: HudPhase;
   readonly mode: Mode;
@@ -31,6 +35,8 @@ export interface Hud {
   readonly countdown_s: number;
   readonly remaining_s: number;
   readonly score: number;
+  readonly task: string;
+  readonly stage: string;
 }
 
 /** A trial's countdown began (``seconds`` long). */

@@ -23,7 +23,9 @@ class HudPhase(enum.Enum):
 
 @dataclass(frozen=True)
 class Hud:
-    """What the operator sees: mode, progress, clock and score."""
+    """What the operator sees: mode, progress, clock and score; ``task`` is the session's
+    task and ``stage`` the furthest of its stages the trial has reached (its judge's word
+    at the latest frame instant: :mod:`workcell.tasks`)."""
 
     phase: HudPhase
     mode: Mode
@@ -36,3 +38,5 @@ class Hud:
     countdown_s: float
     remaining_s: float
     score: int
+    task: str
+    stage: str

@@ -231,6 +231,8 @@ class SessionRunner:
             score=trial_score(self.config.task.box_score, boxes, limit, max(t, 0.0))
             if self.phase is HudPhase.RUNNING
             else 0,
+            task=self.task.name,
+            stage=self._stage,
         )
 
     # --- transitions ------------------------------------------------------------------------

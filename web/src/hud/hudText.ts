@@ -25,6 +25,7 @@ export function hudLines(hud: Hud): HudLine[] {
     lines.push({ label: "Trial", value: String(hud.trial_index + 1) });
   }
   lines.push({ label: "Boxes", value: `${hud.boxes_delivered}/${hud.required_boxes}` });
+  if (hud.phase === "running") lines.push({ label: "Stage", value: hud.stage.replaceAll("_", " ") });
   if (hud.phase === "countdown") {
     lines.push({ label: "Starts in", value: String(Math.ceil(hud.countdown_s)), alert: true });
   }

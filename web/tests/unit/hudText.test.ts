@@ -1,8 +1,9 @@
 // The end screens' text (src/hud/hudText.ts): a session ended by an error says what went wrong.
 
 import { describe, expect, it } from "vitest";
-import { sessionEndSummary } from "../../src/hud/hudText";
+import { hudLines, sessionEndSummary } from "../../src/hud/hudText";
 import type { SessionEnded } from "../../src/protocol";
+import { hud } from "./messages";
 
 function ended(overrides: Partial<SessionEnded>): SessionEnded {
   return {
@@ -16,6 +17,14 @@ function ended(overrides: Partial<SessionEnded>): SessionEnded {
     ...overrides,
   };
 }
+
+describe("hudLines", () => {
+  it("shows the stage the task's judge says the running trial reached", () => {
+    const lines = hudLines(hud({ stage: "over_zone" }));
+    expect(lines.find((line) => line.label === "Stage")?.value).toBe("over zone");
+    expect(hudLines(hud({ phase: "countdown" })).some((line) => line.label === "Stage")).toBe(false);
+  });
+});
 
 describe("sessionEndSummary", () => {
   it("names the typed reason a session ended by", () => {

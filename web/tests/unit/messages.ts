@@ -15,6 +15,8 @@ export const hud = (over: Partial<Hud> = {}): Hud => ({
   countdown_s: 0,
   remaining_s: 100,
   score: 0,
+  task: "box_transfer",
+  stage: "none",
   ...over,
 });
 
