@@ -145,11 +145,17 @@ def _marked_text(counts: DispositionCounts) -> str:
 
 
 def _operator_lines(result: AuditResult) -> list[str]:
-    """One line per operator when the store holds more than one (an evaluated policy beside
-    the demonstrations it learned from)."""
-    from workcell.audit.stats import grouped  # noqa: PLC0415
+    """One line per operator, one operator included (with several: an evaluated policy
+    beside the demonstrations it learned from)."""
+    from workcell.audit.stats import GROUP_KEYS, GroupStats  # noqa: PLC0415
 
-    return _group_lines("operator", grouped(result.trials).get("operator", []))
+    operator_of = GROUP_KEYS["operator"]
+    operators = dict.fromkeys(operator_of(t) for t in result.trials)
+    groups = [
+        GroupStats.of(name, [t for t in result.trials if operator_of(t) == name])
+        for name in operators
+    ]
+    return _group_lines("operator", groups)
 
 
 def _group_lines(key: str, groups: Sequence[GroupStats]) -> list[str]:
