@@ -102,6 +102,11 @@ def test_a_checkpoint_is_found_from_the_training_output(tmp_path: Path) -> None:
         assert found.path == (run / "checkpoints" / "000010" / "pretrained_model").resolve()
         assert found.name == "expert 200 demos"
         assert found.operator_id == "policy-act-expert_200_demos-" + found.weights_sha256[:12]
+    for run_name, expected in (("act", "policy-act-"), ("ACT-200 demos", "policy-act-200_demos-")):
+        named = PolicyCheckpoint(run, "act", "cd" * 32, run_name)
+        assert named.operator_id == expected + "cd" * 6  # the type once
+    actor = PolicyCheckpoint(run, "act", "cd" * 32, "actor")
+    assert actor.operator_id == "policy-act-actor-" + "cd" * 6
     long_name = PolicyCheckpoint(run, "diffusion", "ab" * 32, "x" * 100)
     assert len(long_name.operator_id) == 64
     assert SessionConfig(operator_id=long_name.operator_id).operator_id.endswith("abababababab")

@@ -103,6 +103,8 @@ def test_a_policy_drives_recorded_sessions_audited_beside_the_expert(
         str(store),
     )
     assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.split()[0] == "index"  # the table first, no LeRobot chatter
+    assert "Loading weights" not in done.stdout + done.stderr
     assert done.stdout.count(" timeout ") + done.stdout.count(" success ") == 2
     assert verify_store(store) == []
     checkpoint = PolicyCheckpoint.locate(trained)
