@@ -55,7 +55,7 @@ class Settings:
     demos: tuple[int, ...]
     eval_trials: int
     steps: int
-    threads: int | None
+    threads: int
     mixed_trials: int
     low_skill: float
     policy: str
@@ -130,8 +130,7 @@ def train(settings: Settings, dataset: Path, out: Path, episodes: int | None = N
     arguments += ["--steps", str(settings.steps)]
     if episodes is not None:
         arguments += ["--episodes", f"0-{episodes - 1}"]
-    if settings.threads is not None:
-        arguments += ["--threads", str(settings.threads)]
+    arguments += ["--threads", str(settings.threads)]
     print(f"training {out.name} ({settings.steps} steps) ...", flush=True)
     started = time.perf_counter()
     workcell(*arguments, log=log(settings))
@@ -313,7 +312,7 @@ def parse(argv: Sequence[str] | None = None) -> tuple[Settings, str]:
         demos=demos,
         eval_trials=args.eval_trials,
         steps=args.steps,
-        threads=args.threads or None,
+        threads=args.threads,
         mixed_trials=args.mixed_trials,
         low_skill=args.low_skill,
         policy=args.policy,

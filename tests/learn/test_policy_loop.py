@@ -5,10 +5,13 @@ environment's observations become the export's features through LeRobot's own co
 from __future__ import annotations
 
 import json
+import os
 import shutil
+import signal
 import sqlite3
 import subprocess
 import sys
+import time
 from pathlib import Path
 from typing import Any
 
@@ -53,10 +56,19 @@ def trained(lerobot_dir: Path, tmp_path_factory: pytest.TempPathFactory) -> Path
         "train", "--dataset", str(lerobot_dir), "--out", str(out), "--steps", "3", *TINY_ACT
     )
     assert done.returncode == 0, done.stderr[-3000:] + done.stdout[-2000:]
-    assert "lerobot-train --dataset.repo_id=local/dataset" in done.stdout
-    assert "step 3/3" in done.stderr
-    assert f"--seed {evaluation_seed(lerobot_dir)} --store eval.sqlite" in done.stdout
-    assert (out / "train.log").is_file()
+    command = "OMP_NUM_THREADS=1 MKL_NUM_THREADS=1 lerobot-train --dataset.repo_id=local/dataset"
+    assert command in done.stdout  # one torch thread unless told otherwise
+    shown = [line.split("]")[1].split("  ")[0] for line in done.stderr.splitlines() if "]" in line]
+    assert shown == [" step 1/3", " step 2/3", " step 3/3"]  # each step, not stdout a terminal
+    assert (
+        f"workcell collect --operator policy:{out} --world D0 --mode collection --trials 200 "
+        f"--seed {evaluation_seed(lerobot_dir)} --store eval.sqlite"
+    ) in done.stdout  # the world its demonstrations came from
+    assert (out / "train.log").is_file() and sorted(p.name for p in out.parent.iterdir()) == [
+        "tiny-act"
+    ]
+    # a checkpoint after every step of 3 (a tenth of the run), the newest kept
+    assert sorted(p.name for p in (out / "checkpoints").iterdir()) == ["000003", "last"]
     return out
 
 
@@ -103,6 +115,8 @@ def test_a_policy_drives_recorded_sessions_audited_beside_the_expert(
         str(store),
     )
     assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.split()[0] == "index"  # the table first, no LeRobot chatter
+    assert "Loading weights" not in done.stdout + done.stderr
     assert done.stdout.count(" timeout ") + done.stdout.count(" success ") == 2
     assert verify_store(store) == []
     checkpoint = PolicyCheckpoint.locate(trained)
@@ -190,6 +204,58 @@ def test_a_policy_for_another_world_is_refused(trained: Path, tmp_path: Path) ->
     assert done.returncode == 2
     assert "does not fit this session" in done.stderr
     assert "observation.environment_state of shape" in done.stderr
+
+
+@pytest.mark.slow
+def test_a_training_cut_short_leaves_its_log_and_a_checkpoint_that_drives(
+    lerobot_dir: Path, tmp_path: Path
+) -> None:
+    """Killed while it trains, ``workcell train`` has already written OUT/train.log (no
+    file beside OUT) and a checkpoint of a tenth of the run, which a session drives with."""
+    require_learn_extra()
+    out = tmp_path / "cut"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "workcell", "train", "--dataset", str(lerobot_dir),
+         "--out", str(out), "--steps", "200", "--batch-size", "4", *TINY_ACT],
+        stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
+    )  # fmt: skip
+    last = out / "checkpoints" / "last"
+    try:
+        while process.poll() is None and not last.exists():
+            time.sleep(0.2)
+        assert process.poll() is None, "the training ended before its first checkpoint"
+        assert (out / "train.log").is_file()
+        assert [p.name for p in tmp_path.iterdir()] == ["cut"]  # nothing hidden beside OUT
+    finally:
+        os.killpg(process.pid, signal.SIGKILL)
+        process.wait()
+    kept = int(last.resolve().name)
+    assert kept < 200 and kept % 20 == 0  # before the last step: every tenth of 200 steps
+    store = tmp_path / "s.sqlite"
+    drove = _workcell(
+        "collect", "--operator", f"policy:{out}", "--trials", "1", "--mode", "collection",
+        "--set", "task.time_limit_s=0.5", "--store", str(store),
+    )  # fmt: skip
+    assert drove.returncode == 0, drove.stderr[-3000:]
+    assert verify_store(store) == []
+
+
+@pytest.mark.slow
+def test_a_training_that_never_starts_leaves_its_log_in_out_for_the_next_to_replace(
+    lerobot_dir: Path, tmp_path: Path
+) -> None:
+    require_learn_extra()
+    out = tmp_path / "bad"
+    argv = ["train", "--dataset", str(lerobot_dir), "--out", str(out), "--steps", "2"]
+    failed = _workcell(*argv, "--lerobot=--no_such_option=1")
+    assert failed.returncode == 2
+    (error,) = [line for line in failed.stderr.splitlines() if line.startswith("workcell: error")]
+    assert error.endswith(f"the whole log is in {out / 'train.log'}")
+    assert [p.name for p in out.iterdir()] == ["train.log"]
+    assert "no_such_option" in (out / "train.log").read_text()
+    done = _workcell(*argv, *TINY_ACT)  # the same --out: the failed start's log is replaced
+    assert done.returncode == 0, done.stderr[-3000:]
+    assert "no_such_option" not in (out / "train.log").read_text()
 
 
 @pytest.mark.slow

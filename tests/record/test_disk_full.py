@@ -128,8 +128,10 @@ def test_collect_on_a_disk_that_fills_up(tmp_path: Path) -> None:
         assert verify_store(store) == []
 
         ballast.unlink()  # room again: the store opens for writing
+        with Store.open(store, writer=True):
+            assert reserve_path(store).stat().st_size == RESERVE_BYTES
+        assert not reserve_path(store).exists()  # a clean close removes it
         assert main(["verify", "--recover", "--store", str(store)]) == 0
-        assert reserve_path(store).stat().st_size == RESERVE_BYTES
 
 
 @pytest.mark.parametrize("n_frames", [20, 2400])

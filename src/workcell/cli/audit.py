@@ -27,11 +27,14 @@ def register(subparsers: Subparsers) -> None:
         help="recompute metrics, classify trials and write report.html + summary.json",
         description=(
             "Recompute every trial's metrics from its frames and check them against the "
-            "stored values, flag sustained arm oscillation, sampling gaps and non-finite "
-            "data, decide which trials are valid (incomplete and low-quality successes "
-            "are excluded, timeouts kept; reviewer annotations override) and write "
-            "report.html, summary.json and trials.csv into a new or empty folder. Reads a "
-            "store or a CSV export; needs no simulator."
+            "stored values, flag sustained arm oscillation, sampling gaps, clocks, "
+            "non-finite data and slow successes (beyond 1.5x the median completion time of "
+            "the set's valid successes of their task), decide which trials are valid "
+            "(incomplete and low-quality successes are excluded, timeouts kept; reviewer "
+            "annotations override), read how far each trial got (its task stage: none, "
+            "touched, grasped, lifted, over_zone, delivered), print a summary with one line "
+            "per operator and write report.html, summary.json and trials.csv into a new or "
+            "empty folder. Reads a store or a CSV export; needs no simulator."
         ),
     )
     what = parser.add_mutually_exclusive_group(required=True)
@@ -145,11 +148,17 @@ def _marked_text(counts: DispositionCounts) -> str:
 
 
 def _operator_lines(result: AuditResult) -> list[str]:
-    """One line per operator when the store holds more than one (an evaluated policy beside
-    the demonstrations it learned from)."""
-    from workcell.audit.stats import grouped  # noqa: PLC0415
+    """One line per operator, one operator included (with several: an evaluated policy
+    beside the demonstrations it learned from)."""
+    from workcell.audit.stats import GROUP_KEYS, GroupStats  # noqa: PLC0415
 
-    return _group_lines("operator", grouped(result.trials).get("operator", []))
+    operator_of = GROUP_KEYS["operator"]
+    operators = dict.fromkeys(operator_of(t) for t in result.trials)
+    groups = [
+        GroupStats.of(name, [t for t in result.trials if operator_of(t) == name])
+        for name in operators
+    ]
+    return _group_lines("operator", groups)
 
 
 def _group_lines(key: str, groups: Sequence[GroupStats]) -> list[str]:

@@ -107,8 +107,8 @@ def register(subparsers: Subparsers) -> None:
         "--camera-quality",
         default="fast",
         metavar="fast|fine",
-        help="fast (default: no multisampling, coarser curves, about twice as fast on a "
-        "software renderer) or fine (as the model asks)",
+        help="fast (default: no multisampling, coarser curves and floor grid, about six "
+        "times as fast per frame on a software renderer) or fine (as the model asks)",
     )
     parser.add_argument(
         "--workers",

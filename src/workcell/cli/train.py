@@ -3,13 +3,15 @@
 from __future__ import annotations
 
 import argparse
+import contextlib
 import json
 import shlex
 import sys
 from pathlib import Path
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Any
 
 from workcell.errors import ConfigError
+from workcell.learn.train_options import DEFAULT_THREADS
 
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
@@ -25,10 +27,11 @@ def register(subparsers: Subparsers) -> None:
         description=(
             "Run LeRobot's own training (lerobot-train) on a dataset written by 'workcell "
             "export --format lerobot', offline, with defaults that train a state-only policy "
-            "on a CPU in well under an hour. Writes LeRobot's standard checkpoint under "
-            "OUT/checkpoints/last/pretrained_model and LeRobot's log in OUT/train.log; drive "
-            "with it by 'workcell collect --operator policy:OUT'. Needs the learn extra "
-            "(pip install 'workcell[learn]')."
+            "on a CPU in well under an hour. Writes LeRobot's log to OUT/train.log as it "
+            "trains and LeRobot's standard checkpoint under "
+            "OUT/checkpoints/last/pretrained_model, every tenth of the steps (so a run cut "
+            "short leaves one); drive with it by 'workcell collect --operator policy:OUT'. "
+            "Needs the learn extra (pip install 'workcell[learn]')."
         ),
     )
     parser.add_argument(
@@ -54,11 +57,18 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--threads",
         type=int,
-        help="torch threads (default: one per core); 1 is fastest on a machine busy with "
-        "other work",
+        default=DEFAULT_THREADS,
+        help=f"torch threads (default: {DEFAULT_THREADS}, beside one data-loading worker, as "
+        "the published timings ran; a thread per core crawls on a machine busy with other "
+        "work: 3-13 s a step against 1.2-2.3 s with one on a shared 2-core machine; more "
+        "pay only on idle cores; 0: torch's own default, a thread per core)",
     )
     parser.add_argument(
-        "--save-every", type=int, metavar="N", help="also keep a checkpoint every N steps"
+        "--save-every",
+        type=int,
+        metavar="N",
+        help="keep a checkpoint every N steps (default: one every tenth of the steps, only "
+        "the newest kept)",
     )
     parser.add_argument(
         "--lerobot",
@@ -90,7 +100,11 @@ def parse_episodes(text: str) -> tuple[int, ...]:
 
 
 def run(args: argparse.Namespace) -> int:
-    from workcell.learn.train import run_training, train_command  # noqa: PLC0415
+    from workcell.learn.train import (  # noqa: PLC0415
+        run_training,
+        thread_environment,
+        train_command,
+    )
     from workcell.learn.train_options import TrainOptions  # noqa: PLC0415
 
     options = TrainOptions(
@@ -107,48 +121,107 @@ def run(args: argparse.Namespace) -> int:
         extra=tuple(args.lerobot),
     )
     command, device = train_command(options)
+    variables = [f"{key}={value}" for key, value in thread_environment(options).items()]
     print(f"training {options.policy} on {device} for {options.steps} steps; LeRobot's command:")
-    print("  " + shlex.join(["lerobot-train", *command[3:]]), flush=True)
+    print("  " + shlex.join([*variables, "lerobot-train", *command[3:]]), flush=True)
+    print(f"LeRobot's log: {options.out / 'train.log'}", flush=True)
     bar = _ProgressBar()
     result = run_training(options, bar.show)
     bar.finish()
     loss = f", final loss {result.last.loss:.4g}" if result.last is not None else ""
-    seed = evaluation_seed(args.dataset)
     print(
         f"trained in {result.seconds / 60:.1f} min{loss}\n"
         f"checkpoint: {result.checkpoint.path}\n"
-        f"operator id: {result.checkpoint.operator_id}\n"
-        f"evaluate it on worlds none of its demonstrations saw: workcell collect --operator "
-        f"policy:{options.out} --mode collection --trials 200 --seed {seed}"
-        " --store eval.sqlite, then workcell audit --store eval.sqlite --out report"
+        f"operator id: {result.checkpoint.operator_id}"
     )
+    for line in evaluation_hint(args.dataset, options.out):
+        print(line)
     return 0
 
 
 def evaluation_seed(dataset: Path) -> int:
     """The first seed from 1000 on that none of the dataset's sessions used (the export's
     provenance names them), so that an evaluation meets new worlds."""
-    from workcell.export.lerobot_layout import PROVENANCE_JSON_PATH  # noqa: PLC0415
-
-    try:
-        provenance = json.loads((dataset / PROVENANCE_JSON_PATH).read_text())
-        used = {int(session["seed"]) for session in provenance["sessions"].values()}
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
-        used = set()
+    used = set()
+    for session in _sessions(dataset):
+        with contextlib.suppress(KeyError, TypeError, ValueError):
+            used.add(int(session["seed"]))
     seed = 1000
     while seed in used:
         seed += 1
     return seed
 
 
+def world_flags(dataset: Path) -> list[list[str]]:
+    """The flags of ``collect`` that put a session in the world each of the dataset's
+    sessions ran in (``--world D1``, or ``--set world.randomization.KEY=VALUE`` for ranges
+    of no named world; ``--task`` for a task other than the default), one list per
+    distinct world in order of first appearance; none when the provenance says nothing."""
+    found: dict[tuple[str, ...], None] = {}
+    for session in _sessions(dataset):
+        try:
+            found[tuple(_world_flags_of(session["parameters"]))] = None
+        except (KeyError, TypeError, AttributeError, ValueError, ConfigError):
+            continue
+    return [list(flags) for flags in found]
+
+
+def evaluation_hint(dataset: Path, out: Path) -> list[str]:
+    """How to evaluate the trained policy in new worlds drawn as its demonstrations' were."""
+    seed = evaluation_seed(dataset)
+    worlds = world_flags(dataset) or [[]]
+    named = [" ".join(flags) or "the default world" for flags in worlds]
+    lines = [
+        f"evaluate it in new worlds of its demonstrations' kind ({'; '.join(named)}; seeds "
+        "none of them used):"
+    ]
+    for flags in worlds:
+        command = ["workcell", "collect", "--operator", f"policy:{out}", *flags]
+        command += ["--mode", "collection", "--trials", "200", "--seed", str(seed)]
+        lines.append("  " + shlex.join([*command, "--store", "eval.sqlite"]))
+    lines.append("  workcell audit --store eval.sqlite --out report")
+    return lines
+
+
+def _sessions(dataset: Path) -> list[dict[str, Any]]:
+    """The sessions the export's provenance lists (none when it cannot be read)."""
+    from workcell.export.lerobot_layout import PROVENANCE_JSON_PATH  # noqa: PLC0415
+
+    try:
+        sessions = json.loads((dataset / PROVENANCE_JSON_PATH).read_text())["sessions"]
+        return [s for s in sessions.values() if isinstance(s, dict)]
+    except (OSError, ValueError, KeyError, TypeError, AttributeError):
+        return []
+
+
+def _world_flags_of(parameters: dict[str, Any]) -> list[str]:
+    from workcell.sim.randomization import RandomizationConfig  # noqa: PLC0415
+    from workcell.tasks import WORLDS, world_of  # noqa: PLC0415
+    from workcell.tasks.registry import DEFAULT_TASK, task_class  # noqa: PLC0415
+
+    kind = str(parameters.get("task", {}).get("kind", DEFAULT_TASK))
+    ranges = {k: float(v) for k, v in parameters["world"]["randomization"].items()}
+    flags = [] if kind == DEFAULT_TASK else ["--task", kind]
+    name = world_of(task_class(kind).worlds, RandomizationConfig(**ranges))
+    if name in WORLDS:
+        return [*flags, "--world", name]
+    for key, value in ranges.items():
+        if value:
+            flags += ["--set", f"world.randomization.{key}={value:g}"]
+    return flags
+
+
 class _ProgressBar:
-    """One line, rewritten in place on a terminal; a line every 10 % otherwise."""
+    """One line, rewritten in place on a terminal. Otherwise a line for the first report,
+    then at each tenth of the run and whenever a minute has passed since the last line."""
 
     WIDTH = 30
+    EVERY_S = 60.0
 
     def __init__(self) -> None:
         self.live = sys.stderr.isatty()
         self._shown_tenth = -1
+        self._shown_s: float | None = None
 
     def show(self, progress: TrainProgress) -> None:
         share = min(1.0, progress.step / max(1, progress.steps))
@@ -161,8 +234,12 @@ class _ProgressBar:
         )
         if self.live:
             print(f"\r{text}  ", end="", file=sys.stderr, flush=True)
-        elif int(share * 10) > self._shown_tenth:
-            self._shown_tenth = int(share * 10)
+            return
+        tenth = int(share * 10)
+        due = self._shown_s is None or progress.elapsed_s - self._shown_s >= self.EVERY_S
+        if tenth > self._shown_tenth or due:
+            self._shown_tenth = tenth
+            self._shown_s = progress.elapsed_s
             print(text, file=sys.stderr, flush=True)
 
     def finish(self) -> None:

@@ -59,11 +59,14 @@ class PolicyCheckpoint:
     @property
     def operator_id(self) -> str:
         """``policy-<type>-<run>-<first 12 hex digits of the weights' SHA-256>``: the operator id
-        its sessions are recorded under (letters, digits, '.', '_', '-'; at most 64)."""
+        its sessions are recorded under (letters, digits, '.', '_', '-'; at most 64). A run
+        named after its type (``--out act``, ``act-200``) does not repeat it:
+        ``policy-act-<digest>``, ``policy-act-200-<digest>``."""
         digest = self.weights_sha256[:12]
-        head = f"policy-{_clean(self.policy_type)}"
+        kind = _clean(self.policy_type)
+        head = f"policy-{kind}"
         room = MAX_OPERATOR_ID - len(head) - len(digest) - 2
-        run = _clean(self.name)[:room]
+        run = _without_prefix(_clean(self.name), kind)[:room]
         return f"{head}-{run}-{digest}" if run else f"{head}-{digest}"
 
 
@@ -73,6 +76,16 @@ def _run_name(pretrained: Path) -> str:
     if len(parts) >= 4 and parts[-1] == PRETRAINED_DIR and parts[-3] == "checkpoints":
         return parts[-4]
     return pretrained.name
+
+
+def _without_prefix(run: str, kind: str) -> str:
+    """``run`` less a leading ``kind`` that stands alone (``act``, ``act-200``, ``ACT_1``;
+    not ``actor``)."""
+    if run.lower() == kind.lower():
+        return ""
+    if run[: len(kind)].lower() == kind.lower() and run[len(kind) : len(kind) + 1] in "-_.":
+        return run[len(kind) :].lstrip("-_.")
+    return run
 
 
 def _clean(text: str) -> str:

@@ -12,6 +12,8 @@ operator drives. So a session run by a policy is recorded and audited like any o
 
 from __future__ import annotations
 
+import contextlib
+import io
 from typing import Any
 
 import numpy as np
@@ -118,14 +120,17 @@ def _load(checkpoint: PolicyCheckpoint, device: str) -> tuple[Any, Any, Any]:
 
     path = str(checkpoint.path)
     try:
-        config = PreTrainedConfig.from_pretrained(path)
-        config.device = device
-        policy = get_policy_class(config.type).from_pretrained(path, config=config)
-        preprocessor, postprocessor = make_pre_post_processors(
-            config,
-            pretrained_path=path,
-            preprocessor_overrides={"device_processor": {"device": device}},
-        )
+        # LeRobot prints "Loading weights from local directory" on standard output, where
+        # collect prints its table
+        with contextlib.redirect_stdout(io.StringIO()):
+            config = PreTrainedConfig.from_pretrained(path)
+            config.device = device
+            policy = get_policy_class(config.type).from_pretrained(path, config=config)
+            preprocessor, postprocessor = make_pre_post_processors(
+                config,
+                pretrained_path=path,
+                preprocessor_overrides={"device_processor": {"device": device}},
+            )
     except (OSError, ValueError, KeyError, NotImplementedError) as error:
         raise LearnError(f"policy {path!r} cannot be loaded by LeRobot: {error}") from None
     policy.to(device)

@@ -2,10 +2,13 @@
 
 The training runs in a child process, ``python -m lerobot.scripts.lerobot_train`` with the
 arguments of :mod:`workcell.learn.train_options`, offline (nothing is downloaded or
-uploaded). Its whole output goes to ``OUT/train.log``; what it reports is turned into one
-progress line (step, loss, speed, time left). The result is LeRobot's standard checkpoint,
+uploaded), on :data:`~workcell.learn.train_options.DEFAULT_THREADS` torch thread unless
+told otherwise. Its whole output goes to ``OUT/train.log`` as it comes
+(:mod:`workcell.learn.training_output`); what it reports is turned into one progress line
+(step, loss, speed, time left). The result is LeRobot's standard checkpoint,
 ``OUT/checkpoints/last/pretrained_model``, which ``lerobot`` loads and ``workcell collect
---operator policy:OUT`` drives with.
+--operator policy:OUT`` drives with; by default it is saved every tenth of the run, so a
+run cut short leaves the newest one there.
 """
 
 from __future__ import annotations
@@ -24,8 +27,13 @@ from pathlib import Path
 from workcell.learn.checkpoint import LAST_CHECKPOINT, PolicyCheckpoint
 from workcell.learn.errors import LearnError, MissingLearnExtraError
 from workcell.learn.train_options import TrainOptions, lerobot_arguments
+from workcell.learn.training_output import (
+    LOG_FILE,
+    TrainingLog,
+    only_a_log,
+    remove_older_checkpoints,
+)
 
-LOG_FILE = "train.log"
 TRAIN_MODULE = "lerobot.scripts.lerobot_train"
 OFFLINE_ENVIRONMENT = {
     "HF_HUB_OFFLINE": "1",
@@ -34,9 +42,9 @@ OFFLINE_ENVIRONMENT = {
     "TOKENIZERS_PARALLELISM": "false",
 }
 _LOG_LINE = re.compile(r"step:(?P<step>\S+).*?loss:(?P<loss>[-+0-9.eE]+)")
-_BAR = re.compile(r"\|\s*(?P<step>\d+)/(?P<steps>\d+) \[")
-"""tqdm's progress bar: ``Training:  12%|#  | 1234/10000 [00:10<01:00, 3.1step/s]``."""
-_BIG_NUMBER = {"K": 1e3, "M": 1e6, "B": 1e9, "T": 1e12}
+"""LeRobot's log line, ``step:2K smpl:48K ep:90 epch:1.02 loss:0.512 ...``: its step is
+rounded (``2K`` at step 1500), its loss the mean since the line before."""
+_CHECKPOINT_LINE = "Checkpoint policy after step"
 
 
 @dataclass(frozen=True)
@@ -58,24 +66,26 @@ class TrainProgress:
 class ProgressReader:
     """Turns LeRobot's training log lines into :class:`TrainProgress` reports."""
 
-    def __init__(self, steps: int) -> None:
+    def __init__(self, steps: int, log_every: int) -> None:
         self.steps = steps
-        self._bar_step = 0
+        self.log_every = log_every
+        """LeRobot logs after every ``log_every``-th step (``--log_freq``) of a new run."""
+        self._lines = 0
         self._first: tuple[int, float] | None = None
 
     def read(self, line: str, elapsed_s: float) -> TrainProgress | None:
-        """The report in ``line`` (None for every other line). The step comes from
-        tqdm's bar where it shows (LeRobot's log rounds it: ``1K``), the loss from the log."""
-        bar = _BAR.search(line)
-        if bar is not None:
-            self._bar_step = int(bar["step"])
+        """The report in ``line`` (None for every other line). Its step is the true one:
+        the n-th log line comes after step n x ``log_every`` (the line's own step is
+        rounded); its loss is the line's; its rate is since the first report."""
         match = _LOG_LINE.search(line)
         if match is None:
             return None
         try:
-            step, loss = max(self._bar_step, _number(match["step"])), float(match["loss"])
+            loss = float(match["loss"])
         except ValueError:
             return None
+        self._lines += 1
+        step = min(self.steps, self._lines * self.log_every)
         if self._first is None:
             self._first = (step, elapsed_s)
         first_step, first_s = self._first
@@ -113,9 +123,10 @@ def check_dataset(dataset: Path) -> bool:
 def train_command(options: TrainOptions) -> tuple[list[str], str]:
     """The child process's command line, and the device it trains on."""
     has_videos = check_dataset(options.dataset)
-    if options.out.exists() and (not options.out.is_dir() or any(options.out.iterdir())):
+    out = options.out
+    if out.exists() and (not out.is_dir() or (any(out.iterdir()) and not only_a_log(out))):
         raise LearnError(
-            f"--out {str(options.out)!r} exists and is not empty; LeRobot writes a new "
+            f"--out {str(out)!r} exists and is not empty; LeRobot writes a new "
             "training there: give a new directory"
         )
     device = options.device if options.device != "auto" else _best_device()
@@ -123,23 +134,32 @@ def train_command(options: TrainOptions) -> tuple[list[str], str]:
     return command, device
 
 
+def thread_environment(options: TrainOptions) -> dict[str, str]:
+    """The variables that set the training process's torch threads (none for torch's own
+    default)."""
+    if not options.threads:
+        return {}
+    threads = str(options.threads)
+    return {"OMP_NUM_THREADS": threads, "MKL_NUM_THREADS": threads}
+
+
 def run_training(
     options: TrainOptions, on_progress: Callable[[TrainProgress], None] | None = None
 ) -> TrainResult:
     """Train, reporting each of LeRobot's log lines; the checkpoint it wrote."""
     command, _ = train_command(options)
-    if options.out.exists():
-        options.out.rmdir()  # empty: LeRobot refuses an existing output directory
-    log_path = options.out.parent / f".{options.out.name}.{LOG_FILE}"
+    if options.out.exists():  # empty, or the log of a run that never started
+        (options.out / LOG_FILE).unlink(missing_ok=True)
+        options.out.rmdir()  # LeRobot refuses an existing output directory
+    log = TrainingLog(options.out)
     started = time.monotonic()
     last: TrainProgress | None = None
-    reader = ProgressReader(options.steps)
-    environment = {**os.environ, **OFFLINE_ENVIRONMENT}
-    if options.threads is not None:
-        environment["OMP_NUM_THREADS"] = environment["MKL_NUM_THREADS"] = str(options.threads)
-    with log_path.open("w") as log:
-        log.write(f"$ {shlex.join(command)}\n")
-        log.flush()
+    reader = ProgressReader(options.steps, options.log_every)
+    threads = thread_environment(options)
+    environment = {**os.environ, **OFFLINE_ENVIRONMENT, **threads}
+    variables = [f"{key}={value}" for key, value in threads.items()]
+    log.write(f"$ {shlex.join([*variables, *command])}\n")
+    try:
         process = subprocess.Popen(
             command,
             stdout=subprocess.PIPE,
@@ -151,7 +171,8 @@ def run_training(
         try:
             for line in process.stdout:
                 log.write(line)
-                log.flush()
+                if _CHECKPOINT_LINE in line and options.save_every is None:
+                    remove_older_checkpoints(options.out)
                 progress = reader.read(line, time.monotonic() - started)
                 if progress is not None:
                     last = progress
@@ -162,25 +183,17 @@ def run_training(
             process.wait()
             raise
         code = process.wait()
-    final_log = options.out / LOG_FILE
-    if options.out.is_dir():
-        log_path.replace(final_log)
-    else:
-        final_log = log_path
+    finally:
+        log.close()
     if code != 0:
         raise LearnError(
-            f"LeRobot's training failed (exit {code}): {_last_error(final_log)}; "
-            f"the whole log is in {final_log}"
+            f"LeRobot's training failed (exit {code}): {_last_error(log.path)}; "
+            f"the whole log is in {log.path}"
         )
+    if options.save_every is None:
+        remove_older_checkpoints(options.out)
     checkpoint = PolicyCheckpoint.locate(options.out / LAST_CHECKPOINT)
     return TrainResult(checkpoint, time.monotonic() - started, last, command)
-
-
-def _number(text: str) -> int:
-    """LeRobot's ``format_big_number``: ``1K`` is 1000."""
-    if text and text[-1] in _BIG_NUMBER:
-        return round(float(text[:-1]) * _BIG_NUMBER[text[-1]])
-    return int(float(text))
 
 
 def _last_error(log_path: Path) -> str:

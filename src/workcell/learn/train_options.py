@@ -21,6 +21,16 @@ POLICY_TYPES: tuple[PolicyType, ...] = ("act", "diffusion")
 Device = Literal["auto", "cpu", "cuda"]
 DEVICES: tuple[Device, ...] = ("auto", "cpu", "cuda")
 
+DEFAULT_THREADS = 1
+"""One torch thread, beside one data-loading worker: what bench/learn.py and the published
+timings use. Torch's own default, a thread per core, crawls on a machine busy with other
+work (3-13 s per step on a shared 2-core machine against 1.2-2.3 s with one thread:
+threads that wait for each other on a shared core); more pay only on idle cores."""
+CHECKPOINTS_PER_RUN = 10
+"""Without --save-every: a checkpoint every tenth of the steps."""
+LOG_LINES_EVERY = 10
+"""At most this many steps between LeRobot's log lines (the progress the user sees)."""
+
 POLICY_DEFAULTS: dict[PolicyType, dict[str, str]] = {
     "act": {
         # a small transformer: ~4 steps/s with batch 32 on a quiet 2-core CPU (one data worker)
@@ -61,11 +71,12 @@ class TrainOptions:
     device: Device = "auto"
     seed: int = 1000
     save_every: int | None = None
-    """Steps between checkpoints (None: only the last)."""
-    threads: int | None = None
-    """Torch (OpenMP) threads of the training process; None: torch's default, one per core.
-    On a machine busy with other work, 1 is much faster than more (threads that wait for
-    each other on a shared core)."""
+    """Steps between checkpoints, every one kept. None: a checkpoint every tenth of the
+    steps (:attr:`checkpoint_every`), only the newest kept, so that a run cut short leaves
+    a policy to drive with."""
+    threads: int = DEFAULT_THREADS
+    """Torch (OpenMP) threads of the training process (see :data:`DEFAULT_THREADS`); 0:
+    torch's own default, a thread per core."""
     num_workers: int = 1
     """Data-loading processes (0: in the training process). One worker overlaps LeRobot's
     loading of each batch (a third of a step here: its query of the 20-step action chunks)
@@ -92,8 +103,8 @@ class TrainOptions:
             problems.append(f"--device = {self.device!r}: must be one of {', '.join(DEVICES)}")
         if self.save_every is not None and not 1 <= self.save_every <= self.steps:
             problems.append(f"--save-every = {self.save_every!r}: must be 1 to --steps")
-        if self.threads is not None and not 1 <= self.threads <= 1024:
-            problems.append(f"--threads = {self.threads!r}: must be 1 to 1024")
+        if type(self.threads) is not int or not 0 <= self.threads <= 1024:
+            problems.append(f"--threads = {self.threads!r}: must be 0 (torch's own) to 1024")
         if not 0 <= self.num_workers <= 64:
             problems.append(f"--num-workers = {self.num_workers!r}: must be 0 to 64")
         bad = [e for e in self.extra if not (e.startswith("--") and "=" in e)]
@@ -109,9 +120,18 @@ class TrainOptions:
         return self.out.name or "workcell"
 
     @property
+    def checkpoint_every(self) -> int:
+        """Steps between checkpoints: ``save_every``, else a tenth of the run."""
+        return self.save_every or math.ceil(self.steps / CHECKPOINTS_PER_RUN)
+
+    @property
     def log_every(self) -> int:
-        """Steps between LeRobot's log lines: about 100 lines a run, at least every step."""
-        return max(1, min(200, math.ceil(self.steps / 100)))
+        """Steps between LeRobot's log lines: every :data:`LOG_LINES_EVERY` steps at most
+        (every step of a short run), unless ``--lerobot=--log_freq=N`` says otherwise."""
+        given = [e.partition("=")[2] for e in self.extra if e.startswith("--log_freq=")]
+        if given and given[-1].isdigit() and int(given[-1]) > 0:
+            return int(given[-1])
+        return max(1, min(LOG_LINES_EVERY, math.ceil(self.steps / 100)))
 
 
 def lerobot_arguments(options: TrainOptions, device: str, has_videos: bool) -> list[str]:
@@ -128,7 +148,7 @@ def lerobot_arguments(options: TrainOptions, device: str, has_videos: bool) -> l
         f"--job_name={options.job_name}",
         f"--steps={options.steps}",
         f"--batch_size={options.batch_size}",
-        f"--save_freq={options.save_every or options.steps}",
+        f"--save_freq={options.checkpoint_every}",
         f"--log_freq={options.log_every}",
         f"--num_workers={options.num_workers}",
         f"--seed={options.seed}",

@@ -41,37 +41,65 @@ def lock_path(path: Path) -> Path:
 
 
 class WriterLock:
-    """The exclusive writer lock of one store (released by :meth:`release` or by death)."""
+    """The exclusive writer lock of one store (released by :meth:`release` or by death).
+
+    :meth:`release` removes the lock file while it still holds the lock, so that a clean
+    close leaves only the store. A writer that was waiting on that file's lock then holds a
+    file no longer there: it sees so (the path names another file, or none) and locks the
+    file now at the path, so two writers never hold locks at once."""
 
     def __init__(self, path: Path) -> None:
         if not path.parent.is_dir():
             raise StoreError(f"cannot open store {path}: directory {path.parent} does not exist")
-        try:
-            self._fd: int | None = os.open(lock_path(path), os.O_RDWR | os.O_CREAT, 0o644)
-        except OSError as error:
-            raise StoreError(f"cannot open store {path} for writing: {error.strerror}") from None
+        self._path = lock_path(path)
+        self._fd: int | None = None
         for attempt in range(LOCK_ATTEMPTS):
             try:
-                fcntl.flock(self._fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
-                break
+                fd = os.open(self._path, os.O_RDWR | os.O_CREAT, 0o644)
+            except OSError as error:
+                raise StoreError(
+                    f"cannot open store {path} for writing: {error.strerror}"
+                ) from None
+            try:
+                fcntl.flock(fd, fcntl.LOCK_EX | fcntl.LOCK_NB)
             except BlockingIOError:
+                holder = os.pread(fd, 32, 0).decode(errors="replace").strip()
+                os.close(fd)
                 if attempt == LOCK_ATTEMPTS - 1:
-                    holder = os.pread(self._fd, 32, 0).decode(errors="replace").strip()
-                    self.release()
                     raise StoreError(
                         f"store {path} is already open for writing by another process"
                         f"{f' (pid {holder})' if holder else ''}; close that recorder first "
                         "or record to another store"
                     ) from None
                 time.sleep(LOCK_RETRY_S)
+                continue
+            if _is_at(fd, self._path):
+                self._fd = fd
+                break
+            os.close(fd)  # the writer before removed this file as it closed: lock the new one
+        if self._fd is None:
+            raise StoreError(f"store {path}: its lock file kept changing; try again")
         with contextlib.suppress(OSError):  # the pid is a courtesy; a full disk refuses it
             os.ftruncate(self._fd, 0)
             os.pwrite(self._fd, f"{os.getpid()}\n".encode(), 0)
 
     def release(self) -> None:
         if self._fd is not None:
+            with contextlib.suppress(OSError):
+                if _is_at(self._fd, self._path):
+                    self._path.unlink()  # while locked: see the class docstring
             os.close(self._fd)  # closing the only descriptor releases the flock
             self._fd = None
+
+
+def _is_at(fd: int, path: Path) -> bool:
+    """Whether ``path`` names the file open as ``fd``."""
+    try:
+        named = os.stat(path)
+    except FileNotFoundError:
+        return False
+    opened = os.fstat(fd)
+    return (named.st_dev, named.st_ino) == (opened.st_dev, opened.st_ino)
 
 
 def writer_active(path: Path) -> bool:

@@ -80,6 +80,8 @@ class Store(StoreReading, Closing):
         self._guard = WriteGuard(path, conn, self._resync) if lock is not None else None
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when this writer opened the store."""
+        self._opened = False
+        """Whether :meth:`open` finished (recovery included)."""
 
     @classmethod
     def open(
@@ -129,6 +131,7 @@ class Store(StoreReading, Closing):
         except BaseException:
             store.close()
             raise
+        store._opened = True
         return store
 
     @property
@@ -137,14 +140,18 @@ class Store(StoreReading, Closing):
 
     def close(self) -> None:
         """Commit pending frames and close. Trials still running stay open in the file;
-        the next writer recovers them."""
+        the next writer recovers them, in the headroom file kept for that. A writer that
+        leaves nothing open removes the headroom and lock files: the next writer makes
+        them again (and is refused at once if the disk has no room for the headroom)."""
         with contextlib.suppress(sqlite3.Error, StoreError):
             if self._guard is not None and self._guard.failure is None:
                 self._guard.commit()
         self._conn.close()
         self._guard = None
         if self._lock is not None:
-            self._lock.release()
+            if self._opened and not self._sessions:  # nothing left for the next to close
+                self._reserve.release()
+            self._lock.release()  # and its file
             self._lock = None
 
     # ------------------------------------------------------------------ writing
