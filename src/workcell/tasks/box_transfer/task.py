@@ -21,8 +21,9 @@ BOXES = "Carry {n} boxes from the conveyor to the delivery table."
 D1_SHIFT = 0.1
 """D1 moves the robot's start and the delivery zone up to 0.1 m and turns the start up to
 0.1 rad: the shifted worlds of ``bench/learn.py``."""
-D2_SCALE = 3.0
-"""D2 widens D1's ranges three times and varies the boxes and the feed too."""
+D2_SHIFT = 0.3
+"""D2 widens D1's ranges three times (0.3 m, 0.3 rad) and varies the boxes and the feed
+too."""
 
 
 class BoxTransfer(Task):
@@ -35,9 +36,9 @@ class BoxTransfer(Task):
         "D0": {},
         "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
         "D2": {
-            "start_shift": D2_SCALE * D1_SHIFT,
-            "target_shift": D2_SCALE * D1_SHIFT,
-            "start_yaw": D2_SCALE * D1_SHIFT,
+            "start_shift": D2_SHIFT,
+            "target_shift": D2_SHIFT,
+            "start_yaw": D2_SHIFT,
             "box_size": 0.15,
             "box_mass": 0.3,
             "box_colour": 0.2,
