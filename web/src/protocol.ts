@@ -483,11 +483,17 @@ export interface TrialSummary {
   readonly started_wall: number;
 }
 
-/** One recorded session and its trials (``status``: ``open`` or ``closed``). */
+/**
+ * One recorded session and its trials (``status``: ``open`` or ``closed``), with its
+ * study tags (:mod:`workcell.record.study_tags`): ``operator_id`` (the participant),
+ * ``condition`` and ``study_step`` (None: none).
+ */
 export interface SessionSummary {
   readonly session_id: string;
   readonly mode: string;
   readonly operator_id: string;
+  readonly condition: string | null;
+  readonly study_step: number | null;
   readonly created_wall: number;
   readonly ended_wall: number | null;
   readonly status: string;

@@ -72,11 +72,15 @@ class TrialSummary:
 
 @dataclass(frozen=True)
 class SessionSummary:
-    """One recorded session and its trials (``status``: ``open`` or ``closed``)."""
+    """One recorded session and its trials (``status``: ``open`` or ``closed``), with its
+    study tags (:mod:`workcell.record.study_tags`): ``operator_id`` (the participant),
+    ``condition`` and ``study_step`` (None: none)."""
 
     session_id: str
     mode: str
     operator_id: str
+    condition: str | None
+    study_step: int | None
     created_wall: float
     ended_wall: float | None
     status: str

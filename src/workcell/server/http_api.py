@@ -16,6 +16,7 @@ from workcell.protocol.codec import encode
 from workcell.record.connection import damage_as_store_error
 from workcell.record.errors import StoreError
 from workcell.record.store import Store
+from workcell.record.study_tags import StudyTags
 from workcell.server.defaults import session_defaults, session_hints
 from workcell.server.diagnostics import diagnostics
 from workcell.server.replay import TrialNotFoundError, trial_replay
@@ -56,7 +57,7 @@ def session_list(path: Path) -> SessionList:
                 SessionSummary(
                     session_id=s.session_id,
                     mode=s.mode,
-                    operator_id=s.operator_id,
+                    **StudyTags.of(s.operator_id, s.parameters).as_dict(),
                     created_wall=s.created_wall,
                     ended_wall=s.ended_wall,
                     status=s.status,
