@@ -479,7 +479,13 @@ export interface TrialSummary {
   readonly score: number | null;
   readonly n_frames: number | null;
   readonly quality_flags: readonly string[];
+  /**
+   * Whether the trial is included, as :mod:`workcell.record.inclusion` decides (an
+   * interrupted trial never is; a reviewer's latest decision wins); None while it runs.
+   */
   readonly included: boolean | null;
+  /** Why it is not included (``incomplete: interrupted (operator_stop)``, ...). */
+  readonly exclusion_reason: string | null;
   readonly started_wall: number;
 }
 

@@ -116,6 +116,7 @@ def export_hdf5(
         time.perf_counter() - started,
         recorded_videos=cameras.recorded,
         rendered_videos=cameras.rendered,
+        selection=source.selection,
     )
 
 

@@ -67,6 +67,10 @@ class TrialSummary:
     n_frames: int | None
     quality_flags: tuple[str, ...]
     included: bool | None
+    """Whether the trial is included, as :mod:`workcell.record.inclusion` decides (an
+    interrupted trial never is; a reviewer's latest decision wins); None while it runs."""
+    exclusion_reason: str | None
+    """Why it is not included (``incomplete: interrupted (operator_stop)``, ...)."""
     started_wall: float
 
 

@@ -22,7 +22,7 @@ function trialRow(trial: TrialSummary): HTMLTableRowElement {
   const outcome = trial.outcome ?? "running";
   const reason = trial.interruption_reason !== null ? ` (${trial.interruption_reason})` : "";
   const flags = trial.quality_flags.length > 0 ? trial.quality_flags.join(", ") : "—";
-  const included = trial.included === null ? "—" : trial.included ? "yes" : "no";
+  const included = trial.included === null ? "—" : trial.included ? "yes" : `no: ${trial.exclusion_reason ?? "not included"}`;
   const cells = [
     String(trial.trial_index + 1),
     trial.mode,
