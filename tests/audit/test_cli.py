@@ -44,6 +44,17 @@ def store(tmp_path: Path) -> tuple[Path, list[str]]:
     return path, synthetic.fill(path, ["success", "timeout", "success", "interrupted"])
 
 
+def test_one_trial_is_counted_in_the_singular(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    path = tmp_path / "one.sqlite"
+    synthetic.fill(path, ["success"])
+    assert _run(["audit", "--store", str(path), "--out", str(tmp_path / "report")]) == 0
+    first = capsys.readouterr().out.splitlines()[0]
+    assert first.startswith("audited 1 trial (40 frames): 1 valid (1 success, 0 timeouts)")
+    assert first.endswith("; 0 findings")
+
+
 def test_audit_writes_the_report_and_refuses_a_non_empty_folder(
     store: tuple[Path, list[str]], tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
@@ -52,7 +63,7 @@ def test_audit_writes_the_report_and_refuses_a_non_empty_folder(
     assert _run(["audit", "--store", str(path), "--out", str(out)]) == 0
     lines = capsys.readouterr().out.splitlines()
     assert lines[0].startswith("audited 4 trials (")
-    assert "3 valid (2 successes, 1 timeouts)" in lines[0]
+    assert "3 valid (2 successes, 1 timeout)" in lines[0]
     assert lines[1] == "  task stages (how far each trial got): 2 delivered, 2 none"
     assert lines[2].startswith("  operator ")  # one line per operator, one operator too
     assert ": 4 trials, 3 valid (2 successes, 1 timeouts), success rate 66.67 %" in lines[2]

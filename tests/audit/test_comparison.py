@@ -129,6 +129,9 @@ def test_audit_by_condition_compares_the_conditions(
     fisher = _fisher_by_hand(2, 0, 0, 2)
     assert f"brisk vs slow: success +100.0 points (Fisher p = {fisher:.3g})" in printed
     assert "not independent" in printed
+    # the slow condition has no valid success: said in words, not as a median of nan
+    assert "nan" not in printed
+    assert "; completion time: no valid success in slow (median " in printed
 
     comparison = json.loads((out / "summary.json").read_text())["comparison"]
     assert comparison["by"] == "condition"

@@ -81,7 +81,7 @@ def test_the_audited_export_leaves_the_slow_demonstration_out(hesitant: Path) ->
     decisions = audited_inclusions(hesitant)
     left_out = {i: d.reason for i, d in decisions.items() if not d.included}
     paused = next(t for t in _audit(hesitant).trials if t.flags)
-    assert left_out == {paused.trial_id: "audit: quality flags slow"}
+    assert left_out == {paused.trial_id: "marked by a quality flag: slow"}
 
 
 def test_slow_can_disqualify_and_needs_a_reference(hesitant: Path) -> None:

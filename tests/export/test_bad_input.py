@@ -73,7 +73,10 @@ def test_nothing_included_points_at_all(tmp_path: Path, capsys: pytest.CaptureFi
     record_interrupted(store, seed=4)
     argv = ["--format", "lerobot", "--store", str(store), "--out", str(tmp_path / "o")]
     line = _fails(argv, capsys)
-    assert "none of its 1 closed trials can be exported (1 not included" in line
+    assert (
+        "none of its 1 closed trials can be exported "
+        "(left out: 1 incomplete: interrupted (application_quit))" in line
+    )
     assert line.endswith("pass --all to export trials that are not included")
     argv[-1] = str(tmp_path / "all")
     assert main(["export", *argv, "--all"]) == 0

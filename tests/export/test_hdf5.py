@@ -12,8 +12,9 @@ import numpy as np
 from tests.export.conftest import SIZE
 from tests.export.stores import Stores
 from workcell.envs import ENV_ID
+from workcell.export.env_args import ENV_NAME
 from workcell.export.features import ACTION_NAMES, STATE_NAMES, column_matrix
-from workcell.export.hdf5_export import ENV_NAME, HDF5_NAME, PROVENANCE_NAME, export_hdf5
+from workcell.export.hdf5_export import HDF5_NAME, PROVENANCE_NAME, export_hdf5
 from workcell.export.options import ExportOptions
 from workcell.record.store import Store
 

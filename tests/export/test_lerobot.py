@@ -171,7 +171,11 @@ def test_provenance_sidecar_keeps_the_four_layers(
     reviewed = [row for row in everything if row["review_kind"] == "exclude"]
     assert len(reviewed) == 1
     assert reviewed[0]["included"] is False and reviewed[0]["recorded_included"] is True
-    assert reviewed[0]["exclusion_reason"] == "operator bumped the conveyor"
+    assert (
+        reviewed[0]["exclusion_reason"]
+        == "excluded by reviewer tests: operator bumped the conveyor"
+    )
+    assert interrupted["exclusion_reason"] == "incomplete: interrupted (application_quit)"
     document = json.loads((lerobot_all_dir / "meta/workcell_provenance.json").read_text())
     assert document["selection"]["include_all"] is True
     assert len(document["sessions"]) == 3

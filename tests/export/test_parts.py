@@ -73,13 +73,13 @@ def test_inclusion_follows_the_latest_reviewer_decision() -> None:
     decision = decide(_trial("success", False), ordered)
     assert decision.included and decision.review == reviews[2]
     last = decide(_trial("success", True), [*ordered, _review("exclude", 4.0)])
-    assert (last.included, last.reason) == (False, "exclude at 4.0")
+    assert (last.included, last.reason) == (False, "excluded by reviewer ann: exclude at 4.0")
 
 
 def test_an_interrupted_trial_is_never_included() -> None:
     decision = decide(_trial("interrupted", True), [_review("include", 1.0)])
     assert not decision.included
-    assert decision.reason == "interrupted (operator_stop)"
+    assert decision.reason == "incomplete: interrupted (operator_stop)"  # as the audit says
 
 
 def test_boxes_and_deliveries() -> None:

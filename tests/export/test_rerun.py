@@ -251,7 +251,11 @@ def test_provenance_at_the_root(
         document = json.loads(text.split("```json\n", 1)[1].split("\n```", 1)[0])
         assert [e["trial_id"] for e in document["episodes"]] == [trial.trial_id]
         assert list(document["sessions"]) == [trial.session_id]
-    assert ("success", False, "operator bumped the conveyor") in outcomes
+    assert (
+        "success",
+        False,
+        "excluded by reviewer tests: operator bumped the conveyor",
+    ) in outcomes
     assert ("success", True, None) in outcomes
 
 

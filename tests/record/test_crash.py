@@ -60,6 +60,10 @@ def test_sigkill_at_random_moments_loses_no_committed_frame(tmp_path: Path) -> N
             (trial,) = store.trials()
             assert store.recovered == (trial.trial_id,)
             assert (trial.outcome, trial.interruption_reason) == ("interrupted", "crash_recovered")
+            assert (trial.included, trial.exclusion_reason) == (
+                False,
+                "incomplete: interrupted (crash_recovered)",
+            )  # incomplete, never included
             n = _assert_committed_frames_intact(store, trial.trial_id, at_least=last)
             assert trial.n_frames == n
             assert trial.elapsed_s == pytest.approx((n - 1) / synthetic.RATE_HZ)

@@ -8,6 +8,7 @@ import contextlib
 import os
 import re
 import signal
+import socket
 import subprocess
 import sys
 import time
@@ -33,8 +34,6 @@ sys.exit(args.func(args))
 
 
 def _free_port() -> int:
-    import socket
-
     with socket.socket() as s:
         s.bind(("127.0.0.1", 0))
         return int(s.getsockname()[1])
@@ -73,6 +72,55 @@ def test_sigterm_closes_the_running_trial_as_application_quit(tmp_path: Path) ->
     assert trial.outcome == "interrupted" and trial.interruption_reason == "application_quit"
     assert session.status == "interrupted"
     assert heard == "application_quit"  # the connected operator was told why
+    assert f"recorded 1 session, 1 trial (1 interrupted) into {store}" in output, output
+
+
+def test_ctrl_c_prints_what_the_run_recorded(tmp_path: Path) -> None:
+    store = tmp_path / "store.sqlite"
+    port = _free_port()
+    process = _serve(store, port)
+    try:
+        heard = asyncio.run(_start_then_signal(port, process, signal.SIGINT))
+        output, _ = process.communicate(timeout=30)
+    finally:
+        if process.poll() is None:
+            process.kill()
+    assert heard == "application_quit"
+    assert process.returncode == 128 + signal.SIGINT, output
+    last = output.strip().splitlines()[-1]
+    assert (
+        last == f"workcell serve: stopped; recorded 1 session, 1 trial (1 interrupted) into {store}"
+    )
+
+
+def test_a_busy_port_is_one_line_and_exit_2_with_no_link(tmp_path: Path) -> None:
+    with socket.socket() as taken:
+        taken.bind(("127.0.0.1", 0))
+        taken.listen()
+        port = int(taken.getsockname()[1])
+        done = subprocess.run(
+            [
+                sys.executable,
+                "-m",
+                "workcell",
+                "serve",
+                "--store",
+                str(tmp_path / "s.sqlite"),
+                "--port",
+                str(port),
+            ],
+            capture_output=True,
+            text=True,
+            timeout=60,
+            check=False,
+            env={**os.environ, "MUJOCO_GL": "egl"},
+        )
+    assert done.returncode == 2, done
+    assert done.stdout == ""  # no link that would open nothing
+    (line,) = done.stderr.strip().splitlines()
+    assert f"--port = {port}: 127.0.0.1:{port} is already in use" in line
+    assert "--port" in line and "Traceback" not in done.stderr
+    assert not (tmp_path / "s.sqlite").exists()
 
 
 def test_a_sigkill_of_the_server_alone_leaves_its_trial_recorded_as_a_crash(

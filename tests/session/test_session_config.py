@@ -50,6 +50,7 @@ def test_default_toml_is_complete_commented_and_round_trips() -> None:
         "operator_id",
         "condition",
         "consent",
+        "study_step",
     }
 
     def every_field(config: object, path: str) -> list[str]:

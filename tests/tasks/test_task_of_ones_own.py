@@ -7,7 +7,7 @@ import json
 import sqlite3
 from pathlib import Path
 
-import pyarrow.parquet as pq
+import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
 
 from workcell.cli.main import main
 

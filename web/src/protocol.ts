@@ -485,15 +485,27 @@ export interface TrialSummary {
   readonly score: number | null;
   readonly n_frames: number | null;
   readonly quality_flags: readonly string[];
+  /**
+   * Whether the trial is included, as :mod:`workcell.record.inclusion` decides (an
+   * interrupted trial never is; a reviewer's latest decision wins); None while it runs.
+   */
   readonly included: boolean | null;
+  /** Why it is not included (``incomplete: interrupted (operator_stop)``, ...). */
+  readonly exclusion_reason: string | null;
   readonly started_wall: number;
 }
 
-/** One recorded session and its trials (``status``: ``open`` or ``closed``). */
+/**
+ * One recorded session and its trials (``status``: ``open`` or ``closed``), with its
+ * study tags (:mod:`workcell.record.study_tags`): ``operator_id`` (the participant),
+ * ``condition`` and ``study_step`` (None: none).
+ */
 export interface SessionSummary {
   readonly session_id: string;
   readonly mode: string;
   readonly operator_id: string;
+  readonly condition: string | null;
+  readonly study_step: number | null;
   readonly created_wall: number;
   readonly ended_wall: number | null;
   readonly status: string;

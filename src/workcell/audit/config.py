@@ -21,8 +21,9 @@ CompareBy = Literal["operator", "condition"]
 CompareChoice = Literal["none", "operator", "condition"]
 """The setting ``compare_by``: a :data:`CompareBy`, or no comparison."""
 
-AUDIT_VERSION = "1"
-"""Bumped whenever dispositions, statistics or the report's files change meaning."""
+AUDIT_VERSION = "2"
+"""Bumped whenever dispositions, statistics or the report's files change meaning (2:
+trials.csv ends with each trial's operator_id, condition and study_step)."""
 
 
 def _doc(module: ModuleType) -> str:

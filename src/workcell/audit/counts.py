@@ -68,3 +68,8 @@ class DispositionCounts:
             marked_successes=sum(t.disposition.marked for t in valid if t.row.outcome == "success"),
             marked_timeouts=sum(t.disposition.marked for t in valid if t.row.outcome == "timeout"),
         )
+
+
+def counted(n: int, noun: str, plural: str | None = None) -> str:
+    """``n`` and ``noun``, plural unless ``n`` is 1: '1 trial', '2 trials', '0 successes'."""
+    return f"{n} {noun if n == 1 else plural or noun + 's'}"

@@ -8,8 +8,11 @@ Automatic rules, in order:
    *marked* (a flagged timeout is kept as a genuine failure, paper §IV-B).
 
 A reviewer's latest ``include`` or ``exclude`` annotation of a trial overrides rules 2 and
-3 and is shown as the reviewer's decision. An incomplete trial cannot be included: it has
-no outcome to count. Annotations are rows of their own; stored trials are never changed.
+3 and is shown as the reviewer's decision. Exclusion reasons are worded as everywhere else
+(:mod:`workcell.record.inclusion`: ``incomplete: interrupted (operator_stop)``,
+``excluded by reviewer <who>: <why>``; the audit adds ``low quality: <flags>``). An
+incomplete trial cannot be included: it has no outcome to count. Annotations are rows of
+their own; stored trials are never changed.
 """
 
 from __future__ import annotations
@@ -20,6 +23,7 @@ from dataclasses import dataclass, replace
 from workcell.audit.flags import Flag
 from workcell.audit.rows import TrialRow
 from workcell.record.entries import AnnotationRecord
+from workcell.record.inclusion import incomplete_reason, reviewer_reason
 
 EXCLUDED_INCOMPLETE = "excluded_incomplete"
 EXCLUDED_LOW_QUALITY = "excluded_low_quality"
@@ -73,8 +77,7 @@ def _automatic(row: TrialRow, flags: Sequence[Flag]) -> tuple[str, str | None, s
     """(stage, exclusion reason, cause) by rules 1-3."""
     if row.outcome not in ("success", "timeout"):
         cause = row.interruption_reason or "never_closed"
-        what = row.outcome or "no outcome"
-        return EXCLUDED_INCOMPLETE, f"incomplete: {what} ({cause})", cause
+        return EXCLUDED_INCOMPLETE, incomplete_reason(row.outcome, row.interruption_reason), cause
     if row.outcome == "success":
         bad = sorted({f.name for f in flags if f.disqualifying})
         if bad:
@@ -110,7 +113,7 @@ def decide(row: TrialRow, flags: Sequence[Flag], review: AnnotationRecord | None
             auto,
             stage=EXCLUDED_BY_REVIEWER,
             included=False,
-            exclusion_reason=f"excluded by reviewer {review.by}: {review.reason}",
+            exclusion_reason=reviewer_reason(review.by, review.reason),
             cause="reviewer",
             marked=False,
             review=review,

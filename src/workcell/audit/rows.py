@@ -16,6 +16,7 @@ from workcell.errors import ConfigError
 from workcell.metrics import MetricThresholds
 from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.entries import FLAG_SEPARATOR
+from workcell.record.study_tags import StudyTags
 from workcell.session.config import RecordingConfig
 
 
@@ -48,6 +49,8 @@ class SessionRow:
     notes: tuple[str, ...] = ()
     condition: str = ""
     """The session's study condition (setting ``condition``; empty: none)."""
+    study_step: int | None = None
+    """Which of the participant's planned sessions it was (None: not known)."""
     zone: Zone = field(default_factory=lambda: session_zone({}))
     """The delivery zone the session's world configures (trials may move its centre)."""
 
@@ -71,6 +74,7 @@ class SessionRow:
         rate, note = recorded_rate(parameters)
         if note is not None:
             notes.append(note)
+        tags = StudyTags.of(row["operator_id"], parameters)
         return cls(
             session_id=row["session_id"],
             created_wall=float(row["created_wall"]),
@@ -80,7 +84,8 @@ class SessionRow:
             thresholds=metric_thresholds,
             rate_hz=float(rate),
             notes=tuple(notes),
-            condition=str(parameters.get("condition") or ""),
+            condition=tags.condition or "",
+            study_step=tags.study_step,
             zone=session_zone(parameters),
         )
 

@@ -20,6 +20,7 @@ from workcell.metrics.definitions import AUDIT_ONLY_METRICS, RECOMPUTED_COLUMNS
 from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.csv_format import format_row
 from workcell.record.entries import FLAG_SEPARATOR
+from workcell.record.study_tags import STUDY_COLUMNS
 
 AUDIT_COLUMNS: tuple[str, ...] = (
     *AUDIT_ONLY_METRICS,
@@ -38,9 +39,12 @@ AUDIT_COLUMNS: tuple[str, ...] = (
     "stored_included",
     "metric_mismatches",
     "stage_reached",
+    *STUDY_COLUMNS,
 )
 """Columns after the contract's: flags 0/1, ``disposition`` one of STAGES, review fields
-from the deciding annotation, what the trial row stored, and mismatching metrics."""
+from the deciding annotation, what the trial row stored, mismatching metrics, how far the
+trial got, and its session's study tags (:mod:`workcell.record.study_tags`: participant,
+condition, study step; empty when there is none). New columns are added at the end."""
 
 COLUMNS: tuple[str, ...] = TRIAL_COLUMNS + AUDIT_COLUMNS
 
@@ -81,6 +85,9 @@ def trial_row(trial: TrialAudit) -> list[Any]:
         "stored_included": trial.row.stored["included"],
         "metric_mismatches": FLAG_SEPARATOR.join(m.metric for m in trial.mismatches) or None,
         "stage_reached": trial.task_stage,
+        "operator_id": trial.session.operator_id,
+        "condition": trial.session.condition or None,
+        "study_step": trial.session.study_step,
     }
     return [_cell(values[name]) for name in COLUMNS]
 

@@ -12,6 +12,7 @@ from typing import TYPE_CHECKING
 if TYPE_CHECKING:
     from collections.abc import Sequence
 
+    from workcell.audit.comparison import RankTest
     from workcell.audit.counts import DispositionCounts
     from workcell.audit.run import AuditResult
     from workcell.audit.stats import GroupStats, SuccessRate
@@ -128,18 +129,26 @@ def run(args: argparse.Namespace) -> int:
 
 
 def _summary_line(result: AuditResult) -> str:
-    from workcell.audit.counts import DispositionCounts  # noqa: PLC0415
+    from workcell.audit.counts import DispositionCounts, counted  # noqa: PLC0415
     from workcell.audit.stats import SuccessRate  # noqa: PLC0415
 
     c = DispositionCounts.of(result.trials)
     rate = _rate_text(SuccessRate.of(result.trials))
     return (
-        f"audited {c.raw} trials ({result.frames_read} frames): {c.valid} valid "
-        f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}; "
+        f"audited {counted(c.raw, 'trial')} ({result.frames_read} frames): {c.valid} valid "
+        f"({_outcomes_text(c)}), {rate}; "
         f"{c.incomplete} incomplete, {c.excluded_low_quality} low quality, "
         f"{c.excluded_by_reviewer} excluded by reviewer, {_marked_text(c)}; "
-        f"{len(result.findings)} findings"
+        f"{counted(len(result.findings), 'finding')}"
     )
+
+
+def _outcomes_text(c: DispositionCounts) -> str:
+    """The valid trials' outcomes: '1 success, 2 timeouts'."""
+    from workcell.audit.counts import counted  # noqa: PLC0415
+
+    successes = counted(c.valid_successes, "success", "successes")
+    return f"{successes}, {counted(c.valid_timeouts, 'timeout')}"
 
 
 def _marked_text(counts: DispositionCounts) -> str:
@@ -162,12 +171,14 @@ def _operator_lines(result: AuditResult) -> list[str]:
 
 
 def _group_lines(key: str, groups: Sequence[GroupStats]) -> list[str]:
+    from workcell.audit.counts import counted  # noqa: PLC0415
+
     lines = []
     for group in groups:
         c, rate = group.counts, _rate_text(group.rate)
         lines.append(
-            f"  {key} {group.value}: {c.raw} trials, {c.valid} valid "
-            f"({c.valid_successes} successes, {c.valid_timeouts} timeouts), {rate}, "
+            f"  {key} {group.value}: {counted(c.raw, 'trial')}, {c.valid} valid "
+            f"({_outcomes_text(c)}), {rate}, "
             f"{_marked_text(c)}; got to: {_stages_of_group(group)}"
         )
     return lines
@@ -192,7 +203,7 @@ def _comparison_lines(result: AuditResult) -> list[str]:
     by = result.config.compare_by
     if by == "none":
         return []
-    from workcell.audit.comparison import RANKED_METRICS, compare  # noqa: PLC0415
+    from workcell.audit.comparison import compare  # noqa: PLC0415
 
     comparison = compare(result.trials, by)
     lines = [] if by == "operator" else _group_lines(by, comparison.groups)
@@ -205,20 +216,32 @@ def _comparison_lines(result: AuditResult) -> list[str]:
             )
         else:
             parts.append(" not compared (a group has no valid trial)")
-        for rank in pair.ranks:
-            name, unit = RANKED_METRICS[rank.metric]
-            parts.append(
-                f"; {name} median {rank.median_first:.3g} vs {rank.median_second:.3g} {unit}"
-                + (
-                    f" (Mann-Whitney p = {rank.p_value:.3g}, r = {rank.rank_biserial:+.2f})"
-                    if not math.isnan(rank.p_value)
-                    else ""
-                )
-            )
+        parts += [_rank_text(pair.first, pair.second, rank) for rank in pair.ranks]
         lines.append("".join(parts))
     if comparison.pairs:
         lines.append("  (repeated trials of one person are not independent: see the report)")
     return lines
+
+
+def _rank_text(first: str, second: str, rank: RankTest) -> str:
+    """A compared metric's medians and test; a group without a valid success is named as
+    such (not a median of nan)."""
+    from workcell.audit.comparison import RANKED_METRICS  # noqa: PLC0415
+
+    name, unit = RANKED_METRICS[rank.metric]
+    medians = {
+        first: (rank.n_first, rank.median_first),
+        second: (rank.n_second, rank.median_second),
+    }
+    without = [group for group, (n, _) in medians.items() if n == 0]
+    if without:
+        text = f"; {name}: no valid success in {' or '.join(without)}"
+        with_values = [f"{m:.3g} {unit} in {group}" for group, (n, m) in medians.items() if n]
+        return text + (f" (median {with_values[0]})" if with_values else "")
+    text = f"; {name} median {rank.median_first:.3g} vs {rank.median_second:.3g} {unit}"
+    if not math.isnan(rank.p_value):
+        text += f" (Mann-Whitney p = {rank.p_value:.3g}, r = {rank.rank_biserial:+.2f})"
+    return text
 
 
 def _rate_text(rate: SuccessRate) -> str:

@@ -12,6 +12,7 @@ from workcell.errors import ConfigError
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
     from workcell.export.options import ExportOptions
+    from workcell.export.selection import Selection
 
 FORMATS = ("csv", "lerobot", "hdf5", "rerun")
 DATASET_FORMATS = ("lerobot", "hdf5", "rerun")
@@ -120,7 +121,28 @@ def run(args: argparse.Namespace) -> int:
         f"exported {summary.episodes} episodes, {summary.frames} frames{videos} as "
         f"{args.format} to {args.out} ({summary.seconds:.1f} s, {rate:.0f} frames/s)"
     )
+    if summary.selection is not None:
+        print(f"  {selection_text(summary.selection)}")
     return 0
+
+
+def selection_text(selection: Selection) -> str:
+    """What a dataset export kept and left out, per reason: ``kept 6 of 11 closed trials
+    (4 success, 2 timeout; 2 of them practice); left out 5: 4 incomplete: interrupted
+    (operator_stop), 1 without frames``."""
+    from collections import Counter  # noqa: PLC0415
+
+    kept = selection.episodes
+    outcomes = Counter(e.trial.outcome for e in kept)
+    parts = ", ".join(f"{n} {outcome}" for outcome, n in outcomes.most_common())
+    practice = sum(e.trial.mode == "practice" for e in kept)
+    if practice:
+        parts += f"; {practice} of them practice"
+    left = sum(selection.left_out.values())
+    reasons = ", ".join(f"{n} {reason}" for reason, n in selection.left_out.items())
+    return f"kept {len(kept)} of {selection.closed} closed trials ({parts}); " + (
+        f"left out {left}: {reasons}" if left else "left out none"
+    )
 
 
 def dataset_options(args: argparse.Namespace) -> ExportOptions:

@@ -7,6 +7,7 @@ import secrets
 import signal
 import socket
 import time
+from collections import Counter
 from pathlib import Path
 from types import FrameType
 from typing import TYPE_CHECKING
@@ -145,6 +146,22 @@ def options_from(
 def run(args: argparse.Namespace) -> int:
     desk = study_desk_from(args)
     options, generated = options_from(args, desk)
+    from workcell.server.listening import listening_socket  # noqa: PLC0415
+
+    listener = listening_socket(options.host, options.port)  # before any link is printed
+    try:
+        return _run(args, options, generated, desk, listener)
+    finally:
+        listener.close()
+
+
+def _run(
+    args: argparse.Namespace,
+    options: ServerOptions,
+    generated: bool,
+    desk: StudyDesk | None,
+    listener: socket.socket,
+) -> int:
     from workcell.record.connection import check_intact  # noqa: PLC0415
     from workcell.server.app import create_app  # noqa: PLC0415
     from workcell.server.http_config import uvicorn_config  # noqa: PLC0415
@@ -175,9 +192,10 @@ def run(args: argparse.Namespace) -> int:
         query = f"/?token={options.token}" if options.token else "/"
         if generated:
             print("generated an access token (pass --token to choose one)")
-        base = f"{scheme}://{shown}:{options.port}"
-        if desk is not None:
+        base = f"{scheme}://{shown}:{listener.getsockname()[1]}"
+        if desk is not None:  # the admin's page: the study's sessions start from invites
             print_invites(desk, base, args.store)
+            query = admin_query(desk)
         print(f"workcell serve: open {base}{query}", flush=True)
         at_once = ""
         if options.max_sessions > 1:
@@ -185,21 +203,22 @@ def run(args: argparse.Namespace) -> int:
             at_once += f", each in a Ray actor ({ray.where})" if ray else ""
         print(f"recording into {options.store}{at_once}; Ctrl+C stops (running trials end "
               "interrupted)")  # fmt: skip
-        return _serve(server, seats)
+        return _serve(server, seats, listener)
     finally:  # after the sessions' ends: their actors are done with
         if ray is not None:
             ray.close()
 
 
-def _serve(server: uvicorn.Server, seats: Seats) -> int:
-    """Run until a signal; the exit status. However uvicorn ended, the running trials end
-    and their stores are closed."""
+def _serve(server: uvicorn.Server, seats: Seats, listener: socket.socket) -> int:
+    """Run until a signal; the exit status. However uvicorn ended, the running trials end,
+    their stores are closed and what this run recorded is printed."""
+    began = time.time()
     # uvicorn handles SIGINT and SIGTERM (a graceful shutdown), then re-raises the signal
     # to the handler that was there before: Python's for SIGINT (KeyboardInterrupt), this
     # one for SIGTERM, so that both end here with the shells' status (130, 143).
     previous = signal.signal(signal.SIGTERM, _raise_terminated)
     try:
-        server.run()
+        server.run(sockets=[listener])
     except KeyboardInterrupt:
         return EXIT_INTERRUPTED
     except _TerminatedError:
@@ -208,7 +227,39 @@ def _serve(server: uvicorn.Server, seats: Seats) -> int:
         signal.signal(signal.SIGTERM, previous)
         seats.quit()
         seats.finish(30.0)
+        print(recorded_text(seats.options.store, began), flush=True)
     return 0
+
+
+def recorded_text(store: Path, since: float) -> str:
+    """What the store holds from sessions created since ``since``: sessions, trials and
+    their outcomes, in one line."""
+    from workcell.record.errors import StoreError  # noqa: PLC0415
+    from workcell.record.store import Store  # noqa: PLC0415
+
+    if not store.exists():
+        return f"workcell serve: stopped; nothing recorded ({store} was not created)"
+    try:
+        with Store.open(store, writer=False) as reader:
+            sessions = {s.session_id for s in reader.sessions() if s.created_wall >= since}
+            outcomes = [t.outcome or "open" for t in reader.trials() if t.session_id in sessions]
+    except StoreError as error:
+        return f"workcell serve: stopped; what was recorded could not be read: {error}"
+    counts = Counter(outcomes)
+    each = ", ".join(f"{n} {outcome}" for outcome, n in sorted(counts.items()))
+    return (
+        f"workcell serve: stopped; recorded {_count(len(sessions), 'session')}, "
+        f"{_count(len(outcomes), 'trial')}{f' ({each})' if each else ''} into {store}"
+    )
+
+
+def _count(n: int, noun: str) -> str:
+    return f"{n} {noun}{'' if n == 1 else 's'}"
+
+
+def admin_query(desk: StudyDesk) -> str:
+    """The admin page's address (after the host) on a study server."""
+    return f"/?token={desk.invites.admin}&role=spectator#/admin"
 
 
 def print_invites(desk: StudyDesk, base: str, store: Path) -> None:
@@ -225,7 +276,7 @@ def print_invites(desk: StudyDesk, base: str, store: Path) -> None:
             f"  invites dropped: {', '.join(desk.invites.dropped)} (not among the study's "
             f"{study.participants} participants: their links open nothing)"
         )
-    print(f"  admin page  {base}/?token={desk.invites.admin}&role=spectator#/admin")
+    print(f"  admin page  {base}{admin_query(desk)}")
     now = time.time()
     for participant, token in desk.invites.participants.items():
         expires = desk.invites.expires(participant, study.invite_days)

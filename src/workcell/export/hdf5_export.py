@@ -2,11 +2,14 @@
 
 ::
 
-    data                 attrs: env_args (JSON: env_name, type, env_kwargs), total, fps,
-                         names of the state / environment_state / action dimensions,
-                         conventions (JSON)
-    data/demo_<i>        attrs: num_samples, model_file (the world's MJCF XML), and the
-                         episode's provenance (trial id, session id, outcome, flags, ...)
+    data                 attrs: env_args (JSON: env_name, type, env_kwargs: the session
+                         parameters every demo shares), env_args_differ (JSON: the
+                         settings that differ between demos), total, fps, names of the
+                         state / environment_state / action dimensions, conventions (JSON)
+    data/demo_<i>        attrs: num_samples, model_file (the world's MJCF XML), env_args
+                         (JSON: its own session's parameters whole), and the episode's
+                         provenance (trial id, session id, operator_id, condition,
+                         study_step, outcome, flags, ...)
         states           (n, nq + nv) restored MuJoCo qpos and qvel (see .restore)
         actions          (n, 23)   rewards (n,)   dones (n,)
         obs/state        (n, 39)   obs/environment_state (n, 8 per box)
@@ -25,8 +28,8 @@ row repeats its own observation, as robomimic's own conversion of recorded data 
 (``scripts/conversion/convert_d4rl.py``; there is no frame after the last one, and its
 ``dones`` is 1). robomimic's loaders read ``next_obs`` by default (``SequenceDataset``'s
 ``load_next_obs``; the offline RL configs' ``train.hdf5_load_next_obs``). ``env_args`` makes
-``gymnasium.make`` build the matching environment: ``env_kwargs`` holds the first session's
-stored parameters.
+``gymnasium.make`` build the matching environment (:mod:`workcell.export.env_args`): a
+demo's own holds its session's stored parameters; the file's, those all sessions share.
 """
 
 from __future__ import annotations
@@ -41,10 +44,10 @@ import h5py  # type: ignore[import-untyped, unused-ignore]
 import numpy as np
 from numpy.typing import NDArray
 
-from workcell.envs.registration import ENV_ID
 from workcell.export.boxes import box_feature_names
 from workcell.export.camera_images import CameraPlan, describe, episode_images
 from workcell.export.camera_sources import CameraSource
+from workcell.export.env_args import env_args, shared_parameters
 from workcell.export.episode_data import CONVENTIONS
 from workcell.export.features import ACTION_NAMES, STATE_NAMES
 from workcell.export.loading import ExportSummary, LoadedEpisode, Progress, load_episodes
@@ -60,10 +63,6 @@ T = TypeVar("T", bound=np.generic)
 
 HDF5_NAME = "workcell.hdf5"
 PROVENANCE_NAME = "workcell_provenance"
-ENV_NAME = ENV_ID
-"""The environment that ``env_args`` names (see :mod:`workcell.envs`)."""
-GYM_ENV_TYPE = 2
-"""robomimic's ``EnvType.GYM_TYPE``."""
 FILTERS: tuple[str, ...] = ("success", "timeout", "interrupted", "included", "excluded")
 NEXT_OBS_CONVENTION = (
     "next_obs row t is obs row t+1; the last row repeats its own observation (robomimic's "
@@ -117,6 +116,7 @@ def export_hdf5(
         time.perf_counter() - started,
         recorded_videos=cameras.recorded,
         rendered_videos=cameras.rendered,
+        selection=source.selection,
     )
 
 
@@ -138,6 +138,7 @@ def _write_demo(
     demo.attrs["model_file"] = model_xml
     for name, value in episode.provenance.as_attributes().items():
         demo.attrs[name] = value
+    demo.attrs["env_args"] = json.dumps(env_args(episode.source.session.parameters))
     demo.create_dataset("states", data=episode.world.mujoco_states(episode.states))
     demo.create_dataset("actions", data=arrays.action)
     demo.create_dataset("rewards", data=arrays.reward)
@@ -179,14 +180,9 @@ def next_rows(values: NDArray[T]) -> NDArray[T]:
 
 
 def _write_header(data: Any, source: ExportSource, frames: int) -> None:
-    first = source.sessions[0]
-    data.attrs["env_args"] = json.dumps(
-        {
-            "env_name": ENV_NAME,
-            "type": GYM_ENV_TYPE,
-            "env_kwargs": {"session_parameters": first.parameters},
-        }
-    )
+    shared, differ = shared_parameters([s.parameters for s in source.sessions])
+    data.attrs["env_args"] = json.dumps(env_args(shared))
+    data.attrs["env_args_differ"] = json.dumps(differ)
     data.attrs["total"] = frames
     data.attrs["state_names"] = json.dumps(list(STATE_NAMES))
     data.attrs["action_names"] = json.dumps(list(ACTION_NAMES))

@@ -90,6 +90,7 @@ def export_lerobot(
         time.perf_counter() - started,
         recorded_videos=cameras.recorded,
         rendered_videos=cameras.rendered,
+        selection=source.selection,
     )
 
 

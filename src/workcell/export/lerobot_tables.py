@@ -101,6 +101,7 @@ _PROVENANCE_TYPES: dict[str, Any] = {
     "episode_index": pa.int64(),
     "trial_index": pa.int64(),
     "trial_seed": pa.int64(),
+    "study_step": pa.int64(),
     "round": pa.int64(),
     "level": pa.int64(),
     "required_boxes": pa.int64(),

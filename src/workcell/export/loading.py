@@ -10,7 +10,7 @@ from workcell.export.episode_data import EpisodeArrays, episode_arrays
 from workcell.export.provenance import Provenance
 from workcell.export.replay_world import ReplayWorld, WorldPool
 from workcell.export.restore import RecordedStates
-from workcell.export.selection import EpisodeSource
+from workcell.export.selection import EpisodeSource, Selection
 from workcell.export.source import ExportSource
 from workcell.record.store import Store
 
@@ -32,6 +32,8 @@ class ExportSummary:
     """Camera streams (of all episodes) taken from the trials' recorded videos."""
     rendered_videos: int = 0
     """Camera streams (of all episodes) rendered from the recorded states."""
+    selection: Selection | None = None
+    """Which trials were exported and what was left out, per reason."""
 
 
 @dataclass(frozen=True)

@@ -51,6 +51,7 @@ def provenance_document(
             "exported": len(selection.episodes),
             "left_out_not_included": selection.excluded,
             "left_out_without_frames": selection.without_frames,
+            "left_out": selection.left_out,
         },
         "cameras": list(options.cameras),
         "image_size": [options.image_size.width, options.image_size.height]

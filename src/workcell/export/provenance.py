@@ -1,9 +1,9 @@
 """Each exported episode's place in the four-layer record, so provenance survives export.
 
-One :class:`Provenance` per episode: its session and trial, outcome and interruption
-reason, quality flags, inclusion (and the reviewer decision behind it), score and frame
-range. Every dataset format carries the same fields (LeRobot: a sidecar table next to
-``meta/``; HDF5: attributes of each demo).
+One :class:`Provenance` per episode: its session and trial, its participant, condition
+and study step, outcome and interruption reason, quality flags, inclusion (and the reviewer
+decision behind it), score and frame range. Every dataset format carries the same fields
+(LeRobot: a sidecar table next to ``meta/``; HDF5: attributes of each demo).
 """
 
 from __future__ import annotations
@@ -13,6 +13,7 @@ from dataclasses import asdict, dataclass
 from typing import Any
 
 from workcell.export.selection import EpisodeSource
+from workcell.record.study_tags import StudyTags
 from workcell.tasks.registry import recorded_task
 
 
@@ -26,6 +27,11 @@ class Provenance:
     trial_index: int
     trial_seed: int | None
     operator_id: str
+    """The participant (:mod:`workcell.record.study_tags`)."""
+    condition: str | None
+    """The session's study condition (None: none)."""
+    study_step: int | None
+    """Which of the participant's planned sessions it was (None: not a study's)."""
     mode: str
     round: int | None
     level: int | None
@@ -55,6 +61,7 @@ class Provenance:
     def of(cls, episode_index: int, source: EpisodeSource) -> Provenance:
         trial, session, inclusion = source.trial, source.session, source.inclusion
         review = inclusion.review
+        tags = StudyTags.of(session.operator_id, session.parameters)
         assert trial.outcome is not None and trial.n_frames is not None
         return cls(
             episode_index=episode_index,
@@ -62,7 +69,9 @@ class Provenance:
             trial_id=trial.trial_id,
             trial_index=trial.trial_index,
             trial_seed=trial.trial_seed,
-            operator_id=session.operator_id,
+            operator_id=tags.operator_id,
+            condition=tags.condition,
+            study_step=tags.study_step,
             mode=trial.mode,
             round=trial.round,
             level=trial.level,

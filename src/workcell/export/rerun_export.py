@@ -77,7 +77,8 @@ def export_rerun(
                 )
     document = provenance_document(source, options, records)
     (out / PROVENANCE_NAME).write_text(json.dumps(document, indent=4) + "\n")
-    return ExportSummary(out, len(records), frames, 0, time.perf_counter() - started)
+    seconds = time.perf_counter() - started
+    return ExportSummary(out, len(records), frames, 0, seconds, selection=source.selection)
 
 
 def read_trial(

@@ -197,9 +197,13 @@ def _arrow_type(hint: object) -> Any:
 
 def _log_static(stream: rr.RecordingStream, trial: TrialRecording) -> None:
     stream.log("/", provenance_values(trial.provenance), static=True, strict=True)
+    p = trial.provenance
+    step = "" if p.study_step is None else f", study step {p.study_step}"
+    condition = "" if p.condition is None else f", condition {p.condition}"
     markdown = (
-        f"# Trial {trial.provenance.trial_id}\n\n"
-        f"{trial.provenance.task}\n\n"
+        f"# Trial {p.trial_id}\n\n"
+        f"operator {p.operator_id}{condition}{step}; {p.outcome}\n\n"
+        f"{p.task}\n\n"
         f"```json\n{json.dumps(trial.document, indent=2)}\n```\n"
     )
     stream.log(

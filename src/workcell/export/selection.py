@@ -1,33 +1,28 @@
-"""Which trials become episodes, and whether each counts as included.
+"""Which trials become episodes, whether each counts as included, and what was left out.
 
-A trial's inclusion is the store's ``included`` column unless a reviewer decided
-otherwise: the latest ``include``/``exclude`` annotation wins (annotations never rewrite
-the trial row). An interrupted trial is never included. With :attr:`TrialFilter.audited`
-the audit decides instead (:mod:`workcell.export.audited`). Running trials (no outcome
-yet) and trials without frames are never exported.
+A trial's inclusion is :func:`workcell.record.inclusion.decide`'s, the one the Sessions page
+shows: incomplete (interrupted) trials are never included, a reviewer's latest decision
+wins, else the store's ``included`` column. With :attr:`TrialFilter.audited` the audit
+decides instead (:mod:`workcell.export.audited`). Running trials (no outcome yet) and
+trials without frames are never exported. :attr:`Selection.left_out` counts every closed
+trial left out, per reason, so an export says what it left out and why.
 """
 
 from __future__ import annotations
 
-from collections.abc import Mapping, Sequence
-from dataclasses import dataclass
+from collections import Counter
+from collections.abc import Mapping
+from dataclasses import dataclass, field
 
 from workcell.export.options import TrialFilter
 from workcell.record.entries import AnnotationRecord, SessionRecord, TrialRecord
+from workcell.record.inclusion import Inclusion, decide, left_out_as
 from workcell.record.store import Store
 
-DECISION_KINDS = ("include", "exclude")
+__all__ = ["EpisodeSource", "Inclusion", "Selection", "decide", "select"]
 
-
-@dataclass(frozen=True)
-class Inclusion:
-    """The effective decision on one trial and where it came from."""
-
-    included: bool
-    reason: str | None
-    """Why it is excluded (None when included)."""
-    review: AnnotationRecord | None
-    """The reviewer's annotation that decided it, if any."""
+WITHOUT_FRAMES = "without frames"
+NOT_SUCCESSFUL = "not successful (--successes)"
 
 
 @dataclass(frozen=True)
@@ -37,20 +32,6 @@ class EpisodeSource:
     session: SessionRecord
     trial: TrialRecord
     inclusion: Inclusion
-
-
-def decide(trial: TrialRecord, annotations: Sequence[AnnotationRecord]) -> Inclusion:
-    """The effective inclusion of a closed trial (``annotations`` in time order)."""
-    if trial.outcome == "interrupted":
-        return Inclusion(False, f"interrupted ({trial.interruption_reason})", None)
-    decisions = [a for a in annotations if a.kind in DECISION_KINDS]
-    if decisions:
-        latest = decisions[-1]
-        included = latest.kind == "include"
-        return Inclusion(included, None if included else latest.reason, latest)
-    included = bool(trial.included)
-    reason = None if included else (trial.exclusion_reason or "not included")
-    return Inclusion(included, reason, None)
 
 
 @dataclass(frozen=True)
@@ -65,6 +46,9 @@ class Selection:
     without_frames: int
     not_successes: int = 0
     """Included trials left out because they did not succeed (``successes_only``)."""
+    left_out: dict[str, int] = field(default_factory=dict)
+    """Every closed trial left out, counted per reason (most first): its exclusion reason
+    (:mod:`workcell.record.inclusion`), ``without frames`` or ``not successful``."""
 
 
 def select(
@@ -84,10 +68,12 @@ def select(
     for annotation in store.annotations():
         annotations.setdefault(annotation.trial_id, []).append(annotation)
     chosen: list[EpisodeSource] = []
+    left_out: Counter[str] = Counter()
     excluded = without_frames = not_successes = 0
     for trial in trials:
         if not trial.n_frames:
             without_frames += 1
+            left_out[WITHOUT_FRAMES] += 1
             continue
         if rule.audited and audited is not None:
             inclusion = audited[trial.trial_id]
@@ -95,9 +81,18 @@ def select(
             inclusion = decide(trial, annotations.get(trial.trial_id, []))
         if not (inclusion.included or rule.include_all):
             excluded += 1
+            left_out[left_out_as(inclusion.reason or "not included")] += 1
             continue
         if rule.successes_only and trial.outcome != "success":
             not_successes += 1
+            left_out[NOT_SUCCESSFUL] += 1
             continue
         chosen.append(EpisodeSource(sessions[trial.session_id], trial, inclusion))
-    return Selection(tuple(chosen), len(trials), excluded, without_frames, not_successes)
+    return Selection(
+        tuple(chosen),
+        len(trials),
+        excluded,
+        without_frames,
+        not_successes,
+        dict(left_out.most_common()),
+    )

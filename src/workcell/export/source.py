@@ -98,10 +98,10 @@ def open_source(path: str | os.PathLike[str], rule: TrialFilter) -> ExportSource
         selection = select(store, rule, audited)
         meta = store.meta()
     if not selection.episodes:
+        reasons = ", ".join(f"{n} {reason}" for reason, n in selection.left_out.items())
         raise NothingSelectedError(
             f"store {path}: none of its {selection.closed} closed trials can be exported "
-            f"({selection.excluded} not included, {selection.without_frames} without frames, "
-            f"{selection.not_successes} not successful)"
+            f"(left out: {reasons or 'none closed'})"
             + (
                 "; pass --all to export trials that are not included"
                 if selection.excluded and not rule.audited

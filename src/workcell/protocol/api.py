@@ -67,16 +67,24 @@ class TrialSummary:
     n_frames: int | None
     quality_flags: tuple[str, ...]
     included: bool | None
+    """Whether the trial is included, as :mod:`workcell.record.inclusion` decides (an
+    interrupted trial never is; a reviewer's latest decision wins); None while it runs."""
+    exclusion_reason: str | None
+    """Why it is not included (``incomplete: interrupted (operator_stop)``, ...)."""
     started_wall: float
 
 
 @dataclass(frozen=True)
 class SessionSummary:
-    """One recorded session and its trials (``status``: ``open`` or ``closed``)."""
+    """One recorded session and its trials (``status``: ``open`` or ``closed``), with its
+    study tags (:mod:`workcell.record.study_tags`): ``operator_id`` (the participant),
+    ``condition`` and ``study_step`` (None: none)."""
 
     session_id: str
     mode: str
     operator_id: str
+    condition: str | None
+    study_step: int | None
     created_wall: float
     ended_wall: float | None
     status: str

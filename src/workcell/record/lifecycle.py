@@ -12,6 +12,7 @@ from workcell.record import chain, rowio
 from workcell.record.chain import ChainKey
 from workcell.record.checksum import aggregate_checksum
 from workcell.record.entries import to_json
+from workcell.record.inclusion import incomplete_reason
 from workcell.record.schema import EVENTS, SESSIONS, TRIALS
 
 INTERRUPTION_EVENT = "interruption"
@@ -144,6 +145,8 @@ def interrupt_trial(
         {
             "outcome": "interrupted",
             "interruption_reason": reason,
+            "included": 0,  # incomplete: never included (workcell.record.inclusion)
+            "exclusion_reason": incomplete_reason("interrupted", reason),
             "elapsed_s": last_sim,
             "ended_wall": max(started_wall, last_wall),
         },

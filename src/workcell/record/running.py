@@ -14,6 +14,7 @@ from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.batch import RowBatch
 from workcell.record.entries import FLAG_SEPARATOR, StoredMetrics, TrialEnd
 from workcell.record.errors import RecordError
+from workcell.record.inclusion import incomplete_reason
 from workcell.record.schema import FRAMES
 
 
@@ -37,7 +38,13 @@ class Running:
 
 
 def end_columns(end: TrialEnd, m: StoredMetrics) -> dict[str, object]:
-    """The trial row's columns written when it closes (``m``: its metrics)."""
+    """The trial row's columns written when it closes (``m``: its metrics). An interrupted
+    trial is incomplete and never included (:mod:`workcell.record.inclusion`; the reason
+    ``incomplete: interrupted (<why>)`` unless the caller gave one)."""
+    included, reason = end.included, end.exclusion_reason
+    if end.outcome == "interrupted":
+        included = False
+        reason = reason or incomplete_reason(end.outcome, end.interruption_reason)
     return {
         "outcome": end.outcome,
         "interruption_reason": end.interruption_reason,
@@ -52,8 +59,8 @@ def end_columns(end: TrialEnd, m: StoredMetrics) -> dict[str, object]:
         "hz_sim": m.hz_sim,
         "max_gap_s": m.max_gap_s,
         "quality_flags": FLAG_SEPARATOR.join(end.quality_flags),
-        "included": int(end.included),
-        "exclusion_reason": end.exclusion_reason,
+        "included": int(included),
+        "exclusion_reason": reason,
         "ended_wall": time.time(),
     }
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 import re
 import time
 from pathlib import Path
+from typing import Any
 
 from starlette.requests import Request
 from starlette.responses import Response
@@ -14,8 +15,11 @@ from starlette.routing import Route
 from workcell.protocol.api import SessionList, SessionSummary, TrialSummary
 from workcell.protocol.codec import encode
 from workcell.record.connection import damage_as_store_error
+from workcell.record.entries import AnnotationRecord, TrialRecord
 from workcell.record.errors import StoreError
+from workcell.record.inclusion import decide
 from workcell.record.store import Store
+from workcell.record.study_tags import StudyTags
 from workcell.server.defaults import session_defaults, session_hints
 from workcell.server.diagnostics import diagnostics
 from workcell.server.replay import TrialNotFoundError, trial_replay
@@ -51,12 +55,15 @@ def session_list(path: Path) -> SessionList:
         return SessionList(sessions=())
     with damage_as_store_error(path), Store.open(path, writer=False) as store:
         trials = store.trials()
+        reviews: dict[str, list[AnnotationRecord]] = {}
+        for annotation in store.annotations():
+            reviews.setdefault(annotation.trial_id, []).append(annotation)
         return SessionList(
             sessions=tuple(
                 SessionSummary(
                     session_id=s.session_id,
                     mode=s.mode,
-                    operator_id=s.operator_id,
+                    **StudyTags.of(s.operator_id, s.parameters).as_dict(),
                     created_wall=s.created_wall,
                     ended_wall=s.ended_wall,
                     status=s.status,
@@ -76,7 +83,7 @@ def session_list(path: Path) -> SessionList:
                             score=t.score,
                             n_frames=t.n_frames,
                             quality_flags=t.quality_flags,
-                            included=t.included,
+                            **_inclusion(t, reviews.get(t.trial_id, [])),
                             started_wall=t.started_wall,
                         )
                         for t in trials
@@ -86,6 +93,15 @@ def session_list(path: Path) -> SessionList:
                 for s in store.sessions()
             )
         )
+
+
+def _inclusion(trial: TrialRecord, reviews: list[AnnotationRecord]) -> dict[str, Any]:
+    """``included`` and ``exclusion_reason`` as every output says them (None while the
+    trial runs)."""
+    if trial.outcome is None:
+        return {"included": None, "exclusion_reason": None}
+    inclusion = decide(trial, reviews)
+    return {"included": inclusion.included, "exclusion_reason": inclusion.reason}
 
 
 def routes(seats: Seats) -> list[Route]:

@@ -12,7 +12,9 @@ A client says who it wants to be in its hello; this module gives it a seat (a
 
 With a study (``workcell serve --study``), a participant's invite leads to the seat named
 by their participant id and to no other: they drive it (or watch it from a second tab), and
-its sessions follow their plan. Then ``max_sessions`` bounds the sessions running at once:
+its sessions follow their plan; any other seat (the admin's, a page without an invite)
+starts no session, so the study's store holds its participants' planned sessions only.
+Then ``max_sessions`` bounds the sessions running at once:
 a participant who would start one more hears ``server_full`` and may start again later.
 
 Seat "1" always exists (what a one-session server has); a later seat goes once it is idle
@@ -32,7 +34,7 @@ import secrets
 from workcell.protocol import messages as m
 from workcell.server.auth import ADMIN, Principal
 from workcell.server.client import Client
-from workcell.server.conductor import Conductor
+from workcell.server.conductor import Conductor, SessionPlanner
 from workcell.server.options import ServerOptions
 from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import SessionFactory
@@ -137,7 +139,7 @@ class Seats:
         named = self.conductors.get(hello.seat) if hello.seat is not None else None
         if hello.role != "operator":
             return named or self.first
-        own = [c for c in self.conductors.values() if c.planner is None]  # not a participant's
+        own = [c for c in self.conductors.values() if not isinstance(c.planner, ParticipantPlanner)]
         if hello.resume_token is not None:
             for conductor in own:
                 kept = conductor.resume_token
@@ -162,9 +164,11 @@ class Seats:
 
     def _add(self, participant: str | None = None) -> Conductor:
         seat = participant or str(next(self._numbers))
-        planner = None
+        planner: SessionPlanner | None = None
         if participant is not None and self.desk is not None:
             planner = ParticipantPlanner(self, self.desk, participant)
+        elif self.desk is not None:  # the admin's (or a page's without an invite)
+            planner = InvitesOnly(self.desk)
         conductor = Conductor(self.options, seat, self.shards, planner, self.launch)
         self.conductors[seat] = conductor
         return conductor
@@ -219,3 +223,19 @@ class ParticipantPlanner:
                 f"once (workcell serve --sessions {most}); start again in a minute",
             )
         return await asyncio.to_thread(self.desk.next_session, self.participant, start.consent)
+
+
+class InvitesOnly:
+    """A seat of a study server that is not a participant's: it records nothing, so that
+    every session in the study's store is a planned session of a participant."""
+
+    def __init__(self, desk: StudyDesk) -> None:
+        self.desk = desk
+
+    async def plan(self, start: m.StartSession) -> SessionConfig | Refusal:
+        return Refusal(
+            "not_allowed",
+            f"start_session: this server runs study {self.desk.study.name} and records only "
+            "its participants' planned sessions; a session starts from a participant's "
+            "invite link (the admin page lists them)",
+        )

@@ -1,6 +1,7 @@
 """The study's HTTP API (``workcell serve --study``): ``GET /api/study/me`` for a
-participant, and for the admin ``GET /api/study`` (every participant, live) and
-``POST /api/study/participants/{id}/stop`` (end their running session)."""
+participant (204, no content, for a page that is not a participant's, or on a server
+without a study: every page asks), and for the admin ``GET /api/study`` (every
+participant, live) and ``POST /api/study/participants/{id}/stop`` (end their running session)."""
 
 from __future__ import annotations
 
@@ -24,11 +25,9 @@ NO_STUDY = "this server runs no study (workcell serve --study FILE)"
 def study_routes(seats: Seats) -> list[Route]:
     def me(request: Request) -> Response:
         desk = seats.desk
-        if desk is None:
-            return problem(404, NO_STUDY)
         participant = principal_of(request.scope).participant
-        if participant is None:
-            return problem(404, "a participant's view: open the page with a participant's invite")
+        if desk is None or participant is None:  # every page asks: not an error
+            return Response(status_code=204)
         return json_response(desk.status(participant))
 
     async def overview(request: Request) -> Response:

@@ -170,7 +170,8 @@ class InputConfig:
 
 @dataclass(frozen=True)
 class SessionConfig:
-    """One operator sitting: task, recording, world, seed, operator and study condition."""
+    """One operator sitting: task, recording, world, seed, operator, study condition and
+    step."""
 
     task: TaskConfig = section(TaskConfig, "the task mode, levels, limits and scoring")
     recording: RecordingConfig = section(RecordingConfig, "sampling and activity thresholds")
@@ -202,6 +203,15 @@ class SessionConfig:
         "asked); workcell serve --study sets it",
         pattern=r"([0-9a-f]{64})?",
         pattern_doc="empty or 64 lower-case hex digits",
+    )
+    study_step: int = setting(
+        0,
+        "which of the participant's planned sessions this is, from 1 in the order they run "
+        "them (0: not a planned session of a study); workcell serve --study and workcell "
+        "study set it",
+        unit="1",
+        low=0,
+        high=10_000,
     )
 
     def __post_init__(self) -> None:

@@ -27,9 +27,17 @@ from workcell.tasks.registry import task_class
 
 NAME_PATTERN = r"[\w.-]{1,64}"
 NAME_DOC = "1 to 64 letters, digits, '.', '_' or '-'"
-SET_BY_STUDY = ("operator_id", "condition", "consent", "seed", "task.mode", "task.trials")
+SET_BY_STUDY = (
+    "operator_id",
+    "condition",
+    "consent",
+    "study_step",
+    "seed",
+    "task.mode",
+    "task.trials",
+)
 """Session settings the study sets itself for each session (participant, condition,
-consent, seed, step)."""
+consent, its place in the participant's plan, seed, step)."""
 
 
 @dataclass(frozen=True)

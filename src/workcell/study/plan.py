@@ -62,6 +62,7 @@ def participant_plan(study: StudyConfig, participant: str) -> list[PlannedSessio
                 task=task,
                 operator_id=participant,
                 condition=condition.name,
+                study_step=len(sessions) + 1,
                 seed=study.seed + SEEDS_PER_PARTICIPANT * number + step_number,
             )
             sessions.append(

@@ -29,8 +29,8 @@ consent = ""
 invite_days = 0
 
 # Settings every session of the study starts from, as `workcell config --defaults`
-# prints them (operator_id, condition, consent, seed, task.mode and task.trials are the
-# study's).
+# prints them (operator_id, condition, consent, study_step, seed, task.mode and
+# task.trials are the study's).
 [session]
 
 # One table per condition: its name and the session settings it changes.

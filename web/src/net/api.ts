@@ -30,7 +30,7 @@ export function fetchReplay(trialId: string, every: number): Promise<TrialReplay
  * participant's invite (no study, or the admin's link). */
 export async function fetchParticipant(): Promise<ParticipantStatus | null> {
   const response = await fetch(serverUrl("api/study/me"), { headers: { Accept: "application/json" } });
-  if (response.status === 404) return null;
+  if (response.status === 204) return null;
   if (!response.ok) throw new Error(`api/study/me: HTTP ${response.status}`);
   return (await response.json()) as ParticipantStatus;
 }

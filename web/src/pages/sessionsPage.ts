@@ -22,7 +22,7 @@ function trialRow(trial: TrialSummary): HTMLTableRowElement {
   const outcome = trial.outcome ?? "running";
   const reason = trial.interruption_reason !== null ? ` (${trial.interruption_reason})` : "";
   const flags = trial.quality_flags.length > 0 ? trial.quality_flags.join(", ") : "—";
-  const included = trial.included === null ? "—" : trial.included ? "yes" : "no";
+  const included = trial.included === null ? "—" : trial.included ? "yes" : `no: ${trial.exclusion_reason ?? "not included"}`;
   const cells = [
     String(trial.trial_index + 1),
     trial.mode,
@@ -55,12 +55,16 @@ function sessionBlock(session: SessionSummary): HTMLElement {
   block.dataset["sessionId"] = session.session_id;
   const successes = session.trials.filter((t) => t.outcome === "success").length;
   const score = session.trials.reduce((sum, t) => sum + (t.score ?? 0), 0);
+  const condition = session.condition !== null ? ` · condition ${session.condition}` : "";
+  const step = session.study_step !== null ? ` · study step ${session.study_step}` : "";
+  block.dataset["operatorId"] = session.operator_id;
+  block.dataset["condition"] = session.condition ?? "";
   block.append(
     el(
       "summary",
       {},
       el("strong", { textContent: session.mode }),
-      ` · ${session.operator_id} · ${when(session.created_wall)} · ${session.status} · `,
+      ` · ${session.operator_id}${condition}${step} · ${when(session.created_wall)} · ${session.status} · `,
       `${successes}/${session.trials.length} successful · score ${score} · `,
       el("code", { textContent: session.session_id }),
     ),

@@ -14,8 +14,9 @@ const TASK_KEY = "task.kind";
 const MODE_KEY = "task.mode";
 const OPERATOR_KEY = "operator_id";
 const CONDITION_KEY = "condition";
-/** Settings only `workcell serve --study` sets (a participant's accepted consent): not on the form. */
-const SET_BY_STUDY_SERVER: readonly string[] = ["consent"];
+/** Settings only `workcell serve --study` sets (a participant's accepted consent, their
+ * session's place in their plan): not on the form. */
+const SET_BY_STUDY_SERVER: readonly string[] = ["consent", "study_step"];
 const MODE_HELP: Record<string, string> = {
   practice: "one trial, one box, ends at delivery",
   collection: "repeated one-box trials with automatic reset",

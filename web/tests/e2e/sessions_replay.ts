@@ -52,6 +52,11 @@ function fakeGamepad(): void {
 
 await runScript("sessions_replay", async ({ url, page, artifacts }) => {
   await page.addInitScript(fakeGamepad);
+  // Every page asks whether it is a study participant's: outside a study that is no error.
+  const studyAnswers: number[] = [];
+  page.on("response", (response) => {
+    if (response.url().includes("/api/study/me")) studyAnswers.push(response.status());
+  });
   const started = await startSession(page, url, {
     operatorId: "e2e-replay",
     query: { quality: "low" },
@@ -98,6 +103,9 @@ await runScript("sessions_replay", async ({ url, page, artifacts }) => {
   await row.waitFor({ timeout: PATIENCE_MS });
   const rowText = (await row.textContent()) ?? "";
   check(rowText.includes("interrupted") && rowText.includes("operator_stop") && rowText.includes("R1 L1"), `trial row reads: ${rowText}`);
+  // an interrupted trial is incomplete, never included: said with the audit's reason
+  check(rowText.includes("no: incomplete: interrupted (operator_stop)"), `trial row's inclusion reads: ${rowText}`);
+  check(studyAnswers.length > 0 && studyAnswers.every((status) => status === 204), `/api/study/me answered ${JSON.stringify(studyAnswers)}`);
   await checkDrawn(page, path.join(artifacts, "sessions.png"));
   await row.locator("a.replay-link").click();
 
