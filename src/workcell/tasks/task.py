@@ -1,6 +1,6 @@
 """What a task is: everything one kind of trial asks of the robot, declared in one class.
 
-A task (docs/architecture.md, "Tasks") names itself, says in words what a trial asks
+A task (docs/tasks.md) names itself, says in words what a trial asks
 (:meth:`Task.instruction`), lists its stages in order, offers three worlds from narrow to
 broad (:data:`~workcell.tasks.worlds.WORLDS`), judges a trial as it runs
 (:meth:`Task.new_trial` and :meth:`TrialJudge.evaluate`) and brings its expert. The
