@@ -23,6 +23,8 @@ OPTION_FORMATS: dict[str, tuple[str, ...]] = {
     "--all": DATASET_FORMATS,
     "--audited": DATASET_FORMATS,
     "--successes": DATASET_FORMATS,
+    "--task": DATASET_FORMATS,
+    "--operator": DATASET_FORMATS,
     "--cameras": CAMERA_FORMATS,
     "--size": CAMERA_FORMATS,
     "--rerender": CAMERA_FORMATS,
@@ -72,6 +74,20 @@ def register(subparsers: Subparsers) -> None:
         "--successes",
         action="store_true",
         help="lerobot/hdf5/rerun: successful trials only (for imitation learning)",
+    )
+    parser.add_argument(
+        "--task",
+        action="append",
+        metavar="NAME",
+        help="lerobot/hdf5/rerun: only the sessions that ran this task ('workcell tasks'; "
+        "repeatable)",
+    )
+    parser.add_argument(
+        "--operator",
+        action="append",
+        metavar="ID",
+        help="lerobot/hdf5/rerun: only the sessions of this operator id (repeatable; "
+        "'workcell audit' lists them)",
     )
     parser.add_argument(
         "--cameras",
@@ -170,6 +186,8 @@ def dataset_options(args: argparse.Namespace) -> ExportOptions:
         include_all=args.all,
         audited=args.audited,
         successes_only=args.successes,
+        tasks=tuple(args.task or ()),
+        operators=tuple(args.operator or ()),
         cameras=cameras,
         size=size,
         rerender=args.rerender,

@@ -75,6 +75,10 @@ class TrialFilter:
     """Inclusion as the audit decides it: valid and without a quality flag."""
     successes_only: bool = False
     """Only successful trials (a dataset for imitation)."""
+    tasks: tuple[str, ...] = ()
+    """Only the trials of sessions that ran one of these tasks (``task.kind``; none: all)."""
+    operators: tuple[str, ...] = ()
+    """Only the trials of sessions of one of these operators (their ids; none: all)."""
 
     def __post_init__(self) -> None:
         if self.include_all and self.audited:
@@ -102,11 +106,17 @@ class ExportOptions:
     are some and they share one size, else :data:`DEFAULT_SIZE`."""
     rerender: bool = False
     """Render every camera image from the recorded states, even where videos were recorded."""
+    tasks: tuple[str, ...] = ()
+    """Only sessions that ran one of these tasks (none: every task)."""
+    operators: tuple[str, ...] = ()
+    """Only sessions of one of these operators (none: every operator)."""
 
     @property
     def trials(self) -> TrialFilter:
         """Which trials become episodes."""
-        return TrialFilter(self.include_all, self.audited, self.successes_only)
+        return TrialFilter(
+            self.include_all, self.audited, self.successes_only, self.tasks, self.operators
+        )
 
     @property
     def image_size(self) -> ImageSize:
@@ -114,7 +124,7 @@ class ExportOptions:
         return self.size or DEFAULT_SIZE
 
     def __post_init__(self) -> None:
-        TrialFilter(self.include_all, self.audited, self.successes_only)  # checks them
+        _ = self.trials  # checks them
         unknown = [c for c in self.cameras if c not in ROBOT_CAMERAS]
         if unknown or len(set(self.cameras)) != len(self.cameras):
             raise ConfigError(

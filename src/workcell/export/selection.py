@@ -18,11 +18,14 @@ from workcell.export.options import TrialFilter
 from workcell.record.entries import AnnotationRecord, SessionRecord, TrialRecord
 from workcell.record.inclusion import Inclusion, decide, left_out_as
 from workcell.record.store import Store
+from workcell.tasks.registry import recorded_kind
 
 __all__ = ["EpisodeSource", "Inclusion", "Selection", "decide", "select"]
 
 WITHOUT_FRAMES = "without frames"
 NOT_SUCCESSFUL = "not successful (--successes)"
+OTHER_TASK = "another task (--task)"
+OTHER_OPERATOR = "another operator (--operator)"
 
 
 @dataclass(frozen=True)
@@ -71,6 +74,13 @@ def select(
     left_out: Counter[str] = Counter()
     excluded = without_frames = not_successes = 0
     for trial in trials:
+        session = sessions[trial.session_id]
+        if rule.tasks and recorded_kind(session.parameters) not in rule.tasks:
+            left_out[OTHER_TASK] += 1
+            continue
+        if rule.operators and session.operator_id not in rule.operators:
+            left_out[OTHER_OPERATOR] += 1
+            continue
         if not trial.n_frames:
             without_frames += 1
             left_out[WITHOUT_FRAMES] += 1
@@ -87,7 +97,7 @@ def select(
             not_successes += 1
             left_out[NOT_SUCCESSFUL] += 1
             continue
-        chosen.append(EpisodeSource(sessions[trial.session_id], trial, inclusion))
+        chosen.append(EpisodeSource(session, trial, inclusion))
     return Selection(
         tuple(chosen),
         len(trials),

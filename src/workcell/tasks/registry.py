@@ -52,12 +52,16 @@ def load_task(kind: str, key: str = "task.kind") -> Task:
     return task_class(kind, key)()
 
 
-def recorded_task(parameters: Mapping[str, Any]) -> Task:
-    """The task a recorded session ran: its stored ``task.kind`` (box transfer for a store
+def recorded_kind(parameters: Mapping[str, Any]) -> str:
+    """The ``task.kind`` a recorded session's ``parameters`` name (box transfer for a store
     written before sessions named their task)."""
     task = parameters.get("task")
-    kind = task.get("kind", DEFAULT_TASK) if isinstance(task, Mapping) else DEFAULT_TASK
-    return load_task(str(kind))
+    return str(task.get("kind", DEFAULT_TASK)) if isinstance(task, Mapping) else DEFAULT_TASK
+
+
+def recorded_task(parameters: Mapping[str, Any]) -> Task:
+    """The task a recorded session ran (:func:`recorded_kind`)."""
+    return load_task(recorded_kind(parameters))
 
 
 def _choices() -> str:
