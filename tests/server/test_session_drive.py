@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import asyncio
 import math
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -39,6 +40,41 @@ def test_bad_settings_are_rejected_field_by_field(tmp_path: Path) -> None:
             assert server.conductor.sessions_started == 0
 
     asyncio.run(scenario())
+
+
+def _with_task(kind: str) -> dict[str, object]:
+    return {**FAST_SETTINGS, "task": {**FAST_SETTINGS["task"], "kind": kind}}
+
+
+def test_a_client_starts_only_a_built_in_task(tmp_path: Path) -> None:
+    """A client naming module:Class would have the server import a module of its choice:
+    refused beside the field, no module imported, nothing started; a built-in task starts."""
+    said: dict[str, str] = {}
+
+    async def scenario() -> None:
+        with running_server(tmp_path) as server:
+            async with client(server) as c:
+                await c.hello()
+                for kind in ("tests.server.no_such_module:Task", "juggling"):
+                    await c.send(m.StartSession(settings=_with_task(kind)))
+                    rejected = await c.wait_for(lambda x: isinstance(x, m.ConfigRejected))
+                    assert isinstance(rejected, m.ConfigRejected)
+                    (problem,) = rejected.problems
+                    assert problem.path == ("task", "kind") and problem.value == kind
+                    said[kind] = problem.message
+                assert server.conductor.sessions_started == 0
+                await c.send(m.StartSession(settings=_with_task("box_transfer")))
+                await c.wait_for(lambda x: isinstance(x, m.SessionStarted))
+                await c.send(m.Stop())
+                await c.wait_for(lambda x: isinstance(x, m.SessionEnded))
+
+    asyncio.run(scenario())
+    assert (
+        "a client may start only a built-in task (box_transfer)"
+        in said["tests.server.no_such_module:Task"]
+    )
+    assert "no such task" in said["juggling"]
+    assert "tests.server.no_such_module" not in sys.modules
 
 
 def test_left_stick_drives_the_base_forward_and_grip_moves_the_tcp_target(

@@ -31,7 +31,7 @@ from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
-from workcell.tasks.registry import load_task
+from workcell.tasks.registry import built_in_task, load_task
 
 logger = logging.getLogger(__name__)
 
@@ -213,10 +213,12 @@ class Conductor:
                 return None
             return planned
         try:
-            return from_mapping(SessionConfig, start.settings)
+            config = from_mapping(SessionConfig, start.settings)
+            built_in_task(config.task.kind)
         except ConfigError as error:
             client.send(m.ConfigRejected(problems=field_problems(error)))
             return None
+        return config
 
     @property
     def starting(self) -> bool:

@@ -47,6 +47,24 @@ def task_class(kind: str, key: str = "task.kind") -> type[Task]:
     return found_class
 
 
+def built_in_task(kind: str, key: str = "task.kind") -> type[Task]:
+    """The built-in task ``kind`` names: what a client of ``workcell serve`` may start. A
+    ``module:Class`` would have the server import whatever module a client names, so a
+    task of one's own runs from the command line or a study file, never from a client."""
+    if ":" in kind:
+        raise ConfigError(
+            [
+                _problem(
+                    key,
+                    kind,
+                    f"a client may start only a built-in task ({', '.join(BUILT_IN)}); a task "
+                    "of your own runs with workcell collect --task or from a study file",
+                )
+            ]
+        )
+    return task_class(kind, key)
+
+
 def load_task(kind: str, key: str = "task.kind") -> Task:
     """An instance of the task ``kind`` names."""
     return task_class(kind, key)()
