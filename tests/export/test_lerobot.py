@@ -57,7 +57,9 @@ def test_info_describes_a_v30_dataset(lerobot_dir: Path) -> None:
     assert features["observation.state"]["shape"] == [39]
     assert features["action"]["names"] == list(ACTION_NAMES)
     assert features["action"]["shape"] == [23]
-    assert features["observation.environment_state"]["names"] == list(box_feature_names(4))
+    # every box, then the task's goal: the delivery zone's centre
+    environment = [*box_feature_names(4), "goal_x", "goal_y"]
+    assert features["observation.environment_state"]["names"] == environment
     for key in ("next.reward", "timestamp"):
         assert features[key] == {"dtype": "float32", "shape": [1], "names": None}
     for key in ("next.done", "next.success"):

@@ -73,7 +73,7 @@ def test_sequence_dataset_loads_every_demo_with_next_obs(hdf5_path: Path) -> Non
     assert len(dataset) == total
     item = dataset[3]  # demo_0 comes first
     assert item["obs"]["state"].shape == (1, 39)
-    assert item["next_obs"]["environment_state"].shape == (1, 32)
+    assert item["next_obs"]["environment_state"].shape == (1, 32 + 2)  # boxes, then the goal
     assert item["actions"].shape == (1, 23)
     np.testing.assert_array_equal(item["obs"]["state"][0], state[3])
     np.testing.assert_array_equal(item["next_obs"]["state"][0], next_state[3])

@@ -8,6 +8,7 @@ import sqlite3
 from dataclasses import replace
 from pathlib import Path
 
+import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
 import pytest
 
 from workcell.audit.run import run_audit
@@ -131,3 +132,38 @@ def test_the_environment_rewards_each_stage_once_from_the_tasks_judge() -> None:
     assert total == pytest.approx(1.0)
     with pytest.raises(ConfigError, match="reward = 'dense': must be one of deliveries, staged"):
         BoxTransferConfig(reward="dense")  # type: ignore[arg-type]
+
+
+def test_the_goal_is_observed_and_exported_where_the_trial_put_the_zone(tmp_path: Path) -> None:
+    """The environment state ends with the task's goal (the zone's centre), read from the
+    trial's conditions: in D1 it moves with the zone, in the env and in the export alike."""
+    env = BoxTransferEnv(world="D1")
+    seen = set()
+    for seed in (1, 2):
+        observation, _ = env.reset(seed=seed)
+        center = env.sim.world.conditions.target_center
+        goal = observation["environment_state"][-2:]
+        assert goal.tolist() == pytest.approx(center, abs=1e-6)
+        seen.add(tuple(goal.tolist()))
+    env.close()
+    assert len(seen) == 2
+    store, out = tmp_path / "d1.sqlite", tmp_path / "lerobot"
+    argv = ["collect", "--world", "D1", "--mode", "collection", "--trials", "2", "--seed", "9"]
+    assert main([*argv, "--store", str(store)]) == 0
+    assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
+    with sqlite3.connect(store) as connection:
+        payloads = connection.execute(
+            "SELECT payload_json FROM events WHERE kind = 'trial_started' ORDER BY seq"
+        ).fetchall()
+    centers = [json.loads(p)["conditions"]["target_center"] for (p,) in payloads]
+    table = pq.read_table(out / "data/chunk-000/file-000.parquet").to_pydict()
+    for episode, center in enumerate(centers):
+        rows = [
+            state[-2:]
+            for state, index in zip(
+                table["observation.environment_state"], table["episode_index"], strict=True
+            )
+            if index == episode
+        ]
+        assert rows and all(r == pytest.approx(center, abs=1e-6) for r in rows)
+    assert centers[0] != centers[1]

@@ -86,7 +86,9 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         self.render_mode = render_mode
         self.metadata = {**self.metadata, "render_fps": config.fps}
         self.sim = Simulation(config.session.world, self.task.scene())
-        self._observations = ObservationBuilder(self.sim, config.cameras, config.camera_size)
+        self._observations = ObservationBuilder(
+            self.sim, self.task, config.cameras, config.camera_size
+        )
         self.observation_space = observation_space(config)
         self.action_space = action_space(config, self.sim.world)
         self._renderer: OffscreenRenderer | None = None

@@ -4,8 +4,9 @@ An observation is a dict, as gym-aloha's and gym-pusht's are:
 
 - ``agent_pos`` (float32, 39): the robot, the export's ``observation.state``
   (:data:`workcell.export.features.STATE_NAMES`);
-- ``environment_state`` (float32, 8 per box): every box, the export's
-  ``observation.environment_state`` (:func:`workcell.export.boxes.box_feature_names`);
+- ``environment_state`` (float32, 8 per box and the task's goal): every box, then what the
+  trial asks (box transfer: the delivery zone's centre), the export's
+  ``observation.environment_state`` (:func:`workcell.export.boxes.environment_names`);
 - ``pixels`` (only with cameras): ``{camera: uint8 (height, width, 3)}``, channel last,
   the export's ``observation.images.<camera>`` before LeRobot scales it to [0, 1] CHW.
 
@@ -32,6 +33,7 @@ from workcell.export.options import ImageSize
 from workcell.recording.frame_format import FrameReader
 from workcell.render.quality import CAMERA_QUALITY
 from workcell.render.renderer import OffscreenRenderer
+from workcell.tasks import Task
 
 AGENT_POS = "agent_pos"
 ENVIRONMENT_STATE = "environment_state"
@@ -48,19 +50,25 @@ class ObservationBuilder:
     def __init__(
         self,
         sim: Simulation,
+        task: Task,
         cameras: Sequence[str] = (),
         size: ImageSize | None = None,
     ) -> None:
         self.sim = sim
+        self.task = task
         self.cameras = tuple(cameras)
         self.size = size or ImageSize()
         self.pool_size = sim.config.feeder.pool_size
         self._reader = FrameReader(sim.world, sim.controller)
         self._renderer: OffscreenRenderer | None = None
+        self._goal = np.zeros(len(task.goal_names), dtype=np.float32)
 
     def restart(self) -> None:
-        """The next observation is the first of a new episode."""
+        """The next observation is the first of a new episode (whose world was reset: its
+        goal is read from the trial's conditions now)."""
         self._reader.restart()
+        conditions = self.sim.world.conditions.as_dict()
+        self._goal = np.array(self.task.goal(conditions, self.sim.config), dtype=np.float32)
 
     def observe(self, command: Command) -> Observation:
         """The observation of the world now; ``command`` is the latest one given (it is
@@ -68,7 +76,8 @@ class ObservationBuilder:
         row = self._reader.read(command, None, t_sim=0.0, t_wall=0.0, step_wall_ms=0.0)
         state = np.array([row[name] for name in STATE_NAMES], dtype=np.float32)
         boxes = parse_boxes([row["boxes"]], self.pool_size).features()[0].astype(np.float32)
-        observation: Observation = {AGENT_POS: state, ENVIRONMENT_STATE: boxes}
+        environment = np.concatenate([boxes, self._goal])
+        observation: Observation = {AGENT_POS: state, ENVIRONMENT_STATE: environment}
         if self.cameras:
             observation[PIXELS] = self._images()
         return observation

@@ -15,9 +15,10 @@ from gymnasium import spaces
 
 from workcell.envs.config import BoxTransferConfig
 from workcell.envs.observation import AGENT_POS, ENVIRONMENT_STATE, PIXELS
-from workcell.export.boxes import box_feature_names
+from workcell.export.boxes import environment_names
 from workcell.export.features import ACTION_NAMES, STATE_NAMES
 from workcell.sim.world import World
+from workcell.tasks.registry import load_task
 
 TARGET_REACH_M = 2.0
 """TCP targets (base frame) lie within this distance of the base centre in x and y."""
@@ -29,9 +30,10 @@ def observation_space(config: BoxTransferConfig) -> spaces.Dict:
         return spaces.Box(-np.inf, np.inf, shape=(size,), dtype=np.float32)
 
     pool_size = config.session.world.feeder.pool_size
+    goal_names = load_task(config.session.task.kind).goal_names
     observation: dict[str, spaces.Space[object]] = {
         AGENT_POS: unbounded(len(STATE_NAMES)),
-        ENVIRONMENT_STATE: unbounded(len(box_feature_names(pool_size))),
+        ENVIRONMENT_STATE: unbounded(len(environment_names(pool_size, goal_names))),
     }
     if config.cameras:
         size = config.camera_size

@@ -29,6 +29,12 @@ def box_feature_names(pool_size: int) -> tuple[str, ...]:
     return tuple(f"box{i}_{field}" for i in range(pool_size) for field in BOX_FIELDS)
 
 
+def environment_names(pool_size: int, goal_names: Sequence[str]) -> tuple[str, ...]:
+    """``observation.environment_state``'s names: every box (:func:`box_feature_names`),
+    then the task's goal (:attr:`workcell.tasks.Task.goal_names`)."""
+    return (*box_feature_names(pool_size), *goal_names)
+
+
 @dataclass(frozen=True)
 class BoxTrack:
     """Every box at every frame: ``poses`` (frames, boxes, 7) and ``states`` (frames, boxes)."""

@@ -74,18 +74,24 @@ def next_commands(recorded: NDArray[np.float64]) -> NDArray[np.float64]:
 
 
 def episode_arrays(
-    frames: Mapping[str, Sequence[Any] | NDArray[Any]], outcome: str | None, pool_size: int
+    frames: Mapping[str, Sequence[Any] | NDArray[Any]],
+    outcome: str | None,
+    pool_size: int,
+    goal: Sequence[float] = (),
 ) -> EpisodeArrays:
-    """The episode of one trial's frame columns (``Store.frames``)."""
+    """The episode of one trial's frame columns (``Store.frames``); ``goal`` (the trial's
+    task goal, :meth:`workcell.tasks.Task.goal`) follows the boxes in every row's
+    environment state."""
     boxes = parse_boxes(frames["boxes"], pool_size)
     n = len(boxes.states)
+    goals = np.tile(np.asarray(goal, dtype=np.float64), (n, 1))
     done = np.zeros(n, dtype=bool)
     done[-1:] = True
     success = done & (outcome == "success")
     return EpisodeArrays(
         state=continuous_state(column_matrix(frames, STATE_NAMES)),
         action=next_commands(column_matrix(frames, ACTION_NAMES)),
-        environment=boxes.features(),
+        environment=np.hstack([boxes.features(), goals]),
         reward=boxes.deliveries(),
         done=done,
         success=success,

@@ -12,7 +12,7 @@
                          study_step, outcome, flags, ...)
         states           (n, nq + nv) restored MuJoCo qpos and qvel (see .restore)
         actions          (n, 23)   rewards (n,)   dones (n,)
-        obs/state        (n, 39)   obs/environment_state (n, 8 per box)
+        obs/state        (n, 39)   obs/environment_state (n, 8 per box + the goal)
         obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for: the
                          trial's recorded video decoded, or rendered from its states
                          (attribute camera_sources says which, and why)
@@ -44,7 +44,7 @@ import h5py  # type: ignore[import-untyped, unused-ignore]
 import numpy as np
 from numpy.typing import NDArray
 
-from workcell.export.boxes import box_feature_names
+from workcell.export.boxes import environment_names
 from workcell.export.camera_images import CameraPlan, describe, episode_images
 from workcell.export.camera_sources import CameraSource
 from workcell.export.env_args import env_args, shared_parameters
@@ -186,7 +186,9 @@ def _write_header(data: Any, source: ExportSource, frames: int) -> None:
     data.attrs["total"] = frames
     data.attrs["state_names"] = json.dumps(list(STATE_NAMES))
     data.attrs["action_names"] = json.dumps(list(ACTION_NAMES))
-    data.attrs["environment_state_names"] = json.dumps(list(box_feature_names(source.pool_size)))
+    data.attrs["environment_state_names"] = json.dumps(
+        list(environment_names(source.pool_size, source.goal_names))
+    )
     data.attrs["conventions"] = json.dumps({**CONVENTIONS, "next_obs": NEXT_OBS_CONVENTION})
     data.attrs["fps"] = source.fps
 

@@ -22,6 +22,7 @@ import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
 from numpy.typing import NDArray
 
 from workcell.export import stats as statistics
+from workcell.export.boxes import environment_names
 from workcell.export.camera_images import CameraPlan, describe, episode_images
 from workcell.export.features import ACTION_KEY, ENVIRONMENT_KEY, STATE_KEY, image_key
 from workcell.export.lerobot_files import DataFiles, VideoFiles
@@ -105,7 +106,10 @@ class _LeRobotWriter:
         self.progress = progress
         self.fps = source.fps
         self.features = dataset_features(
-            source.pool_size, options.cameras, options.image_size, source.fps
+            environment_names(source.pool_size, source.goal_names),
+            options.cameras,
+            options.image_size,
+            source.fps,
         )
         self.data = DataFiles(out)
         self.videos = {

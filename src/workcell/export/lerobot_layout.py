@@ -21,7 +21,6 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from workcell.export.boxes import box_feature_names
 from workcell.export.features import (
     ACTION_KEY,
     ACTION_NAMES,
@@ -101,12 +100,13 @@ def video_feature(size: ImageSize, fps: int) -> dict[str, Any]:
 
 
 def dataset_features(
-    pool_size: int, cameras: Sequence[str], size: ImageSize, fps: int
+    environment: Sequence[str], cameras: Sequence[str], size: ImageSize, fps: int
 ) -> dict[str, dict[str, Any]]:
-    """Every feature of the dataset with its dtype, shape and names, in column order."""
+    """Every feature of the dataset with its dtype, shape and names, in column order
+    (``environment``: the names of ``observation.environment_state``)."""
     features: dict[str, dict[str, Any]] = {
         STATE_KEY: _vector(STATE_NAMES),
-        ENVIRONMENT_KEY: _vector(box_feature_names(pool_size)),
+        ENVIRONMENT_KEY: _vector(environment),
         ACTION_KEY: _vector(ACTION_NAMES),
     }
     for camera in cameras:

@@ -58,7 +58,8 @@ def load_episodes(
     for index, episode in enumerate(source.episodes):
         trial = episode.trial
         frames = store.frames(trial.trial_id)
-        arrays = episode_arrays(frames, trial.outcome, source.pool_size)
+        goal = source.goal(store, episode)
+        arrays = episode_arrays(frames, trial.outcome, source.pool_size, goal)
         states = RecordedStates.from_frames(frames, arrays.boxes)
         world = None
         if worlds is not None:

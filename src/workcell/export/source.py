@@ -8,7 +8,7 @@ episodes, and sessions that cannot share one dataset (different frame rates or b
 from __future__ import annotations
 
 import os
-from collections.abc import Callable
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import TypeVar
@@ -29,6 +29,7 @@ from workcell.record.store import Store
 from workcell.record.verify import verify_store
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
+from workcell.tasks.registry import load_task
 
 T = TypeVar("T")
 
@@ -45,6 +46,8 @@ class ExportSource:
     """Each exported session's configuration, rebuilt from its stored parameters."""
     fps: int
     pool_size: int
+    goal_names: tuple[str, ...]
+    """The names of the sessions' task goal (:attr:`workcell.tasks.Task.goal_names`)."""
 
     @property
     def episodes(self) -> tuple[EpisodeSource, ...]:
@@ -54,6 +57,16 @@ class ExportSource:
     def sessions(self) -> list[SessionRecord]:
         """The exported sessions, in recording order."""
         return _sessions(self.selection)
+
+    def goal(self, store: Store, episode: EpisodeSource) -> tuple[float, ...]:
+        """What ``episode``'s trial asked (its task's goal, from its recorded conditions)."""
+        config = self.configs[episode.session.session_id]
+        started = store.events(episode.trial.trial_id)
+        conditions = next(
+            (e.payload.get("conditions") for e in started if e.kind == "trial_started"), None
+        )
+        recorded = conditions if isinstance(conditions, Mapping) else {}
+        return load_task(config.task.kind).goal(recorded, config.world)
 
 
 def check_output(out: str | os.PathLike[str]) -> Path:
@@ -116,6 +129,7 @@ def open_source(path: str | os.PathLike[str], rule: TrialFilter) -> ExportSource
         configs=configs,
         fps=_shared_fps(configs),
         pool_size=_shared(configs, "box pool size", lambda c: c.world.feeder.pool_size),
+        goal_names=_shared(configs, "task goal", lambda c: load_task(c.task.kind).goal_names),
     )
 
 

@@ -9,11 +9,10 @@ before the session starts, with what it expects and what the session has.
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import Any
 
-from workcell.export.boxes import box_feature_names
 from workcell.export.features import (
     ACTION_KEY,
     ACTION_NAMES,
@@ -35,14 +34,18 @@ class PolicyInputs:
     image_size: ImageSize | None
 
 
-def policy_inputs(checkpoint: PolicyCheckpoint, config: Any, pool_size: int) -> PolicyInputs:
+def policy_inputs(
+    checkpoint: PolicyCheckpoint, config: Any, environment: Sequence[str]
+) -> PolicyInputs:
     """Check the policy ``config`` (a LeRobot ``PreTrainedConfig``) against a session whose
-    feeder pool holds ``pool_size`` boxes; its cameras and image size."""
+    ``observation.environment_state`` has the names ``environment`` (every box of its pool,
+    then its task's goal: :func:`workcell.export.boxes.environment_names`); its cameras and
+    image size."""
     inputs: Mapping[str, Any] = config.input_features or {}
     outputs: Mapping[str, Any] = config.output_features or {}
     vectors = {
         STATE_KEY: (len(STATE_NAMES),),
-        ENVIRONMENT_KEY: (len(box_feature_names(pool_size)),),
+        ENVIRONMENT_KEY: (len(environment),),
     }
     problems = []
     cameras: list[str] = []

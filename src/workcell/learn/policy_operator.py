@@ -24,6 +24,7 @@ from workcell.envs.actions import command_from_action
 from workcell.envs.config import BoxTransferConfig
 from workcell.envs.observation import ObservationBuilder
 from workcell.envs.spaces import action_space
+from workcell.export.boxes import environment_names
 from workcell.export.options import ImageSize
 from workcell.learn.checkpoint import PolicyCheckpoint
 from workcell.learn.errors import LearnError, MissingLearnExtraError
@@ -55,16 +56,18 @@ class PolicyOperator:
         self.device = device or ("cuda" if torch.cuda.is_available() else "cpu")
         self._torch = torch
         self._policy, self._preprocessor, self._postprocessor = _load(checkpoint, self.device)
+        task = load_task(config.task.kind)
+        environment_state = environment_names(config.world.feeder.pool_size, task.goal_names)
         self.inputs: PolicyInputs = policy_inputs(
-            checkpoint, self._policy.config, config.world.feeder.pool_size
+            checkpoint, self._policy.config, environment_state
         )
         environment = BoxTransferConfig(session=config)  # checks that frames are whole steps
         self.control_steps_per_frame = environment.control_steps_per_frame
         space = action_space(environment, sim.world)
         self._low, self._high = space.low.astype(np.float64), space.high.astype(np.float64)
         size = self.inputs.image_size or ImageSize()
-        self._observations = ObservationBuilder(sim, self.inputs.cameras, size)
-        self._task = load_task(config.task.kind).instruction(1)
+        self._observations = ObservationBuilder(sim, task, self.inputs.cameras, size)
+        self._task = task.instruction(1)
         self._command = Command()
         self._steps = 0
         self.decisions = 0

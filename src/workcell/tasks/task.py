@@ -1,8 +1,9 @@
 """What a task is: everything one kind of trial asks of the robot, declared in one class.
 
 A task (docs/tasks.md) names itself, says in words what a trial asks
-(:meth:`Task.instruction`), lists its stages in order, offers three worlds from narrow to
-broad (:data:`~workcell.tasks.worlds.WORLDS`), judges a trial as it runs
+(:meth:`Task.instruction`) and as numbers a policy observes (:meth:`Task.goal`), lists its
+stages in order, offers three worlds from narrow to broad
+(:data:`~workcell.tasks.worlds.WORLDS`), judges a trial as it runs
 (:meth:`Task.new_trial` and :meth:`TrialJudge.evaluate`) and brings its expert. The
 session runner, the environment and the expert's episode helper all ask the task whether a
 trial succeeded: the success rule is written once, in the task.
@@ -13,12 +14,13 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Protocol
 
 from workcell.tasks.worlds import WorldName, WorldRanges
 
 if TYPE_CHECKING:
     from workcell.expert.skill import ExpertConfig
+    from workcell.sim.config import WorldConfig
     from workcell.sim.events import WorldEvent
     from workcell.sim.world import TaskScene, World
     from workcell.task.operator import Operator
@@ -68,6 +70,15 @@ class Task(ABC):
     worlds: ClassVar[Mapping[WorldName, WorldRanges]]
     """The task's worlds ``D0`` (narrow), ``D1`` (moderate) and ``D2`` (broad): how far each
     trial's conditions may stray (:mod:`workcell.tasks.worlds`)."""
+    goal_names: ClassVar[tuple[str, ...]]
+    """The names of :meth:`goal`'s numbers, in order (they follow the objects in every
+    observation's ``environment_state`` and every dataset's feature names)."""
+
+    @abstractmethod
+    def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
+        """What a trial asks, as numbers a policy observes: read from the trial's
+        conditions as recorded (``trial_started``'s ``conditions``; the configured
+        ``world`` where they say nothing), so the environment and the exports agree."""
 
     @abstractmethod
     def instruction(self, required: int) -> str:

@@ -3,11 +3,12 @@ up with both hands, carries it to the delivery table and sets it down in the zon
 
 from __future__ import annotations
 
-from collections.abc import Mapping
-from typing import ClassVar
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar
 
 from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
+from workcell.sim.config import WorldConfig
 from workcell.task.operator import Operator
 from workcell.tasks.box_transfer.judge import BoxTransferJudge
 from workcell.tasks.box_transfer.scene import BoxTransferScene
@@ -46,6 +47,15 @@ class BoxTransfer(Task):
             "release_interval": 0.25,
         },
     }
+
+    goal_names: ClassVar[tuple[str, ...]] = ("goal_x", "goal_y")
+    """The delivery zone's centre in the world (m): where this trial's boxes go."""
+
+    def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
+        center = conditions.get("target_center")
+        if not (isinstance(center, Sequence) and len(center) == 2):
+            center = world.target.center
+        return float(center[0]), float(center[1])
 
     def instruction(self, required: int) -> str:
         return ONE_BOX if required == 1 else BOXES.format(n=required)
