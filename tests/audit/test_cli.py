@@ -66,7 +66,7 @@ def test_audit_writes_the_report_and_refuses_a_non_empty_folder(
     assert "3 valid (2 successes, 1 timeout)" in lines[0]
     assert lines[1] == "  task stages (how far each trial got): 2 delivered, 2 none"
     assert lines[2].startswith("  operator ")  # one line per operator, one operator too
-    assert ": 4 trials, 3 valid (2 successes, 1 timeouts), success rate 66.67 %" in lines[2]
+    assert ": 4 trials, 3 valid (2 successes, 1 timeout), success rate 66.67 %" in lines[2]
     assert lines[2].endswith("got to: 2 delivered, 2 none")
     assert lines[3].startswith("wrote ")
     assert sorted(p.name for p in out.iterdir()) == ["report.html", "summary.json", "trials.csv"]
