@@ -56,8 +56,8 @@ run: setup web-setup
 # failing step. The two workers take whole files, longest first (tests/conftest.py orders
 # them), so each file's fixtures are built once and no worker idles beside a long file.
 test: setup setup-learn web-setup browser-setup
-	$(BIN)/ruff check src tests bench
-	$(BIN)/ruff format --check src tests bench
+	$(BIN)/ruff check src tests bench examples
+	$(BIN)/ruff format --check src tests bench examples
 	$(BIN)/mypy
 	$(BIN)/python -m workcell.protocol.typescript --check
 	@$(MAKE) --no-print-directory web-test

@@ -1,0 +1,1 @@
+"""Examples of Workcell's extension points (each folder complete on its own; docs/tasks.md)."""

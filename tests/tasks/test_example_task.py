@@ -1,0 +1,37 @@
+"""The example task (examples/lift_box, docs/tasks.md) is collected with its expert,
+audited and exported without any file outside its folder knowing it."""
+
+from __future__ import annotations
+
+import csv
+import json
+from pathlib import Path
+
+import pytest
+
+from workcell.cli.main import main
+
+LIFT = "examples.lift_box:LiftBox"
+
+
+def test_the_example_task_is_collected_audited_and_exported(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    assert main(["tasks", LIFT]) == 0
+    assert capsys.readouterr().out.startswith("lift_box  lift a box off the conveyor")
+    store = tmp_path / "lift.sqlite"
+    argv = ["collect", "--task", LIFT, "--world", "D1", "--mode", "collection", "--trials", "2"]
+    assert main([*argv, "--store", str(store), "--json"]) == 0
+    rows = [json.loads(line) for line in capsys.readouterr().out.splitlines()]
+    assert [r["outcome"] for r in rows] == ["success", "success"]
+    assert all(10.0 < r["elapsed_s"] < 30.0 for r in rows)  # held up, not delivered
+    assert main(["audit", "--store", str(store), "--out", str(tmp_path / "audit")]) == 0
+    with (tmp_path / "audit" / "trials.csv").open() as file:
+        audited = list(csv.DictReader(file))
+    assert [t["outcome"] for t in audited] == ["success", "success"]
+    out = tmp_path / "lerobot"
+    assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
+    info = json.loads((out / "meta" / "info.json").read_text())
+    assert info["features"]["observation.environment_state"]["names"][-1] == "lift_m"
+    tasks = (out / "meta" / "tasks.parquet").read_bytes()
+    assert b"Lift the box off the conveyor and hold it up." in tasks
