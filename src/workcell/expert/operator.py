@@ -8,6 +8,7 @@ audited like anyone's.
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 
 import numpy as np
 from numpy.typing import NDArray
@@ -32,6 +33,15 @@ PLACE_DISTANCE = 0.8
 ARM_REACH = 0.6
 LIFT = 0.1
 PHASE_TIMEOUT_S = 12.0
+
+
+@dataclass(frozen=True)
+class Placement:
+    """Where a carried box's centre goes: ``center`` (x, y in the world, m) and ``rest_z``,
+    the height of its centre once it rests there."""
+
+    center: NDArray[np.float64]
+    rest_z: float
 
 
 def _wrap(angle: float) -> float:
@@ -81,6 +91,13 @@ class ExpertOperator:
             ExpertPhase.BACKOFF: self._backoff,
         }[self.phase]
         return self._command(world, handler(world))
+
+    def placement(self, world: World, box: BoxSlot) -> Placement:
+        """Where ``box`` is set down: the delivery zone's centre, at the height a box rests
+        on the table. A task whose boxes go elsewhere (a slot, a shelf, a table per kind)
+        overrides this, and the approach, the carry and the placing follow it."""
+        zone = world.zone
+        return Placement(zone.center, zone.rest_z)
 
     # --- phases ------------------------------------------------------------------------------
 
@@ -178,12 +195,12 @@ class ExpertOperator:
     def _place(self, world: World) -> BaseTwist:
         box = self._require_box()
         assert self._palms is not None
-        zone = world.zone
+        place = self.placement(world, box)
         if world.grasp.holding is not box:
             # Set down early (a pad slipped as the box met the table): let go right here.
             self._enter(world, ExpertPhase.RELEASE)
             return BaseTwist()
-        center = world.to_base_frame(np.array([*zone.center, zone.rest_z + 0.012]))
+        center = world.to_base_frame(np.array([*place.center, place.rest_z + 0.012]))
         held = world.to_base_frame(world.boxes.position(world.data, box))
         reach = np.array([min(center[0], ARM_REACH + 0.05), center[1], center[2]])
         palms_center = (self._palms.left_position + self._palms.right_position) / 2
@@ -304,9 +321,8 @@ class ExpertOperator:
 
     def _carry_route(self, world: World) -> list[NDArray[np.float64]]:
         pose = world.base_pose
-        zone = world.zone
         p = self.profile
-        place_center = zone.center + np.array(p.place_offset)
+        place_center = self.placement(world, self._require_box()).center + np.array(p.place_offset)
         # Face the table square-on from the side the robot is coming from.
         to_table = place_center - pose[:2]
         if abs(to_table[0]) > abs(to_table[1]):
