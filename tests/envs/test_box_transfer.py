@@ -175,3 +175,17 @@ def test_importing_the_package_registers_the_environment() -> None:
     made = gymnasium.make("workcell.envs:workcell/BoxTransfer-v0")
     assert isinstance(made.unwrapped, BoxTransferEnv)
     made.close()
+
+
+def test_every_built_in_task_has_an_environment_id_of_its_own() -> None:
+    from workcell.envs import ENV_IDS
+    from workcell.tasks.registry import BUILT_IN
+
+    assert ENV_IDS["box_transfer"] == ENV_ID
+    assert set(ENV_IDS) == set(BUILT_IN)
+    for name, registered_id in ENV_IDS.items():
+        env = gymnasium.make(registered_id)
+        assert isinstance(env.unwrapped, BoxTransferEnv)
+        assert env.unwrapped.task.name == name
+        assert env.unwrapped.config.session.task.kind == name
+        env.close()

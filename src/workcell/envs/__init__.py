@@ -1,4 +1,5 @@
-"""Gymnasium environment of the workcell: ``workcell/BoxTransfer-v0``.
+"""Gymnasium environments of the workcell: ``workcell/BoxTransfer-v0`` and one
+``workcell/<TaskName>-v0`` per built-in task (:data:`ENV_IDS`).
 
 As with other Gymnasium environment packages (gym-aloha, gym-pusht), importing this
 package registers the environment::
@@ -13,8 +14,8 @@ Observations follow LeRobot's gym convention (``agent_pos``, ``environment_state
 ``pixels``): see :mod:`workcell.envs.observation`.
 """
 
-from workcell.envs.registration import ENTRY_POINT, ENV_ID, MAX_EPISODE_STEPS, register
+from workcell.envs.registration import ENTRY_POINT, ENV_ID, ENV_IDS, MAX_EPISODE_STEPS, register
 
 register()
 
-__all__ = ["ENTRY_POINT", "ENV_ID", "MAX_EPISODE_STEPS", "register"]
+__all__ = ["ENTRY_POINT", "ENV_ID", "ENV_IDS", "MAX_EPISODE_STEPS", "register"]

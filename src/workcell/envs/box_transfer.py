@@ -67,16 +67,21 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
         render_mode: str | None = None,
         session_parameters: Mapping[str, Any] | None = None,
         world: WorldName | None = None,
+        task: str | None = None,
     ) -> None:
         """``config``, or the ``session_parameters`` a store recorded (as in the HDF5
         export's ``env_args``), or the defaults; ``world`` (``D0``, ``D1``, ``D2``) sets
-        the randomization ranges to the task's world of that name."""
+        the randomization ranges to the task's world of that name; ``task`` (a ``task.kind``)
+        replaces the configuration's task (each built-in task's registered id passes its
+        own)."""
         if config is None:
             config = (
                 BoxTransferConfig()
                 if session_parameters is None
                 else BoxTransferConfig.from_parameters(session_parameters)
             )
+        if task is not None:
+            config = config.for_task(task)
         self.task = load_task(config.session.task.kind)
         if world is not None:
             config = config.in_world(self.task, world)

@@ -77,6 +77,12 @@ class BoxTransferConfig:
         (``SessionRecord.parameters``); ``options`` are the other fields."""
         return cls(session=from_mapping(SessionConfig, parameters), **options)
 
+    def for_task(self, kind: str) -> BoxTransferConfig:
+        """This configuration with the task ``kind`` (a ``task.kind``) in place of its own."""
+        session = self.session
+        task = dataclasses.replace(session.task, kind=kind)
+        return dataclasses.replace(self, session=dataclasses.replace(session, task=task))
+
     def in_world(self, task: Task, world: WorldName) -> BoxTransferConfig:
         """This configuration in ``task``'s world ``world`` (its randomization ranges)."""
         ranges = RandomizationConfig(**task.worlds[world])

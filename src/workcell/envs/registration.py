@@ -1,6 +1,10 @@
-"""Registering the environment with Gymnasium (importing :mod:`workcell.envs` does it)."""
+"""Registering the environments with Gymnasium (importing :mod:`workcell.envs` does it):
+one id per built-in task, ``workcell/<TaskName>-v0`` (box transfer's is
+``workcell/BoxTransfer-v0``), each the same environment class asked for its own task."""
 
 from __future__ import annotations
+
+from workcell.tasks.registry import BUILT_IN
 
 ENV_ID = "workcell/BoxTransfer-v0"
 ENTRY_POINT = "workcell.envs.box_transfer:BoxTransferEnv"
@@ -11,9 +15,25 @@ its own configured limit too; pass ``max_episode_steps`` to ``gymnasium.make`` w
 configure a longer one."""
 
 
+def env_id(task_name: str) -> str:
+    """The Gymnasium id of the built-in task ``task_name``: ``box_transfer`` is
+    ``workcell/BoxTransfer-v0``."""
+    return "workcell/" + "".join(part.capitalize() for part in task_name.split("_")) + "-v0"
+
+
+ENV_IDS: dict[str, str] = {name: env_id(name) for name in BUILT_IN}
+"""Every built-in task's Gymnasium id, by task name."""
+
+
 def register() -> None:
-    """Register :data:`ENV_ID` with Gymnasium (doing it again changes nothing)."""
+    """Register every id of :data:`ENV_IDS` with Gymnasium (doing it again changes nothing)."""
     import gymnasium  # noqa: PLC0415  (registering is the only reason to import it here)
 
-    if ENV_ID not in gymnasium.registry:
-        gymnasium.register(id=ENV_ID, entry_point=ENTRY_POINT, max_episode_steps=MAX_EPISODE_STEPS)
+    for name, registered_id in ENV_IDS.items():
+        if registered_id not in gymnasium.registry:
+            gymnasium.register(
+                id=registered_id,
+                entry_point=ENTRY_POINT,
+                max_episode_steps=MAX_EPISODE_STEPS,
+                kwargs={"task": name},
+            )
