@@ -135,6 +135,9 @@ def test_audit_by_condition_compares_the_conditions(
 
     comparison = json.loads((out / "summary.json").read_text())["comparison"]
     assert comparison["by"] == "condition"
+    # each operator ran one condition: a between-subject design, compared pooled
+    assert (comparison["design"], comparison["paired"]) == ("between", None)
+    assert "design: within" not in printed and "Wilcoxon" not in printed
     assert [g["value"] for g in comparison["groups"]] == ["brisk", "slow"]
     (pair,) = comparison["pairs"]
     assert pair["success"]["p_value"] == pytest.approx(fisher)

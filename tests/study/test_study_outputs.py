@@ -1,7 +1,10 @@
-"""Every output a researcher analyses names each trial's participant, condition and study
-step: the audit's trials.csv and report, the LeRobot provenance, the HDF5 demos (whose
-file-level ``env_args`` claims no one session's settings), the Rerun recordings and the
-Sessions page's data. A two-participant, two-condition study piloted with the expert."""
+"""A study piloted headless with four participants (the expert at four skills, each
+running their plan of a practice and a collection session in each of two conditions, in
+the Latin square's orders). Every output a researcher analyses names each trial's
+participant, condition and study step: the audit's trials.csv and report, the LeRobot
+provenance, the HDF5 demos (whose file-level ``env_args`` claims no one session's
+settings), the Rerun recordings and the Sessions page's data. ``workcell audit --study``
+compares the conditions within participants (tests/study/test_study_analysis.py)."""
 
 from __future__ import annotations
 
@@ -12,51 +15,13 @@ from typing import Any
 
 import h5py  # type: ignore[import-untyped, unused-ignore]
 import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
-import pytest
 
 from tests.export.test_rerun import read_recording
 from tests.server.harness import running_server
-from tests.study.test_study import PILOT
+from tests.study.conftest import TRIALS, Expected
 from workcell.audit.trials_csv import COLUMNS
 from workcell.cli.main import main
 from workcell.export.hdf5_export import HDF5_NAME
-from workcell.record.store import Store
-from workcell.study.config import load_study
-from workcell.study.plan import participant_ids, participant_plan
-
-Expected = dict[str, tuple[str, str, int]]
-"""Each session's (participant, condition, study step), by session id."""
-
-
-@pytest.fixture(scope="module")
-def study_store(tmp_path_factory: pytest.TempPathFactory) -> tuple[Path, Expected]:
-    folder = tmp_path_factory.mktemp("study")
-    study_file, store = folder / "study.toml", folder / "study.sqlite"
-    study_file.write_text(PILOT)
-    study = load_study(study_file)
-    for participant in participant_ids(study):
-        argv = ["study", str(study_file), "--participant", participant, "--store", str(store)]
-        assert main(argv) == 0
-    plans = {p: participant_plan(study, p) for p in participant_ids(study)}
-    expected: Expected = {}
-    with Store.open(store, writer=False) as reader:
-        for session in reader.sessions():
-            (planned,) = [
-                p for p in plans[session.operator_id] if p.config.seed == session.seed
-                and p.condition == session.parameters["condition"]
-            ]  # fmt: skip
-            expected[session.session_id] = (
-                session.operator_id,
-                planned.condition,
-                planned.position,
-            )
-    assert sorted(expected.values()) == [
-        ("p01", "assisted", 1),
-        ("p01", "physical", 2),
-        ("p02", "assisted", 2),
-        ("p02", "physical", 1),
-    ]
-    return store, expected
 
 
 def _tags(record: dict[str, Any]) -> tuple[str, str, int]:
@@ -72,7 +37,7 @@ def test_the_audit_names_each_trials_participant_condition_and_step(
         rows = list(csv.DictReader(file))
     assert tuple(rows[0]) == COLUMNS
     assert COLUMNS[-3:] == ("operator_id", "condition", "study_step")  # added at the end
-    assert len(rows) == 4
+    assert len(rows) == TRIALS
     for row in rows:
         operator, condition, step = expected[row["session_id"]]
         assert (row["operator_id"], row["condition"], row["study_step"]) == (
@@ -93,7 +58,7 @@ def test_the_dataset_exports_name_each_episodes_participant_condition_and_step(
         assert main(["export", "--format", format_, "--store", str(store), "--out", out]) == 0
 
     rows = pq.read_table(tmp_path / "lerobot" / "meta/workcell_provenance.parquet").to_pylist()
-    assert len(rows) == 4
+    assert len(rows) == TRIALS
     assert all(_tags(row) == expected[row["session_id"]] for row in rows)
 
     with h5py.File(tmp_path / "hdf5" / HDF5_NAME, "r") as file:
@@ -101,6 +66,7 @@ def test_the_dataset_exports_name_each_episodes_participant_condition_and_step(
         shared = json.loads(data.attrs["env_args"])["env_kwargs"]["session_parameters"]
         differ = json.loads(data.attrs["env_args_differ"])
         grasps = set()
+        assert len(data) == TRIALS
         for name in data:
             attrs = data[name].attrs
             tags = (attrs["operator_id"], attrs["condition"], int(attrs["study_step"]))
@@ -115,7 +81,7 @@ def test_the_dataset_exports_name_each_episodes_participant_condition_and_step(
     assert shared["recording"]["sampling_rate_hz"] == 20
 
     recordings = sorted((tmp_path / "rerun").glob("*.rrd"))
-    assert len(recordings) == 4
+    assert len(recordings) == TRIALS
     for path in recordings:
         recording = read_recording(path)
         fields = recording.static_fields("/")
@@ -137,5 +103,5 @@ def test_the_sessions_page_data_names_each_sessions_participant_condition_and_st
     (tmp_path / "store.sqlite").write_bytes(store.read_bytes())
     with running_server(tmp_path) as server:
         sessions = server.get_json("/api/sessions")["sessions"]
-    assert len(sessions) == 4
+    assert len(sessions) == len(expected) == 16
     assert all(_tags(s) == expected[s["session_id"]] for s in sessions)

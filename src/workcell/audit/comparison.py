@@ -15,6 +15,12 @@ creation, trials by index), numbered from 1.
 Repeated trials of one person are not independent: the tests treat every trial as an
 independent observation, so their p-values overstate the evidence when few people each
 ran many trials. Read them as descriptions of these trials, not of a population.
+
+By condition on a within-subject design (a study's, where every participant runs every
+condition: :func:`workcell.audit.paired.design_of`) the conditions are compared within
+participants instead (:mod:`workcell.audit.paired`: one value per participant and
+condition, the Wilcoxon signed-rank test) and the pooled tests are not run; the groups are
+still described pooled.
 """
 
 from __future__ import annotations
@@ -24,11 +30,17 @@ import math
 import statistics
 from collections.abc import Sequence
 from dataclasses import dataclass
-from typing import get_args
+from typing import TYPE_CHECKING, get_args
 
 from workcell.audit.config import CompareBy
+from workcell.audit.paired import Design, WithinSubject, design_of, within_subject
 from workcell.audit.stats import GroupStats, SuccessRate, metric_values
+from workcell.audit.study_progress import StudyProgress, study_progress
 from workcell.audit.trial_audit import TrialAudit
+from workcell.audit.wilcoxon import PairedParams
+
+if TYPE_CHECKING:
+    from workcell.audit.run import AuditResult
 
 COMPARE_KEYS: tuple[str, ...] = get_args(CompareBy)
 NO_CONDITION = "(none)"
@@ -100,12 +112,17 @@ class Attempt:
 
 @dataclass(frozen=True)
 class Comparison:
-    """Every group of ``by``, every pair of groups, and every participant's learning curve."""
+    """Every group of ``by``, every pair of groups (pooled; none on a within-subject
+    design, compared in ``within`` instead), and every participant's learning curve."""
 
     by: CompareBy
     groups: tuple[GroupStats, ...]
     pairs: tuple[PairComparison, ...]
     learning: dict[str, tuple[Attempt, ...]]
+    design: Design = "between"
+    design_reason: str = ""
+    within: WithinSubject | None = None
+    study: StudyProgress | None = None
 
 
 def success_test(first: SuccessRate, second: SuccessRate) -> SuccessTest:
@@ -185,12 +202,26 @@ def success_values(
     return values
 
 
-def compare(trials: Sequence[TrialAudit], by: CompareBy) -> Comparison:
+def compare(
+    trials: Sequence[TrialAudit],
+    by: CompareBy,
+    study: StudyProgress | None = None,
+    params: PairedParams | None = None,
+) -> Comparison:
     """Groups of ``trials`` by ``by`` in order of first appearance, every pair of them
-    compared, and the participants' learning curves."""
+    compared (by condition: within participants on a within-subject design, else pooled),
+    and the participants' learning curves."""
     values = list(dict.fromkeys(group_of(t, by) for t in trials))
     members = {value: [t for t in trials if group_of(t, by) == value] for value in values}
     groups = tuple(GroupStats.of(value, members[value]) for value in values)
+    learning = learning_curves(trials)
+    if by == "condition":
+        design, reason = design_of(trials, study)
+        if design == "within":
+            within = within_subject(trials, reason, params or PairedParams(), study)
+            return Comparison(by, groups, (), learning, design, reason, within, study)
+    else:
+        design, reason = "between", "participants are compared with each other"
     values_of = success_values(trials, by)
     pairs = []
     for first, second in itertools.combinations(groups, 2):
@@ -199,4 +230,18 @@ def compare(trials: Sequence[TrialAudit], by: CompareBy) -> Comparison:
         pairs.append(
             PairComparison(first.value, second.value, success_test(first.rate, second.rate), ranks)
         )
-    return Comparison(by, groups, tuple(pairs), learning_curves(trials))
+    return Comparison(by, groups, tuple(pairs), learning, design, reason, None, study)
+
+
+def result_study(result: AuditResult) -> StudyProgress | None:
+    """The progress of the study the audit was given (None: none given)."""
+    study = result.config.study
+    return None if study is None else study_progress(study, result.sessions)
+
+
+def compare_result(result: AuditResult) -> Comparison | None:
+    """The audit's comparison, as its configuration asks (None: none asked)."""
+    by = result.config.compare_by
+    if by == "none":
+        return None
+    return compare(result.trials, by, result_study(result), result.config.paired)

@@ -6,12 +6,13 @@ from __future__ import annotations
 from collections.abc import Sequence
 
 from workcell import __version__
-from workcell.audit.comparison import compare
+from workcell.audit.comparison import compare_result, result_study
 from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.figures import RenderedFigure
 from workcell.audit.html_parts import CSS, esc, image, number
 from workcell.audit.report_comparison import comparison_section
+from workcell.audit.report_paired import study_section
 from workcell.audit.report_sections import (
     counts_table,
     findings_table,
@@ -37,11 +38,12 @@ def _figure(fig: RenderedFigure) -> str:
 
 
 def _comparison(result: AuditResult, figures: dict[str, str]) -> str:
-    by = result.config.compare_by
-    if by == "none":
-        return ""
-    section = comparison_section(compare(result.trials, by), figures)
-    return f"<h3>Comparison by {esc(by)}</h3>{section}"
+    comparison = compare_result(result)
+    if comparison is None:
+        study = result_study(result)
+        return "" if study is None else f"<h3>Study</h3>{study_section(study)}"
+    section = comparison_section(comparison, figures)
+    return f"<h3>Comparison by {esc(comparison.by)}</h3>{section}"
 
 
 def build_report(result: AuditResult, figures: Sequence[RenderedFigure]) -> str:
@@ -54,6 +56,8 @@ def build_report(result: AuditResult, figures: Sequence[RenderedFigure]) -> str:
         f" <small>[{number(100 * rate.low, 2)}, {number(100 * rate.high, 2)}]</small>"
     )
     mismatched = sum(bool(t.mismatches) for t in trials)
+    study = result.config.study
+    study_meta = "" if study is None else f" · study <b>{esc(study.name)}</b>"
     key = "".join(
         f"<div>{label}<b>{value}</b></div>"
         for label, value in (
@@ -68,10 +72,10 @@ def build_report(result: AuditResult, figures: Sequence[RenderedFigure]) -> str:
     body = f"""
 <h1>Workcell audit</h1>
 <p class="meta">{esc(result.source_kind)} <code>{esc(result.source_path)}</code> ·
-{len(result.sessions)} session(s) · workcell {esc(__version__)} · audit v{AUDIT_VERSION} ·
-metrics v{esc(METRICS_VERSION)}. Every metric below was recomputed from the frames and
-checked against the value stored on its trial; flags never change outcomes; stored rows
-were not changed.</p>
+{len(result.sessions)} session(s){study_meta} · workcell {esc(__version__)} ·
+audit v{AUDIT_VERSION} · metrics v{esc(METRICS_VERSION)}. Every metric below was
+recomputed from the frames and checked against the value stored on its trial; flags never
+change outcomes; stored rows were not changed.</p>
 <div class="key">{key}</div>
 <h2>1. Trial disposition</h2>
 {fig["flow"]}

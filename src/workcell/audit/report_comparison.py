@@ -1,5 +1,7 @@
 """report.html's comparison section (``workcell audit --by operator|condition``): the
-groups, the tests between every two of them, the learning curves and the caveat."""
+groups, the tests between every two of them (pooled; within participants on a
+within-subject design, :mod:`workcell.audit.report_paired`), the learning curves and the
+caveat."""
 
 from __future__ import annotations
 
@@ -13,6 +15,7 @@ from workcell.audit.comparison import (
     RankTest,
 )
 from workcell.audit.html_parts import esc, number, table
+from workcell.audit.report_paired import study_section, within_section
 from workcell.audit.report_sections import group_table
 
 
@@ -43,8 +46,20 @@ def _rank_cell(rank: RankTest) -> str:
 
 
 def comparison_section(comparison: Comparison, figures: dict[str, str]) -> str:
-    """The section's HTML; ``figures`` holds the rendered ``comparison`` and ``learning``."""
+    """The section's HTML; ``figures`` holds the rendered ``comparison`` and ``learning``
+    (and ``paired`` on a within-subject design)."""
     by = comparison.by
+    if comparison.within is not None:
+        return f"""
+{within_section(comparison.within, figures["paired"])}
+<h4>Conditions pooled (descriptive)</h4>
+<p>Every trial of each condition, whoever ran it: not tested, as the design pairs them.</p>
+{group_table(by, comparison.groups)}
+{figures["comparison"]}
+<h4>Learning curves</h4>
+{figures["learning"]}
+"""
+    study = study_section(comparison.study) if comparison.study is not None else ""
     header = (
         "first",
         "second",
@@ -60,8 +75,9 @@ def comparison_section(comparison: Comparison, figures: dict[str, str]) -> str:
         if rows
         else f"<p>Only one {esc(by)} among these trials: nothing to compare.</p>"
     )
-    return f"""
-<p>Trials grouped by {esc(by)}. Success compares valid successes against valid failures
+    return f"""{study}
+<p>Design: {esc(comparison.design)}-subject ({esc(comparison.design_reason)}).
+Trials grouped by {esc(by)}. Success compares valid successes against valid failures
 (Fisher's exact test, two-sided; difference = first minus second); times and paths compare
 the valid successes (Mann-Whitney U, two-sided; U of the first group; rank-biserial
 r = 2U/(n1 n2) - 1, positive when the first group's values are larger).

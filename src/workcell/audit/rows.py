@@ -53,6 +53,10 @@ class SessionRow:
     """Which of the participant's planned sessions it was (None: not known)."""
     zone: Zone = field(default_factory=lambda: session_zone({}))
     """The delivery zone the session's world configures (trials may move its centre)."""
+    seed: int | None = None
+    """The session seed (None: not read)."""
+    status: str = ""
+    """``completed``, ``interrupted``, ... (:data:`workcell.record.columns.SESSION_STATUSES`)."""
 
     @classmethod
     def parse(
@@ -62,7 +66,8 @@ class SessionRow:
         thresholds: Mapping[str, Any],
     ) -> SessionRow:
         """From a sessions row (``session_id``, ``created_wall``, ``mode``, ``operator_id``,
-        ``metrics_version``) and its decoded ``parameters`` and ``thresholds`` JSON."""
+        ``metrics_version``; ``seed`` and ``status`` where it has them) and its decoded
+        ``parameters`` and ``thresholds`` JSON."""
         notes: list[str] = []
         try:
             metric_thresholds = MetricThresholds.from_stored(thresholds)
@@ -87,6 +92,8 @@ class SessionRow:
             condition=tags.condition or "",
             study_step=tags.study_step,
             zone=session_zone(parameters),
+            seed=None if row.get("seed") is None else int(row["seed"]),
+            status=str(row.get("status") or ""),
         )
 
 

@@ -13,11 +13,12 @@ from dataclasses import asdict
 from typing import Any
 
 from workcell import __version__
-from workcell.audit.comparison import CAVEAT, Comparison, compare
+from workcell.audit.comparison import CAVEAT, Comparison, compare_result, result_study
 from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.flags import FLAG_NAMES
 from workcell.audit.oscillation import OscillationCriteria
+from workcell.audit.paired import PairedComparison, WithinSubject
 from workcell.audit.run import AuditResult
 from workcell.audit.stats import (
     SAMPLING_METRICS,
@@ -29,6 +30,7 @@ from workcell.audit.stats import (
     success_metrics,
     task_stages_of,
 )
+from workcell.audit.study_progress import StudyProgress
 from workcell.audit.task_stages import TASK_STAGES_VERSION, TaskStage, at_least
 from workcell.metrics import METRIC_DEFINITIONS, METRICS_VERSION, Descriptive
 
@@ -91,6 +93,57 @@ def _comparison(comparison: Comparison) -> dict[str, Any]:
             for operator, attempts in comparison.learning.items()
         },
         "caveat": CAVEAT,
+        "design": comparison.design,
+        "design_reason": comparison.design_reason,
+        "paired": None if comparison.within is None else _within(comparison.within),
+    }
+
+
+def _within(within: WithinSubject) -> dict[str, Any]:
+    """``summary["comparison"]["paired"]``: the participant x condition cells and every
+    paired test (Wilcoxon signed-rank, rank-biserial r with its bootstrap interval)."""
+
+    def tests(pair: PairedComparison) -> dict[str, Any]:
+        return {
+            "first": pair.first,
+            "second": pair.second,
+            "metrics": {
+                metric: {"test": "wilcoxon_signed_rank_two_sided", **asdict(test)}
+                for metric, test in pair.tests.items()
+            },
+        }
+
+    return {
+        "participants": list(within.participants),
+        "conditions": list(within.conditions),
+        "cells": [
+            {
+                "participant": cell.participant,
+                "condition": cell.condition,
+                "trials": cell.trials,
+                "valid": cell.valid,
+                "successes": cell.successes,
+                **cell.values,
+            }
+            for cell in within.cells.values()
+        ],
+        "orders": {p: list(order) for p, order in within.orders.items()},
+        "pairs": [tests(pair) for pair in within.pairs],
+        "order_effect": tests(within.order_effect),
+        "left_out": within.left_out,
+        "bootstrap": asdict(within.params),
+    }
+
+
+def _study(study: StudyProgress) -> dict[str, Any]:
+    return {
+        "name": study.name,
+        "order": study.order,
+        "conditions": list(study.conditions),
+        "sessions_planned": study.planned,
+        "sessions_done": study.done,
+        "participants": [asdict(p) for p in study.participants],
+        "other_operators": list(study.others),
     }
 
 
@@ -154,7 +207,11 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
         "groups": {key: [_group(g) for g in groups] for key, groups in grouped(trials).items()},
         "findings": [asdict(f) for f in result.findings],
     }
-    if result.config.compare_by != "none":
-        summary["comparison"] = _comparison(compare(trials, result.config.compare_by))
+    comparison = compare_result(result)
+    if comparison is not None:
+        summary["comparison"] = _comparison(comparison)
+    study = result_study(result)
+    if study is not None:
+        summary["study"] = _study(study)
     cleaned: dict[str, Any] = clean(summary)
     return cleaned

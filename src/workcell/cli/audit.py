@@ -66,7 +66,18 @@ def register(subparsers: Subparsers) -> None:
         choices=("operator", "condition"),
         help="compare groups of trials by operator or by study condition: success (Fisher's "
         "exact test), completion time and path (Mann-Whitney U), learning curves per "
-        "participant, in the report, summary.json and one line per pair",
+        "participant, in the report, summary.json and one line per pair; by condition on a "
+        "within-subject study (every participant runs every condition) a participant x "
+        "condition table and paired tests instead (Wilcoxon signed-rank on each "
+        "participant's values, rank-biserial r with its bootstrap interval, order effect)",
+    )
+    parser.add_argument(
+        "--study",
+        type=Path,
+        metavar="FILE",
+        help="the study file the trials belong to: the report names the study and says how "
+        "much of each participant's plan is done, and compares its conditions within "
+        "participants (implies --by condition unless --by is given)",
     )
     parser.add_argument(
         "--from-rows",
@@ -101,14 +112,20 @@ class _Progress:
 
 
 def run(args: argparse.Namespace) -> int:
-    from workcell.audit.config import AuditConfig  # noqa: PLC0415
+    from workcell.audit.config import AuditConfig, CompareChoice  # noqa: PLC0415
     from workcell.audit.csv_source import CsvSource  # noqa: PLC0415
     from workcell.audit.run import run_audit  # noqa: PLC0415
     from workcell.audit.source import AuditSource  # noqa: PLC0415
     from workcell.audit.store_source import StoreSource  # noqa: PLC0415
     from workcell.audit.write import check_output, write_outputs  # noqa: PLC0415
 
-    config = AuditConfig(trajectories=args.trajectories, compare_by=args.by or "none")
+    study = None
+    if args.study is not None:
+        from workcell.study.config import load_study  # noqa: PLC0415
+
+        study = load_study(args.study)
+    by: CompareChoice = args.by or ("condition" if study is not None else "none")
+    config = AuditConfig(trajectories=args.trajectories, compare_by=by, study=study)
     check_output(args.out, args.force)
     source: AuditSource = (
         StoreSource(args.store, use_blocks=not args.from_rows)
@@ -200,13 +217,19 @@ def _stages_text(trials: Sequence[TrialAudit]) -> str:
 def _comparison_lines(result: AuditResult) -> list[str]:
     """With ``--by``: the groups (unless the operator lines showed them) and one line per
     pair of groups with its tests."""
-    by = result.config.compare_by
-    if by == "none":
-        return []
-    from workcell.audit.comparison import compare  # noqa: PLC0415
+    from workcell.audit.comparison import compare_result, result_study  # noqa: PLC0415
+    from workcell.audit.paired_text import paired_lines  # noqa: PLC0415
 
-    comparison = compare(result.trials, by)
+    comparison = compare_result(result)
+    if comparison is None:
+        study = result_study(result)
+        return [] if study is None else [f"  {study.text()}"]
+    by = comparison.by
     lines = [] if by == "operator" else _group_lines(by, comparison.groups)
+    if comparison.within is not None:
+        return lines + paired_lines(comparison.within)
+    if comparison.study is not None:
+        lines.append(f"  {comparison.study.text()}")
     for pair in comparison.pairs:
         success = pair.success
         parts = [f"  {pair.first} vs {pair.second}: success"]

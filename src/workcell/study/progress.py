@@ -12,13 +12,23 @@ from workcell.record.entries import SessionRecord
 from workcell.study.plan import PlannedSession
 
 
-def is_done(planned: PlannedSession, sessions: Sequence[SessionRecord]) -> bool:
+def done_by(
+    planned: PlannedSession, operator_id: str, condition: str, seed: int | None, status: str
+) -> bool:
+    """Whether a session of ``operator_id`` in ``condition`` with ``seed`` and ``status``
+    completes ``planned``."""
     config = planned.config
+    return (
+        status == "completed"
+        and operator_id == config.operator_id
+        and seed == config.seed
+        and condition == config.condition
+    )
+
+
+def is_done(planned: PlannedSession, sessions: Sequence[SessionRecord]) -> bool:
     return any(
-        s.status == "completed"
-        and s.operator_id == config.operator_id
-        and s.seed == config.seed
-        and s.parameters.get("condition") == config.condition
+        done_by(planned, s.operator_id, s.parameters.get("condition", ""), s.seed, s.status)
         for s in sessions
     )
 

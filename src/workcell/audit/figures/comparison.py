@@ -14,14 +14,14 @@ from workcell.audit.figures.canvas import SUCCESS, empty, figure, png
 _PALETTE = ("#1565c0", "#2e7d32", "#e07b00", "#6a1b9a", "#c62828", "#00838f", "#5d4037")
 
 
-def _short(label: str, width: int = 18) -> str:
+def short(label: str, width: int = 18) -> str:
     return label if len(label) <= width else label[: width - 1] + "…"
 
 
 def draw_comparison(comparison: Comparison, values: dict[str, dict[str, list[float]]]) -> bytes:
     """``values``: :func:`~workcell.audit.comparison.success_values` of the trials."""
     groups = comparison.groups
-    names = [_short(g.value) for g in groups]
+    names = [short(g.value) for g in groups]
     positions = np.arange(len(groups))
     with figure(9.6, 3.4) as fig:
         rate_ax, *metric_axes = fig.subplots(1, 1 + len(RANKED_METRICS))
@@ -54,7 +54,7 @@ def draw_comparison(comparison: Comparison, values: dict[str, dict[str, list[flo
                 continue
             boxes = [d if len(d) else np.array([math.nan]) for d in data]
             ax.boxplot(boxes, positions=positions, widths=0.5, showfliers=False)
-            for x, d, color in zip(positions, data, _colors(len(groups)), strict=True):
+            for x, d, color in zip(positions, data, colors(len(groups)), strict=True):
                 jitter = x + rng.uniform(-0.15, 0.15, len(d))
                 ax.scatter(jitter, d, s=10, color=color, alpha=0.6, zorder=3, linewidths=0)
             ax.set_xticks(positions, names, rotation=20, ha="right")
@@ -63,7 +63,7 @@ def draw_comparison(comparison: Comparison, values: dict[str, dict[str, list[flo
         return png(fig)
 
 
-def _colors(count: int) -> list[str]:
+def colors(count: int) -> list[str]:
     return [_PALETTE[i % len(_PALETTE)] for i in range(count)]
 
 
@@ -84,12 +84,12 @@ def draw_learning(comparison: Comparison) -> bytes:
             if math.isfinite(a.completion_time_s)
         ]
         top = max(finite) * 1.08 if finite else 1.0
-        for (operator, attempts), color in zip(curves.items(), _colors(len(curves)), strict=True):
+        for (operator, attempts), color in zip(curves.items(), colors(len(curves)), strict=True):
             number = np.array([a.number for a in attempts])
             times = np.array([a.completion_time_s for a in attempts])
             ok = np.isfinite(times)
             times_ax.plot(
-                number[ok], times[ok], "o-", color=color, ms=3, lw=1.2, label=_short(operator, 28)
+                number[ok], times[ok], "o-", color=color, ms=3, lw=1.2, label=short(operator, 28)
             )
             failed = number[~ok]
             times_ax.scatter(failed, np.full(len(failed), top), marker="x", color=color, s=18)

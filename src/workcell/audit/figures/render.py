@@ -2,13 +2,14 @@
 
 from __future__ import annotations
 
-from workcell.audit.comparison import compare, success_values
+from workcell.audit.comparison import compare_result, success_values
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.figures.canvas import RenderedFigure
 from workcell.audit.figures.comparison import draw_comparison, draw_learning
 from workcell.audit.figures.distributions import draw_distributions
 from workcell.audit.figures.flow import draw_flow
 from workcell.audit.figures.outcomes import draw_outcomes
+from workcell.audit.figures.paired import draw_paired
 from workcell.audit.figures.sampling import draw_sampling
 from workcell.audit.figures.trajectories import draw_trajectories
 from workcell.audit.run import AuditResult
@@ -21,11 +22,25 @@ def render_figures(result: AuditResult) -> list[RenderedFigure]:
 
 
 def _comparison_figures(result: AuditResult) -> list[RenderedFigure]:
-    by = result.config.compare_by
-    if by == "none":
+    comparison = compare_result(result)
+    if comparison is None:
         return []
-    comparison = compare(result.trials, by)
+    by = comparison.by
+    paired = []
+    if comparison.within is not None:
+        paired.append(
+            RenderedFigure(
+                "paired",
+                "Participants in each condition",
+                "Per participant (one line each), in every condition: the success rate of "
+                "their valid trials, and the median completion time and median TCP path of "
+                "their valid successes (practice left out); the values the paired tests "
+                "compare.",
+                draw_paired(comparison.within),
+            )
+        )
     return [
+        *paired,
         RenderedFigure(
             "comparison",
             f"Groups by {by}",
