@@ -60,6 +60,9 @@ def test_the_dataset_exports_name_each_episodes_participant_condition_and_step(
     rows = pq.read_table(tmp_path / "lerobot" / "meta/workcell_provenance.parquet").to_pylist()
     assert len(rows) == TRIALS
     assert all(_tags(row) == expected[row["session_id"]] for row in rows)
+    document = json.loads((tmp_path / "lerobot" / "meta/workcell_provenance.json").read_text())
+    assert {k: _tags(v) for k, v in document["sessions"].items()} == expected
+    assert all(_tags(e) == expected[e["session_id"]] for e in document["episodes"])
 
     with h5py.File(tmp_path / "hdf5" / HDF5_NAME, "r") as file:
         data = file["data"]

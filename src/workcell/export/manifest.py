@@ -1,7 +1,8 @@
 """The export-level provenance document shared by every dataset format.
 
-It names the store, the exported sessions with every stored parameter, the selection, the
-conventions of the dataset fields and each episode's :class:`Provenance`.
+It names the store, the exported sessions with their study tags (participant, condition,
+study step: :mod:`workcell.record.study_tags`) and every stored parameter, the selection,
+the conventions of the dataset fields and each episode's :class:`Provenance`.
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ from workcell.export.features import ACTION_NAMES, STATE_NAMES
 from workcell.export.options import ExportOptions
 from workcell.export.provenance import Provenance
 from workcell.export.source import ExportSource
+from workcell.record.study_tags import StudyTags
 
 FORMAT = "workcell-dataset-provenance"
 FORMAT_VERSION = 1
@@ -68,7 +70,7 @@ def provenance_document(
         "sessions": {
             s.session_id: {
                 "mode": s.mode,
-                "operator_id": s.operator_id,
+                **StudyTags.of(s.operator_id, s.parameters).as_dict(),
                 "seed": s.seed,
                 "status": s.status,
                 "created_wall": s.created_wall,
