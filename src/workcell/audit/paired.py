@@ -151,20 +151,23 @@ def _left_out(trial: TrialAudit, participants: Sequence[str], study: str | None)
     return None
 
 
-def within_subject(
-    trials: Sequence[TrialAudit],
-    design_reason: str,
-    params: PairedParams,
-    study: StudyProgress | None,
-) -> WithinSubject:
-    """The participant x condition cells and every paired test."""
+@dataclass(frozen=True)
+class _Sorted:
+    kept: list[TrialAudit]
+    left_out: dict[str, int]
+    orders: dict[str, tuple[str, ...]]
+
+
+def _sort(trials: Sequence[TrialAudit], study: StudyProgress | None) -> _Sorted:
+    """The trials the cells hold, those left out (counted by reason), and each
+    participant's conditions in the order their trials ran (practice included)."""
     planned = [p.participant for p in study.participants] if study else []
     left_out: dict[str, int] = {}
     kept: list[TrialAudit] = []
     orders: dict[str, list[str]] = {}
     for t in trials:
         reason = _left_out(t, planned, study.name if study else None)
-        if reason in (None, PRACTICE):  # practice counts for the order the conditions ran
+        if reason in (None, PRACTICE):
             order = orders.setdefault(t.session.operator_id, [])
             if t.session.condition not in order:
                 order.append(t.session.condition)
@@ -172,6 +175,19 @@ def within_subject(
             kept.append(t)
         else:
             left_out[reason] = left_out.get(reason, 0) + 1
+    return _Sorted(kept, left_out, {p: tuple(order) for p, order in orders.items()})
+
+
+def within_subject(
+    trials: Sequence[TrialAudit],
+    design_reason: str,
+    params: PairedParams,
+    study: StudyProgress | None,
+) -> WithinSubject:
+    """The participant x condition cells and every paired test."""
+    sorted_ = _sort(trials, study)
+    kept, orders = sorted_.kept, sorted_.orders
+    planned = [p.participant for p in study.participants] if study else []
     seen = [t.session.operator_id for t in kept]
     participants = tuple(dict.fromkeys([*planned, *seen]))
     conditions = tuple(
@@ -202,10 +218,10 @@ def within_subject(
         participants=participants,
         conditions=conditions,
         cells=cells,
-        orders={p: tuple(order) for p, order in orders.items()},
+        orders=orders,
         pairs=pairs,
         order_effect=_compare("first", "second", by_position, params),
-        left_out=left_out,
+        left_out=sorted_.left_out,
         params=params,
         study=study,
     )
