@@ -21,6 +21,7 @@ from tests.study.conftest import Pilot
 from workcell.cli.main import EXIT_USAGE, main
 from workcell.study.config import load_study
 from workcell.study.plan import participant_ids, participant_plan
+from workcell.study.template import TEMPLATE
 
 PARTICIPANTS = ["p01", "p02", "p03", "p04"]
 CONDITIONS = ["assisted", "physical"]
@@ -178,3 +179,55 @@ def test_a_study_file_that_cannot_be_read_is_one_clear_error(
     error = capsys.readouterr().err
     assert str(missing) in error and "Traceback" not in error
     assert not (tmp_path / "a").exists()
+
+
+THREE_CONDITIONS = (
+    TEMPLATE.replace('name = "study"', 'name = "three"')
+    .replace("participants = 12", "participants = 2")
+    .replace('[[steps]]\nmode = "practice"\ntrials = 1\n\n', "")
+    .replace("trials = 10", "trials = 1")
+    .replace(
+        '[[conditions]]\nname = "physical"',
+        '[[conditions]]\nname = "assisted-again"\nsettings = { "world.grasp" = "assisted" }\n\n'
+        '[[conditions]]\nname = "physical"',
+    )
+)
+
+
+def test_three_conditions_are_compared_two_by_two_and_the_order_by_position(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    study_file, store = tmp_path / "three.toml", tmp_path / "three.sqlite"
+    study_file.write_text(THREE_CONDITIONS)
+    study = load_study(study_file)
+    assert [c.name for c in study.conditions] == ["assisted", "assisted-again", "physical"]
+    for participant in participant_ids(study):
+        argv = ["study", str(study_file), "--participant", participant, "--store", str(store)]
+        assert main(argv) == 0
+    out = tmp_path / "audit"
+    audit = ["audit", "--store", str(store), "--study", str(study_file)]
+    assert main([*audit, "--out", str(out)]) == 0
+    printed = capsys.readouterr().out
+    assert "study three: 2 participants, 6 of 6 planned sessions done (p01 3/3, p02 3/3)" in printed
+    paired = json.loads((out / "summary.json").read_text())["comparison"]["paired"]
+    assert [(p["first"], p["second"]) for p in paired["pairs"]] == [
+        ("assisted", "assisted-again"),
+        ("assisted", "physical"),
+        ("assisted-again", "physical"),
+    ]
+    orders = {
+        p: list(dict.fromkeys(s.condition for s in participant_plan(study, p)))
+        for p in participant_ids(study)
+    }
+    assert paired["orders"] == orders and orders["p01"] != orders["p02"]
+    assert len(paired["cells"]) == 6 and paired["left_out"] == {}
+    cells = {(c["participant"], c["condition"]): c for c in paired["cells"]}
+    time = paired["order_effect"]["metrics"]["completion_time_s"]
+    first = [cells[p, orders[p][0]]["completion_time_s"] for p in ("p01", "p02")]
+    second = [cells[p, orders[p][1]]["completion_time_s"] for p in ("p01", "p02")]
+    _check_test(time, first, second)
+    for pair in paired["pairs"]:  # two participants: each test runs (smallest p 0.5) or says why
+        test = pair["metrics"]["completion_time_s"]
+        assert test["n_pairs"] == 2
+        assert test["missing"] is None or test["missing"].startswith("no test: ")
+        assert test["missing"] is not None or test["smallest_p"] == 0.5
