@@ -44,7 +44,7 @@ function baseYaw(): number {
   return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
 }
 
-const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "stop_session", "close"];
+const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "pause", "stop_session", "close"];
 
 await runScript("xr_menu", async ({ url, page, artifacts }) => {
   await startSession(page, url, { operatorId: "e2e-xr-menu", query: { emulate: "quest3" }, artifacts });
@@ -73,6 +73,11 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
     check(s.teleop?.menu.open === true, "the menu closed while moving the highlight");
     if (item === "recenter_view") await checkDrawn(page, path.join(artifacts, "xr-menu.png"));
     await press("right", "a-button");
+    if (item === "stop_session") {
+      // the first choice asks: the menu stays open on "Confirm stop"; A again stops
+      await waitFor(page, (s) => s.teleop?.menu.open === true && s.teleop.menu.stop_armed, { what: "the menu to ask to confirm the stop" });
+      await press("right", "a-button");
+    }
     await waitFor(page, (s) => s.teleop?.menu.open === false, { what: `A to choose ${item}` });
     log(`chose ${item}`);
   };
