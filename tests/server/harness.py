@@ -23,7 +23,7 @@ from workcell.protocol.codec import decode_server, encode
 from workcell.server.app import create_app
 from workcell.server.conductor import Conductor
 from workcell.server.http_config import uvicorn_config
-from workcell.server.options import MAX_SESSIONS, ServerOptions
+from workcell.server.options import ServerOptions
 from workcell.server.seats import Seats
 from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import SessionFactory
@@ -86,10 +86,9 @@ def running_server(
     it as ``workcell serve --study`` does (its invites beside the store, the admin token
     as the server's); its sessions made by ``launch`` (Ray actors: a RaySessions)."""
     options = replace(ServerOptions(store=tmp_path / "store.sqlite", grace_s=1.0), **overrides)
-    if "admit_cores" not in overrides:  # tests of other things start sessions at will
-        options = replace(options, admit_cores=float(MAX_SESSIONS))
-    if "admit_min_real_time_factor" not in overrides:
-        options = replace(options, admit_min_real_time_factor=0.0)
+    admitting = {"admit_cores", "admit_min_real_time_factor", "admission"} & set(overrides)
+    if not admitting:  # tests of other things start sessions at will
+        options = replace(options, admission=False)
     desk = None
     if study is not None:
         invites = load_or_create(invites_path(options.store, study), study)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import re
 import time
 import urllib.error
 import urllib.request
@@ -15,6 +16,9 @@ import numpy as np
 
 from tests.server.harness import FAST_SETTINGS, Client, RunningServer, client, running_server
 from tests.server.test_study_server import CONSENT, get_as, token_of
+from workcell.audit.run import run_audit
+from workcell.audit.sampling import SamplingParams, detect_sampling
+from workcell.audit.store_source import StoreSource
 from workcell.protocol import messages as m
 from workcell.record.store import Store
 from workcell.study.config import Condition, Step, StudyConfig
@@ -234,6 +238,18 @@ def test_a_pause_stops_the_clock_and_is_recorded(tmp_path: Path) -> None:
     assert wall_span >= 2.0 - 0.1 + pause_s  # the wall clock: it is
     gaps = np.diff(t_wall)
     assert float(gaps.max()) >= pause_s and resumed["paused_s"] >= pause_s
+    # the audit's wall-clock sampling check leaves the pause out: a gap, but no flag for it
+    source = StoreSource(store)
+    try:
+        (audited,) = run_audit(source).trials
+        frames = next(iter(source.frames()))[1]
+    finally:
+        source.close()
+    details = " ".join(f.detail for f in audited.flags if f.name == "sampling_gap")
+    walls = [float(x) for x in re.findall(r"t_wall: \d+ gap\(s\), largest ([\d.]+) s", details)]
+    assert all(wall < pause_s for wall in walls), details  # a stall of the machine, if any
+    (unpaused,) = detect_sampling(frames, 20.0, SamplingParams())  # were it not a pause
+    assert unpaused.name == "sampling_gap" and "t_wall: 1 gap(s)" in unpaused.detail
 
 
 async def measured(server: RunningServer, timeout: float = 30.0) -> dict[str, Any]:

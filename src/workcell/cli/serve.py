@@ -63,6 +63,13 @@ def register(subparsers: Subparsers) -> None:
         "running ones measurably fit N cores and keep real time (default: this machine's)",
     )
     parser.add_argument(
+        "--no-admission",
+        dest="admission",
+        action="store_false",
+        help="start every session at once, whatever the load (for benchmarks that measure "
+        "an overloaded machine; by default a start waits while the machine has no headroom)",
+    )
+    parser.add_argument(
         "--allow-origin",
         action="append",
         default=[],
@@ -147,6 +154,7 @@ def options_from(
         ray=args.ray,
         ws_compression=args.ws_compression,
         admit_cores=args.admit_cores,
+        admission=args.admission,
     )
     return options, generated
 

@@ -66,6 +66,10 @@ class ServerOptions:
     offers it: less bandwidth for a client on a slow link, for CPU on both ends of every
     message. Off: a State is about 1.7 KB, about 1 Mbit/s per driving client at 72 a
     second; compressed, about a ninth of that."""
+    admission: bool = True
+    """Start a session only while the machine has headroom for it (else it waits in line);
+    False (``--no-admission``): every start at once, whatever the load (benchmarks that
+    measure an overloaded machine)."""
     admit_cores: float | None = None
     """The cores the sessions may use together, for admission by measured headroom
     (:mod:`workcell.server.admission`, ``--admit-cores``); None: this machine's."""

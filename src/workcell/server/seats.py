@@ -191,7 +191,8 @@ class Seats:
             planner = ParticipantPlanner(self, self.desk, participant)
         elif self.desk is not None:  # the admin's (or a page's without an invite)
             planner = InvitesOnly(self.desk)
-        conductor = Conductor(self.options, seat, self.shards, planner, self.launch, line=self.line)
+        line = self.line if self.options.admission else None
+        conductor = Conductor(self.options, seat, self.shards, planner, self.launch, line=line)
         self.conductors[seat] = conductor
         return conductor
 
