@@ -279,6 +279,10 @@ def test_a_start_waits_in_line_while_the_cores_budget_is_spent(tmp_path: Path) -
             assert (queued.position, queued.waiting) == (1, 1)
             assert "position 1 of 1" in queued.message and "0.05" in queued.message
             assert server.seats.line.waiting == 1
+            await second.send(m.StartSession(settings=FAST_SETTINGS))  # again: keeps its place
+            again = await second.wait_for(lambda x: isinstance(x, m.Queued))
+            assert isinstance(again, m.Queued) and (again.position, again.waiting) == (1, 1)
+            assert server.seats.line.waiting == 1
             figures = await measured(server)
             assert figures["real_time_factor"] > 0 and figures["cores"] > 0.05
             await first.send(m.Stop())

@@ -59,8 +59,14 @@ class WaitingLine:
 
     def admit(self, seat: Startable, client: Client, start: m.StartSession) -> bool:
         """True when ``seat`` may start now; else its start joins the line (``client``
-        is told) and starts later by itself."""
-        self._drop(client)
+        is told) and starts later by itself. A client already waiting keeps its place (with
+        the settings of its latest start)."""
+        for waiting in self._waiting:
+            if waiting.client is client:
+                waiting.start = start
+                waiting.told = (0, 0, "")
+                self._tell(self.rule.refuses(self._running()) or "others are waiting before you")
+                return False
         why = self.rule.refuses(self._running())
         if why is None and not self._waiting:
             return True
