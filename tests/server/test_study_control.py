@@ -21,6 +21,7 @@ from workcell.audit.sampling import SamplingParams, detect_sampling
 from workcell.audit.store_source import StoreSource
 from workcell.protocol import messages as m
 from workcell.record.store import Store
+from workcell.record.verify import verify_store
 from workcell.study.config import Condition, Step, StudyConfig
 from workcell.study.plan import participant_plan
 from workcell.task import events as ev
@@ -99,6 +100,31 @@ def first_trial(started: m.SessionStarted) -> object:
     task = started.settings["task"]
     assert isinstance(task, dict)
     return task["first_trial"]
+
+
+def test_a_stop_during_the_countdown_is_recorded_as_the_sessions(tmp_path: Path) -> None:
+    """Its trial never started (no row): the stop and its reason are a session event."""
+    settings = {"task": {"countdown_s": 30.0, "time_limit_s": 60.0}}
+
+    async def scenario(server: RunningServer) -> None:
+        async with client(server) as operator:
+            await operator.hello()
+            assert isinstance(await start(operator, settings), m.SessionStarted)
+            await operator.send(m.Stop(reason="wrong settings"))
+            done = await ended(operator)
+            assert (done.reason, done.stop_note, done.trials) == (
+                "operator_stop",
+                "wrong settings",
+                0,
+            )
+
+    with running_server(tmp_path) as server:
+        asyncio.run(scenario(server))
+    with Store.open(tmp_path / "store.sqlite", writer=False) as reader:
+        assert reader.trials() == []
+        (stop,) = [e for e in reader.events() if e.kind == "stop_requested"]
+    assert stop.trial_id is None and stop.payload["reason"] == "wrong settings"
+    assert verify_store(tmp_path / "store.sqlite") == []
 
 
 def collection_study(trials: int = 2, time_limit_s: float = 1.0) -> StudyConfig:
