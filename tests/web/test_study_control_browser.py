@@ -1,7 +1,8 @@
 """Study control in the browser (real headless Chromium, ``web/tests/e2e/study_control.ts``):
 a participant pauses with the key (the overlay says so, the clock stands still), is asked
 to confirm a stop and may cancel it, stops with a reason, and resumes their plan's step
-from the end screen, which then thanks them. The store recorded it all."""
+from the end screen; the admin stops them from the admin page with a reason they read;
+they resume again and finish, and the end screen thanks them. The store recorded it all."""
 
 from __future__ import annotations
 
@@ -47,11 +48,12 @@ def test_pause_confirmed_stop_with_a_reason_and_the_end_screens_next_step(
     (planned,) = participant_plan(study, "p01")
     invites = load_or_create(invites_path(tmp_path / "store.sqlite", study), study)
     with serving(tmp_path, "--study", str(study_file), token=invites.admin) as server:
-        result = run_script("study_control", server, invites.participants["p01"])
+        result = run_script("study_control", server, invites.participants["p01"], invites.admin)
     sessions = _rows(server.store, "SELECT * FROM sessions ORDER BY created_wall")
     assert [(s["session_id"], s["status"]) for s in sessions] == [
         (result["first"], "interrupted"),
-        (result["second"], "completed"),
+        (result["second"], "interrupted"),
+        (result["third"], "completed"),
     ]
     events = _rows(
         server.store,
@@ -81,11 +83,29 @@ def test_pause_confirmed_stop_with_a_reason_and_the_end_screens_next_step(
         ("timeout", None),
         ("interrupted", "operator_stop"),
     ]
-    second_trials = _rows(
+    seed = planned.config.seed
+    second_trials, third_trials = (
+        _rows(
+            server.store,
+            "SELECT * FROM trials WHERE session_id = ? ORDER BY trial_index",
+            result[which],
+        )
+        for which in ("second", "third")
+    )
+    # each start goes on where the last stopped, each trial in the world the plan gave it
+    assert [(t["trial_seed"], t["outcome"]) for t in second_trials] == [
+        (trial_seed(seed, 1), "timeout"),
+        (trial_seed(seed, 2), "interrupted"),
+    ]
+    assert second_trials[1]["interruption_reason"] == "admin_stop"
+    assert [(t["trial_seed"], t["outcome"]) for t in third_trials] == [
+        (trial_seed(seed, 2), "timeout")
+    ]
+    assert third_trials[0]["elapsed_s"] == 8.0
+    (admin_stop,) = _rows(
         server.store,
-        "SELECT * FROM trials WHERE session_id = ? ORDER BY trial_index",
+        "SELECT payload_json FROM events WHERE session_id = ? AND kind = 'stop_requested'",
         result["second"],
     )
-    seed = planned.config.seed
-    assert [t["trial_seed"] for t in second_trials] == [trial_seed(seed, 1), trial_seed(seed, 2)]
-    assert all(t["outcome"] == "timeout" and t["elapsed_s"] == 8.0 for t in second_trials)
+    assert json.loads(admin_stop["payload_json"])["by"] == "admin"
+    assert json.loads(admin_stop["payload_json"])["reason"] == "the lab closes in five minutes"

@@ -5,18 +5,22 @@
 // "Paused"), open Stop and cancel it, resume with the overlay's button, pause again, and
 // stop with a reason typed into the confirmation. The end screen says who stopped and why,
 // and offers "Resume this session" (one of its trials done); choosing it starts a session
-// that goes on with the second trial and completes; the end screen then thanks them.
+// that goes on with the second trial. Once that trial has ended, the admin stops the session
+// from the admin page (confirmed, with a reason): the participant's end screen says the
+// administrator stopped it and why, and offers to resume again (two trials done); the third
+// session runs the last trial and completes; the end screen then thanks them.
 //
-//   npm run build:e2e && node build/e2e/tests/e2e/study_control.js <server url> <participant token>
+//   npm run build:e2e && node build/e2e/tests/e2e/study_control.js <server url> <participant token> <admin token>
 
 import path from "node:path";
 import { check, log, pageUrl, runScript, screenshotStats, sleep, waitFor } from "./lib.js";
 
-const [, , , participantToken] = process.argv;
+const [, , , participantToken, adminToken] = process.argv;
 const REASON = "I need a short break";
+const ADMIN_REASON = "the lab closes in five minutes";
 
-await runScript("study_control", async ({ url, page, artifacts }) => {
-  check(participantToken !== undefined, "usage: study_control.js URL PARTICIPANT_TOKEN");
+await runScript("study_control", async ({ url, page, context, artifacts }) => {
+  check(participantToken !== undefined && adminToken !== undefined, "usage: study_control.js URL PARTICIPANT_TOKEN ADMIN_TOKEN");
   await page.goto(pageUrl(url, { token: participantToken, quality: "low" }));
   await waitFor(page, (s) => s.link.status === "open" && s.role === "operator", { what: "the link to open as operator" });
   await page.waitForSelector(".study-page .study-next");
@@ -80,16 +84,43 @@ await runScript("study_control", async ({ url, page, artifacts }) => {
   await page.click("#next-step");
   const resumed = await waitFor(page, (s) => s.session_active && s.session_id !== first, { what: "the resumed session to start" });
   const second = resumed.session_id;
-  const done = await waitFor(page, (s) => s.ended !== null && s.ended.session_id === second, {
-    what: "the resumed session to complete",
+  await waitFor(page, (s) => s.events.some((e) => e.kind === "trial_started" && e.trial_index === 2), {
+    what: "the resumed session's first trial (the plan's second) to end",
+  });
+  const begun = (await waitFor(page, (s) => s.session_active, { what: "the session" })).events
+    .filter((e) => e.kind === "trial_started")
+    .map((e) => e.trial_index);
+  check(!begun.includes(0), `the resumed session began the trials ${begun.join(", ")}`);
+
+  // The admin stops it from the admin page: confirmed, with a reason the participant reads.
+  const admin = await context.newPage();
+  await admin.setViewportSize({ width: 1100, height: 600 });
+  await admin.goto(pageUrl(url, { token: adminToken, role: "spectator" }, "#/admin"));
+  await admin.click('.participants tr[data-participant="p01"].state-running button.stop-session');
+  await admin.waitForSelector("#stop-dialog #stop-reason");
+  await admin.fill("#stop-reason", ADMIN_REASON);
+  await screenshotStats(admin, path.join(artifacts, "admin-stop.png"));
+  await admin.click("#stop-confirm");
+  const byAdmin = await waitFor(page, (s) => s.ended !== null && s.ended.session_id === second, { what: "the admin's stop" });
+  check(byAdmin.ended?.reason === "admin_stop" && byAdmin.ended.stop_note === ADMIN_REASON, `ended ${JSON.stringify(byAdmin.ended)}`);
+  await page.waitForSelector("#end-screen #next-step");
+  const told = (await page.textContent("#end-screen")) ?? "";
+  check(told.includes(`The study's administrator stopped the session: ${ADMIN_REASON}`), `the end screen reads: ${told}`);
+  const again = (await page.textContent("#end-screen .study-next-step")) ?? "";
+  check(again.includes("2 of its trials are done") && again.includes("trial 3"), `the next step reads: ${again}`);
+  await admin.close();
+
+  await page.click("#next-step");
+  const last = await waitFor(page, (s) => s.session_active && s.session_id !== second, { what: "the last session to start" });
+  const third = last.session_id;
+  const done = await waitFor(page, (s) => s.ended !== null && s.ended.session_id === third, {
+    what: "the last session to complete",
     timeout: 120000,
   });
-  check(done.ended?.reason === "completed", `the resumed session ended ${String(done.ended?.reason)}`);
-  const begun = done.events.filter((e) => e.kind === "trial_started").map((e) => e.trial_index);
-  check(!begun.includes(0) && begun.includes(2), `the resumed session began the trials ${begun.join(", ")}`);
+  check(done.ended?.reason === "completed", `the last session ended ${String(done.ended?.reason)}`);
   await page.waitForSelector("#end-screen .study-next-step");
   const thanks = (await page.textContent("#end-screen .study-next-step")) ?? "";
   check(thanks.includes("every session of this study"), `after the last step the end screen reads: ${thanks}`);
   await screenshotStats(page, path.join(artifacts, "finished.png"));
-  console.log(`RESULT ${JSON.stringify({ first, second, paused_at: clock, resumed_trials: begun })}`);
+  console.log(`RESULT ${JSON.stringify({ first, second, third, paused_at: clock })}`);
 });
