@@ -1,8 +1,8 @@
 // The in-VR menu in an emulated Meta Quest 3 (IWER): X opens it, the right thumbstick
 // moves the highlight, A chooses. Recenter the view after turning the headset, switch to
 // third person, restart the trial (a new trial begins), switch to snap turns and flick the
-// right stick (the server turns the base 30 degrees while the view is blacked out), then stop
-// the session from the menu. Prints "RESULT {json}" for the pytest wrapper, which checks
+// right stick (the server turns the base 30 degrees while the view is blacked out), pause
+// and resume, then stop the session from the menu (chosen twice: the second confirms). Prints "RESULT {json}" for the pytest wrapper, which checks
 // the store's events.
 //
 //   npm run build:e2e && node build/e2e/tests/e2e/xr_menu.js http://127.0.0.1:8000   (in web/)
@@ -113,6 +113,17 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
   log(`snap turn: the base turned ${((turned * 180) / Math.PI).toFixed(1)} degrees, the stick held all along`);
   check(Math.abs(turned + Math.PI / 6) < 0.05, `one flick to the right turned the base ${turned.toFixed(3)} rad (wanted ${(-Math.PI / 6).toFixed(3)})`);
   check(s.teleop?.comfort.snaps === 1, "holding the stick made more than one snap");
+
+  // Pause from the menu: the trial's clock stands still until "Resume" (the same item).
+  await choose("pause");
+  s = await waitFor(page, (s) => s.teleop?.paused === true, { what: "the menu to pause the trial" });
+  const pausedAt = s.state?.t_sim ?? 0;
+  await sleep(1000);
+  s = await waitFor(page, (s) => s.state !== null, { what: "a state" });
+  check(s.state?.t_sim === pausedAt, `the clock moved while paused from the menu: ${pausedAt} -> ${String(s.state?.t_sim)}`);
+  await choose("pause");
+  await waitFor(page, (s) => s.teleop?.paused === false && (s.state?.t_sim ?? 0) > pausedAt, { what: "the menu to resume the trial" });
+  log("paused and resumed from the menu");
 
   await choose("stop_session");
   const end = await waitForEnd(page, 15000);
