@@ -30,7 +30,10 @@ def test_a_session_below_the_real_time_needed_keeps_the_next_waiting() -> None:
 
 def test_a_session_not_yet_measured_counts_at_one_core() -> None:
     assert AdmissionRule(cores=2.0).refuses([None]) is None  # 2 x 1 core
-    assert AdmissionRule(cores=1.5).refuses([None]) is not None
+    assert AdmissionRule(cores=1.5).refuses([None]) == (
+        "2 sessions at 1.00 cores each (assumed until a session is measured) need 2.00 "
+        "cores; this machine gives the sessions 1.5"
+    )
     # once one is measured, its figure stands for the others too
     assert AdmissionRule(cores=1.5).refuses([None, Measured(1.0, 0.4)]) is None
 

@@ -109,3 +109,36 @@ def test_pause_confirmed_stop_with_a_reason_and_the_end_screens_next_step(
     )
     assert json.loads(admin_stop["payload_json"])["by"] == "admin"
     assert json.loads(admin_stop["payload_json"])["reason"] == "the lab closes in five minutes"
+
+
+QUEUE_STUDY = """name = "queue"
+participants = 2
+instructions = "Move the box to the green zone."
+consent = "I agree that my teleoperation is recorded."
+[session]
+task = { countdown_s = 0.0, time_limit_s = 120.0 }
+[[conditions]]
+name = "assisted"
+settings = { "world.grasp" = "assisted" }
+[[steps]]
+mode = "practice"
+"""
+
+
+def test_a_start_without_headroom_waits_with_its_position_and_starts_by_itself(
+    tmp_path: Path, one_browser_at_a_time: None
+) -> None:
+    """``--admit-cores 0.01``: one running session leaves no room for another, so p02's
+    start waits (the page's banner: position 1 of 1, and why) until p01 stops."""
+    study_file = tmp_path / "queue.toml"
+    study_file.write_text(QUEUE_STUDY, encoding="utf-8")
+    study = load_study(study_file)
+    invites = load_or_create(invites_path(tmp_path / "store.sqlite", study), study)
+    extra = ("--study", str(study_file), "--sessions", "2", "--admit-cores", "0.01")
+    with serving(tmp_path, *extra, token=invites.admin) as server:
+        tokens = (invites.participants["p01"], invites.participants["p02"])
+        result = run_script("study_queue", server, *tokens)
+    first, second = _rows(server.store, "SELECT * FROM sessions ORDER BY created_wall")
+    assert (first["session_id"], first["operator_id"]) == (result["first"], "p01")
+    assert (second["session_id"], second["operator_id"]) == (result["second"], "p02")
+    assert second["created_wall"] >= first["ended_wall"]  # it waited for p01's end

@@ -73,9 +73,10 @@ class AdmissionRule:
         )
         needed = per_session * (n + 1)
         if needed > self.cores:
+            assumed = "" if measured else " (assumed until a session is measured)"
             return (
-                f"{n + 1} sessions at {per_session:.2f} cores each need {needed:.2f} cores; "
-                f"this machine gives the sessions {self.cores:g}"
+                f"{n + 1} sessions at {per_session:.2f} cores each{assumed} need "
+                f"{needed:.2f} cores; this machine gives the sessions {self.cores:g}"
             )
         return None
 
