@@ -100,6 +100,7 @@ export class ClientModel {
       case "config_rejected":
         return { kind: "config_rejected", problems: message.problems };
       case "error":
+        if (message.message.startsWith("start_session")) this.queued = null; // the start was refused
         this.errors.push({ code: message.code, message: message.message });
         if (this.errors.length > ERROR_HISTORY) this.errors.shift();
         return { kind: "server_error", code: message.code, message: message.message, problem: message.problem };

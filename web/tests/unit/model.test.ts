@@ -24,6 +24,9 @@ describe("ClientModel.apply", () => {
     expect(model.queued?.position).toBe(2);
     model.apply({ type: "session_started", session_id: "s1", mode: "practice", operator_id: "a", settings: {} });
     expect(model.queued).toBeNull();
+    model.apply(queued);
+    model.apply({ type: "error", code: "not_allowed", message: "start_session: you have run every session", fatal: false, problem: null });
+    expect(model.queued).toBeNull(); // a start refused after waiting waits no more
   });
 
   it("keeps the newest State and its HUD, dropping older ones as stale", () => {
