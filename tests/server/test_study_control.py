@@ -5,6 +5,7 @@ from __future__ import annotations
 
 import asyncio
 import json
+import math
 import re
 import time
 import urllib.error
@@ -14,7 +15,14 @@ from typing import Any
 
 import numpy as np
 
-from tests.server.harness import FAST_SETTINGS, Client, RunningServer, client, running_server
+from tests.server.harness import (
+    FAST_SETTINGS,
+    Client,
+    RunningServer,
+    client,
+    hand,
+    running_server,
+)
 from tests.server.test_study_server import CONSENT, get_as, token_of
 from workcell.audit.run import run_audit
 from workcell.audit.sampling import SamplingParams, detect_sampling
@@ -276,6 +284,48 @@ def test_a_pause_stops_the_clock_and_is_recorded(tmp_path: Path) -> None:
     assert all(wall < pause_s for wall in walls), details  # a stall of the machine, if any
     (unpaused,) = detect_sampling(frames, 20.0, SamplingParams())  # were it not a pause
     assert unpaused.name == "sampling_gap" and "t_wall: 1 gap(s)" in unpaused.detail
+
+
+def test_a_hand_moved_while_paused_does_not_jump_its_arm(tmp_path: Path) -> None:
+    """The left grip held throughout: the hand moves 20 cm while the trial stands paused;
+    after the resume the arm's target goes on from where it was, not 20 cm away."""
+    settings = {"task": {"countdown_s": 0.0, "time_limit_s": 60.0}}
+
+    async def held(operator: Client, z: float, count: int = 8) -> m.State:
+        seq = 0
+        for _ in range(count):
+            seq = await operator.input(left=hand(pose=(0, 1.0, z, 1, 0, 0, 0), grip=1.0))
+            await asyncio.sleep(0.03)
+        state = await operator.wait_for(lambda x: isinstance(x, m.State) and x.input_seq >= seq)
+        assert isinstance(state, m.State)
+        return state
+
+    async def scenario(server: RunningServer) -> None:
+        async with client(server) as operator:
+            await operator.hello()
+            before = len(operator.received)
+            assert isinstance(await start(operator, settings), m.SessionStarted)
+            await event(operator, "trial_started", since=before)
+            gripped = await held(operator, -0.3)
+            assert gripped.following == (True, False)
+            await operator.send(m.Pause(paused=True))
+            await event(operator, "paused")
+            for _ in range(10):  # the hand moves 20 cm forward while paused
+                await operator.input(left=hand(pose=(0, 1.0, -0.5, 1, 0, 0, 0), grip=1.0))
+                await asyncio.sleep(0.03)
+            await operator.send(m.Pause(paused=False))
+            await event(operator, "resumed")
+            after = await held(operator, -0.5)
+            assert after.following == (True, False)
+            jump = math.dist(gripped.tcp_targets[0][:3], after.tcp_targets[0][:3])
+            assert jump < 0.02, jump  # re-anchored where it was
+            moved = await held(operator, -0.6)  # and follows the hand from there
+            assert math.dist(after.tcp_targets[0][:3], moved.tcp_targets[0][:3]) > 0.07
+            await operator.send(m.Stop())
+            await ended(operator)
+
+    with running_server(tmp_path) as server:
+        asyncio.run(scenario(server))
 
 
 async def measured(server: RunningServer, timeout: float = 30.0) -> dict[str, Any]:

@@ -208,6 +208,8 @@ class LiveSession:
         trial's conditions changed it (box size, target...)."""
         if isinstance(event, ev.ClientFrames):
             return  # the client's own figures, for the record only
+        if isinstance(event, ev.Resumed):  # a hand moved while paused does not jump its arm
+            self.operator.after_pause()
         if self.scene is not None and isinstance(event, ev.CountdownStarted | ev.TrialStarted):
             scene = describe(world.model, world.data)
             if _shapes(scene) != _shapes(self.scene):
