@@ -4,6 +4,7 @@ by measured headroom, over a real server and real sockets."""
 from __future__ import annotations
 
 import asyncio
+import contextlib
 import json
 import math
 import re
@@ -284,6 +285,36 @@ def test_a_pause_stops_the_clock_and_is_recorded(tmp_path: Path) -> None:
     assert all(wall < pause_s for wall in walls), details  # a stall of the machine, if any
     (unpaused,) = detect_sampling(frames, 20.0, SamplingParams())  # were it not a pause
     assert unpaused.name == "sampling_gap" and "t_wall: 1 gap(s)" in unpaused.detail
+
+
+def test_a_client_that_comes_in_while_paused_hears_it(tmp_path: Path) -> None:
+    settings = {"task": {"countdown_s": 0.0, "time_limit_s": 60.0}}
+
+    async def scenario(server: RunningServer) -> None:
+        async with client(server) as operator:
+            await operator.hello()
+            before = len(operator.received)
+            assert isinstance(await start(operator, settings), m.SessionStarted)
+            await event(operator, "trial_started", since=before)
+            await operator.send(m.Pause(paused=True))
+            await event(operator, "paused")
+            async with client(server) as late:
+                await late.hello(role="spectator")
+                told = await event(late, "paused")
+                assert told.trial_index == 0
+            await operator.send(m.Pause(paused=False))
+            await event(operator, "resumed")
+            async with client(server) as later:
+                await later.hello(role="spectator")
+                await later.wait_for(lambda x: isinstance(x, m.Scene))
+                with contextlib.suppress(TimeoutError):  # nothing paused to tell now
+                    await later.wait_for(lambda x: getattr(x, "kind", None) == "paused", 1.0)
+                assert not any(getattr(x, "kind", None) == "paused" for x in later.received)
+            await operator.send(m.Stop())
+            await ended(operator)
+
+    with running_server(tmp_path) as server:
+        asyncio.run(scenario(server))
 
 
 def test_a_hand_moved_while_paused_does_not_jump_its_arm(tmp_path: Path) -> None:

@@ -86,6 +86,9 @@ class Conductor:
         self._grace: asyncio.TimerHandle | None = None
         self._starting = False
         self._idle_scene: m.Scene | None = None
+        self._paused_event: str | None = None
+        """The running trial's ``paused`` event while it stands paused (sent to a client
+        that connects meanwhile)."""
         self.sessions_started = 0
 
     # --- connections ------------------------------------------------------------------------
@@ -143,6 +146,8 @@ class Conductor:
         if session is not None:
             client.send(self._started_message(session))
         client.send(session.scene if session and session.scene else await self._default_scene())
+        if session is not None and self._paused_event is not None:
+            client.send_text(self._paused_event)  # a client that comes in mid-pause hears it
         return role
 
     def _may_resume(self, offered: str | None) -> bool:
@@ -300,6 +305,10 @@ class Conductor:
                 client.send_text(text)
 
     def broadcast_text(self, text: str) -> None:
+        if '"kind":"paused"' in text:
+            self._paused_event = text
+        elif '"kind":"resumed"' in text or '"kind":"trial_ended"' in text:
+            self._paused_event = None
         for client in self.clients:
             if client.role is not None:
                 client.send_text(text)
@@ -315,6 +324,7 @@ class Conductor:
         if self.shards is not None:
             ended = await asyncio.to_thread(self._merge, ended)
         self.session = None
+        self._paused_event = None
         if self.operator is None:
             self.resume_token = None
             if self._grace is not None:
