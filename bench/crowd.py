@@ -266,6 +266,7 @@ def measure(
         env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
         seats = n if ray is None else max(n, 2)  # --ray needs two seats or more
         arguments = ["--port", str(port), "--store", str(store), "--sessions", str(seats)]
+        arguments += ["--no-admission"]  # every session at once: the load is what is measured
         if ray is not None:
             arguments += ["--ray", ray]
         if compression:

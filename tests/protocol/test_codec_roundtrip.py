@@ -39,7 +39,7 @@ def test_server_messages_round_trip(cls: type, data: st.DataObject) -> None:
 
 def test_encoding_is_compact_json_with_type_field() -> None:
     text = encode(m.Stop())
-    assert text == '{"type":"stop"}'
+    assert text == '{"reason":"","type":"stop"}'
     assert json.loads(encode(m.Ping(t_client=1.5))) == {
         "t_client": 1.5,
         "rtt_ms": None,

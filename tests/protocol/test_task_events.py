@@ -27,6 +27,9 @@ EXAMPLES: tuple[ev.TaskEvent, ...] = (
     ev.OperatorActed(1, 2.5, "restart_trial", "xr_menu"),
     ev.ClientFrames(310, 16.7, 22.4, 48.0, 41, 52_310, True, trial_index=1, t_sim=2.75),
     ev.TrialEnded(1, 3.0, "interrupted", "client_lost", 3.0, 0, 0),
+    ev.StopRequested(1, 2.9, "admin", "the room closes"),
+    ev.Paused(1, 1.5),
+    ev.Resumed(1, 1.5, 12.25),
 )
 
 

@@ -81,10 +81,14 @@ def running_server(
     launch: SessionFactory = SessionProcess,
     **overrides: Any,
 ) -> Iterator[RunningServer]:
-    """A server on ``tmp_path/store.sqlite``; with ``study``, running it as ``workcell serve
-    --study`` does (its invites beside the store, the admin token as the server's); its
-    sessions made by ``launch`` (Ray actors: a RaySessions)."""
+    """A server on ``tmp_path/store.sqlite`` whose admission lets every start in (unless
+    ``admit_cores`` or ``admit_min_real_time_factor`` is given); with ``study``, running
+    it as ``workcell serve --study`` does (its invites beside the store, the admin token
+    as the server's); its sessions made by ``launch`` (Ray actors: a RaySessions)."""
     options = replace(ServerOptions(store=tmp_path / "store.sqlite", grace_s=1.0), **overrides)
+    admitting = {"admit_cores", "admit_min_real_time_factor", "admission"} & set(overrides)
+    if not admitting:  # tests of other things start sessions at will
+        options = replace(options, admission=False)
     desk = None
     if study is not None:
         invites = load_or_create(invites_path(options.store, study), study)

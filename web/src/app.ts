@@ -12,6 +12,9 @@ export type { AppEvent } from "./net/model";
 
 type Listener = (event: AppEvent) => void;
 
+/** The longest stop reason the server takes (workcell.task.events.STOP_NOTE_MAX). */
+export const STOP_REASON_MAX = 300;
+
 export class App extends ClientModel {
   readonly connection: Connection;
   private readonly listeners = new Set<Listener>();
@@ -46,11 +49,18 @@ export class App extends ClientModel {
   startSession(settings: Record<string, unknown>, consent = false): boolean {
     this.ended = null;
     this.lastTrialEnd = null;
+    this.queued = null;
     return this.connection.send({ type: "start_session", settings, consent });
   }
 
-  stopSession(): boolean {
-    return this.connection.send({ type: "stop" });
+  /** Stop the running session; `reason`: the operator's words (recorded, may be empty). */
+  stopSession(reason = ""): boolean {
+    return this.connection.send({ type: "stop", reason: reason.trim().slice(0, STOP_REASON_MAX) });
+  }
+
+  /** Pause (true) or resume (false) the running trial: its clock and the physics stop. */
+  pause(paused: boolean): boolean {
+    return this.connection.send({ type: "pause", paused });
   }
 
   /** An operator action besides driving (recorded by the server as an event). */

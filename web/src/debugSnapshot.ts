@@ -5,6 +5,7 @@ import type { LinkInfo } from "./net/connection";
 import type { FrameReport } from "./scene/frameMeter";
 import type {
   Hud,
+  PlannedStep,
   Input,
   Pose,
   Role,
@@ -50,8 +51,13 @@ export interface TeleopDebug {
     snaps: number;
     blackout: boolean;
   };
-  /** The in-VR menu: open, and the highlighted item's index. */
-  menu: { open: boolean; index: number };
+  /** The in-VR menu: open, the highlighted item's index, and whether "Stop session" was
+   * chosen once (choosing it again stops). */
+  menu: { open: boolean; index: number; stop_armed: boolean };
+  /** Whether the running trial stands paused. */
+  paused: boolean;
+  /** A study participant's next planned session (null: none, or not a participant). */
+  study_next: PlannedStep | null;
   /** The headset heading that recentering made forward (radians; 0: never recentered). */
   recenter_yaw: number;
   /** Every operator action this page sent, as `action:source`. */

@@ -46,7 +46,14 @@ async function boot(): Promise<void> {
   const linkState = el("span", { className: "nav-link-state" });
   nav.append(linkState);
   const outlet = el("main", { className: "outlet" });
-  main.append(nav, outlet);
+  // A start waiting for room on the server says so on every page, with its place in line.
+  const queueBanner = el("div", { className: "queue-banner", id: "queue-banner", role: "status" });
+  main.append(nav, queueBanner, outlet);
+  app.subscribe((event) => {
+    if (event.kind === "queued" || event.kind === "session" || event.kind === "server_error") {
+      queueBanner.textContent = app.queued !== null && !app.sessionActive ? app.queued.message : "";
+    }
+  });
 
   let shared: TeleopShared | null = null;
   const teleopShared = (): TeleopShared => {

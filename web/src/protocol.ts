@@ -124,6 +124,43 @@ export interface TrialInterrupted {
   readonly type: "event";
 }
 
+/**
+ * Someone asked the session to stop (``by``), for ``reason`` (their words, possibly
+ * empty); recorded in the trial under way just before it ends interrupted.
+ */
+export interface StopRequested {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly by: "operator" | "admin";
+  readonly reason: string;
+  readonly kind: "stop_requested";
+  readonly type: "event";
+}
+
+/**
+ * The operator paused the trial: its clock and the physics stop until
+ * :class:`Resumed` (``t_sim`` is the same at both).
+ */
+export interface Paused {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly kind: "paused";
+  readonly type: "event";
+}
+
+/**
+ * The paused trial runs again after ``paused_s`` seconds of wall time, which its
+ * clock, its elapsed and completion times and the audit's wall-clock sampling check do
+ * not count.
+ */
+export interface Resumed {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly paused_s: number;
+  readonly kind: "resumed";
+  readonly type: "event";
+}
+
 /** The operator used a control of the application (``action``, from ``source``). */
 export interface OperatorActed {
   readonly trial_index: number;
@@ -234,9 +271,24 @@ export interface Input {
   readonly type: "input";
 }
 
-/** The operator ends the session (the running trial ends interrupted: operator_stop). */
+/**
+ * The operator ends the session (the running trial ends interrupted: operator_stop);
+ * ``reason``, their words (up to :data:`~workcell.task.events.STOP_NOTE_MAX`
+ * characters, may be empty), is recorded in a ``stop_requested`` event.
+ */
 export interface Stop {
+  readonly reason: string;
   readonly type: "stop";
+}
+
+/**
+ * The operator pauses (``paused``) or resumes the running trial: while paused the
+ * physics and the trial's clock stand still; recorded as ``paused`` and ``resumed``
+ * events. A pause asked during a countdown begins when the trial's clock starts.
+ */
+export interface Pause {
+  readonly paused: boolean;
+  readonly type: "pause";
 }
 
 /**
@@ -414,6 +466,8 @@ export interface SessionEnded {
    * disk is full, the store writer process died).
    */
   readonly detail: string;
+  /** Why whoever stopped the session did (their words), when it was stopped with one. */
+  readonly stop_note: string;
   readonly type: "session_ended";
 }
 
@@ -429,6 +483,19 @@ export interface Error {
   /** The refused value as data, when the problem is one field's. */
   readonly problem: FieldProblem | null;
   readonly type: "error";
+}
+
+/**
+ * The operator's :class:`StartSession` waits: the machine has no headroom for one
+ * more session at real time (:mod:`workcell.server.admission`). ``position`` (from 1)
+ * in the line of ``waiting`` starts; the server starts it by itself once there is room
+ * and sends this again whenever the position or the reason changes.
+ */
+export interface Queued {
+  readonly position: number;
+  readonly waiting: number;
+  readonly message: string;
+  readonly type: "queued";
 }
 
 /** Answer to :class:`Ping`: its ``t_client`` and the server's clock (Unix seconds). */
@@ -546,7 +613,10 @@ export interface ClientDiagnostics {
 /**
  * The running session's real-time loop: steps late by more than one control period,
  * wall time dropped after a stall, the longest step, and the real-time factor (sim
- * seconds per wall second; 1 keeps real time).
+ * seconds per wall second, the operator's pauses left out; 1 keeps real time): over the
+ * latest few seconds once measured, else since the session started. ``cores``: the CPU
+ * the session's process used over those seconds (0 until measured), ``paused_s`` the wall
+ * time it stood paused.
  */
 export interface SimDiagnostics {
   readonly session_id: string;
@@ -557,6 +627,8 @@ export interface SimDiagnostics {
   readonly max_step_ms: number;
   readonly real_time_factor: number;
   readonly seat: string;
+  readonly cores: number;
+  readonly paused_s: number;
 }
 
 /**
@@ -573,7 +645,8 @@ export interface Diagnostics {
 /**
  * One session of a study participant's plan: its place in their sequence (from 1),
  * its condition, which of the study's steps (from 1), its mode and trials (0 for a
- * challenge, which runs ``task.rounds`` rounds).
+ * challenge, which runs ``task.rounds`` rounds), and how many of its trials earlier
+ * sessions already ended (a step stopped part way resumes after them).
  */
 export interface PlannedStep {
   readonly position: number;
@@ -581,6 +654,7 @@ export interface PlannedStep {
   readonly step: number;
   readonly mode: string;
   readonly trials: number;
+  readonly trials_done: number;
 }
 
 /**
@@ -627,6 +701,14 @@ export interface StudyOverview {
   readonly running: number;
   readonly max_sessions: number;
   readonly participants: readonly ParticipantRow[];
+  /**
+   * In words, when running sessions fall behind real time (their trials are flagged
+   * ``sampling_gap``); empty when none does (:func:`workcell.server.admission.
+   * behind_real_time`).
+   */
+  readonly behind: string;
+  /** Session starts waiting in line for headroom (:mod:`workcell.server.admission`). */
+  readonly waiting: number;
 }
 
 /**
@@ -662,7 +744,10 @@ export type TaskEvent =
   | TrialInterrupted
   | TrialEnded
   | OperatorActed
-  | ClientFrames;
+  | ClientFrames
+  | StopRequested
+  | Paused
+  | Resumed;
 
 /** What a client may send. */
 export type ClientMessage =
@@ -670,6 +755,7 @@ export type ClientMessage =
   | StartSession
   | Input
   | Stop
+  | Pause
   | Act
   | FrameStats
   | Ping;
@@ -684,4 +770,5 @@ export type ServerMessage =
   | SessionStarted
   | SessionEnded
   | Error
+  | Queued
   | Pong;

@@ -6,12 +6,13 @@ processes of :mod:`workcell.audit.parallel`.
 
 from __future__ import annotations
 
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 
 from workcell.audit.config import AuditConfig
 from workcell.audit.disposition import latest_decisions
 from workcell.audit.oscillation import OscillationCriteria
 from workcell.audit.rows import SessionRow, TrialRow
+from workcell.audit.source import Pauses
 from workcell.audit.trial_audit import TrialAudit, audit_trial
 from workcell.metrics import FrameArrays
 from workcell.record.entries import AnnotationRecord
@@ -25,8 +26,11 @@ class TrialAuditor:
         sessions: Sequence[SessionRow],
         annotations: Sequence[AnnotationRecord],
         config: AuditConfig,
+        pauses: Mapping[str, Pauses] | None = None,
     ) -> None:
         self.config = config
+        self.pauses = pauses or {}
+        """Each paused trial's pauses (:meth:`~workcell.audit.source.AuditSource.trial_pauses`)."""
         self.sessions = {s.session_id: s for s in sessions}
         self.decisions = latest_decisions(annotations)
         self.criteria: dict[float, OscillationCriteria | None] = {}
@@ -44,4 +48,5 @@ class TrialAuditor:
             review=self.decisions.get(row.trial_id),
             config=self.config,
             criteria=self.criteria[session.rate_hz],
+            pauses=self.pauses.get(row.trial_id, ()),
         )

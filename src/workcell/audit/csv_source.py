@@ -22,7 +22,9 @@ from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
     FloatArray,
+    Pauses,
     midpoint_xy,
+    pause_of,
 )
 from workcell.audit.task_stages import STAGE_COLUMNS, StageFrames, stage_frames, started_conditions
 from workcell.metrics import FrameArrays
@@ -86,6 +88,17 @@ class CsvSource:
             if row["kind"] == "trial_started" and row["trial_id"] in wanted:
                 out[row["trial_id"]] = started_conditions(row["payload_json"] or "")
         return out
+
+    def trial_pauses(self, trial_ids: Collection[str]) -> dict[str, Pauses]:
+        wanted = set(trial_ids)
+        out: dict[str, list[tuple[float, float]]] = {}
+        for row in self._table("events.csv"):
+            if row["kind"] != "resumed" or row["trial_id"] not in wanted:
+                continue
+            pause = pause_of(row["t_sim"], row["payload_json"] or "")
+            if pause is not None:
+                out.setdefault(row["trial_id"], []).append(pause)
+        return {trial_id: tuple(pauses) for trial_id, pauses in out.items()}
 
     def close(self) -> None:
         pass

@@ -10,15 +10,16 @@ from __future__ import annotations
 
 import multiprocessing
 import os
-from collections.abc import Iterator, Sequence
+from collections.abc import Iterator, Mapping, Sequence
 from concurrent.futures import Future, ProcessPoolExecutor
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import TypeVar
 
 from workcell.audit.auditor import TrialAuditor
 from workcell.audit.config import AuditConfig
 from workcell.audit.rows import SessionRow, TrialRow
+from workcell.audit.source import Pauses
 from workcell.audit.stage_pass import with_stages
 from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit
@@ -41,6 +42,8 @@ class StoreJob:
     sessions: tuple[SessionRow, ...]
     annotations: tuple[AnnotationRecord, ...]
     config: AuditConfig
+    pauses: Mapping[str, Pauses] = field(default_factory=dict)
+    """Each paused trial's pauses (the operator's; not sampling gaps)."""
 
 
 def worker_count(requested: int | None, frames: int) -> int:
@@ -91,7 +94,7 @@ def _start(job: StoreJob) -> None:
 def _audit_share(rows: list[TrialRow]) -> list[tuple[TrialAudit, int]]:
     job = _JOB
     assert job is not None
-    auditor = TrialAuditor(job.sessions, job.annotations, job.config)
+    auditor = TrialAuditor(job.sessions, job.annotations, job.config, job.pauses)
     by_id = {row.trial_id: row for row in rows}
     source = StoreSource(job.path, use_blocks=job.use_blocks)
     try:

@@ -73,8 +73,9 @@ def run_audit(
     there are enough frames to gain from it, see :mod:`workcell.audit.parallel`)."""
     config = config or AuditConfig()
     annotations = tuple(source.annotations())
-    auditor = TrialAuditor(source.sessions(), annotations, config)
     rows = {row.trial_id: row for row in source.trials()}
+    pauses = source.trial_pauses(list(rows))
+    auditor = TrialAuditor(source.sessions(), annotations, config, pauses)
     for trial_row in rows.values():
         if trial_row.session_id not in auditor.sessions:
             raise AuditError(
@@ -101,6 +102,7 @@ def run_audit(
                 tuple(auditor.sessions.values()),
                 annotations,
                 config,
+                pauses,
             )
             for _, results in audit_in_workers(
                 job, shares(closed, sizes, count * CHUNKS_PER_WORKER), count

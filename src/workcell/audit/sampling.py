@@ -13,11 +13,16 @@ the demonstration, and is not counted. (Version 2 compared the trial's overall w
 sim spans; a headless run on a busy machine can be as slow as real time overall, and its
 machine's pauses were flagged.) ``non_monotonic`` is raised when ``t_sim`` or ``t_wall``
 does not strictly increase from some frame to the next (the ``monotonic`` metric of
-docs/architecture.md).
+docs/architecture.md). The operator's pauses (``paused``/``resumed`` events) are not gaps:
+the wall seconds of each pause are taken out of the wall clock of the frames after it
+before gaps are looked for (version 4; the ``max_gap_s`` and ``hz_wall`` metrics keep the
+wall clock as recorded).
 """
 
 from __future__ import annotations
 
+import dataclasses
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import numpy as np
@@ -27,8 +32,10 @@ from workcell.checks import positive
 from workcell.errors import ConfigError
 from workcell.metrics import FrameArrays
 
-SAMPLING_VERSION = "3"
+SAMPLING_VERSION = "4"
 """Bumped whenever the definition above changes meaning."""
+PAUSE_INSTANT_S = 1e-9
+"""Frames at a pause's own instant were recorded before it."""
 
 
 @dataclass(frozen=True)
@@ -81,9 +88,28 @@ def recorded_in_real_time(frames: FrameArrays, ahead_tolerance_s: float) -> bool
     return float(np.max(ahead)) <= ahead_tolerance_s
 
 
-def detect_sampling(frames: FrameArrays, rate_hz: float, params: SamplingParams) -> list[Flag]:
-    """The ``sampling_gap`` and ``non_monotonic`` flags of one trial (possibly none)."""
+def without_pauses(frames: FrameArrays, pauses: Sequence[tuple[float, float]]) -> FrameArrays:
+    """``frames`` with each pause's wall seconds taken out of the wall clock of every frame
+    after it (``pauses``: (t_sim it paused at, seconds it stood), as recorded)."""
+    if not pauses:
+        return frames
+    t_wall = frames.t_wall.copy()
+    for at, seconds in pauses:
+        with np.errstate(invalid="ignore"):
+            t_wall[frames.t_sim > at + PAUSE_INSTANT_S] -= seconds
+    return dataclasses.replace(frames, t_wall=t_wall)
+
+
+def detect_sampling(
+    frames: FrameArrays,
+    rate_hz: float,
+    params: SamplingParams,
+    pauses: Sequence[tuple[float, float]] = (),
+) -> list[Flag]:
+    """The ``sampling_gap`` and ``non_monotonic`` flags of one trial (possibly none);
+    ``pauses``: the operator's, not counted as gaps on the wall clock."""
     flags: list[Flag] = []
+    frames = without_pauses(frames, pauses)
     limit = params.gap_periods / rate_hz
     found = []
     clocks = [("t_sim", frames.t_sim)]

@@ -7,6 +7,8 @@ so memory does not grow with the number of trials.
 
 from __future__ import annotations
 
+import json
+import math
 from collections.abc import Collection, Iterator
 from pathlib import Path
 from typing import Any, Literal, Protocol
@@ -28,6 +30,20 @@ MIDPOINT_COLUMNS: tuple[str, ...] = ("tcp_l_x", "tcp_l_y", "tcp_r_x", "tcp_r_y")
 """The frame columns of the floor-plane (x-y) TCP-midpoint trajectory."""
 
 SourceKind = Literal["store", "csv"]
+Pauses = tuple[tuple[float, float], ...]
+"""A trial's pauses: (t_sim it paused at, wall seconds it stood paused), in order."""
+
+
+def pause_of(t_sim: object, payload_json: str) -> tuple[float, float] | None:
+    """One pause from a ``resumed`` event's time and stored payload (None: unreadable)."""
+    try:
+        seconds = json.loads(payload_json).get("paused_s")
+        at = float(t_sim)  # type: ignore[arg-type]
+    except (ValueError, TypeError, AttributeError):
+        return None
+    if isinstance(seconds, bool) or not isinstance(seconds, int | float):
+        return None
+    return (at, float(seconds)) if math.isfinite(at) and math.isfinite(seconds) else None
 
 
 class AuditSource(Protocol):
@@ -60,6 +76,11 @@ class AuditSource(Protocol):
 
     def trial_conditions(self, trial_ids: Collection[str]) -> dict[str, dict[str, object]]:
         """The given trials' recorded conditions (their trial_started events')."""
+        ...
+
+    def trial_pauses(self, trial_ids: Collection[str]) -> dict[str, Pauses]:
+        """The operator's pauses of the given trials that had any (their resumed events':
+        the trial time each paused at and the wall seconds it stood)."""
         ...
 
     def close(self) -> None: ...

@@ -25,7 +25,9 @@ from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
     FloatArray,
+    Pauses,
     midpoint_xy,
+    pause_of,
 )
 from workcell.audit.task_stages import (
     HOLDS_SQL,
@@ -142,6 +144,16 @@ class StoreSource:
             if row is not None:
                 out[trial_id] = started_conditions(row[0])
         return out
+
+    def trial_pauses(self, trial_ids: Collection[str]) -> dict[str, Pauses]:
+        wanted = set(trial_ids)
+        sql = "SELECT trial_id, t_sim, payload_json FROM events WHERE kind = 'resumed' ORDER BY seq"
+        out: dict[str, list[tuple[float, float]]] = {}
+        for trial_id, t_sim, payload in self._conn.execute(sql):
+            pause = pause_of(t_sim, payload) if trial_id in wanted else None
+            if pause is not None:
+                out.setdefault(trial_id, []).append(pause)
+        return {trial_id: tuple(pauses) for trial_id, pauses in out.items()}
 
     def _frame_counts(self) -> dict[str, int | None]:
         """Each trial's n_frames as its row says (None while it runs)."""

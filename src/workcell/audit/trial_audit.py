@@ -12,6 +12,7 @@ from workcell.audit.nonfinite import detect_nonfinite
 from workcell.audit.oscillation import OscillationCriteria, detect_oscillation
 from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.sampling import detect_sampling
+from workcell.audit.source import Pauses
 from workcell.audit.task_stages import TaskStage
 from workcell.metrics import FrameArrays, TrialMetrics, compute_trial_metrics
 from workcell.record.entries import AnnotationRecord
@@ -47,8 +48,11 @@ def detect_flags(
     session: SessionRow,
     config: AuditConfig,
     criteria: OscillationCriteria | None,
+    *,
+    pauses: Pauses = (),
 ) -> tuple[Flag, ...]:
-    """Every quality flag of one trial, in FLAG_NAMES order."""
+    """Every quality flag of one trial, in FLAG_NAMES order (``pauses``: the operator's,
+    not sampling gaps)."""
     flags: list[Flag] = []
     if criteria is not None:
         grip = session.thresholds.grip_threshold
@@ -61,7 +65,7 @@ def detect_flags(
         )
         if oscillation is not None:
             flags.append(oscillation)
-    flags += detect_sampling(frames, session.rate_hz, config.sampling)
+    flags += detect_sampling(frames, session.rate_hz, config.sampling, pauses)
     nonfinite = detect_nonfinite(metrics, config.nonfinite)
     if nonfinite is not None:
         flags.append(nonfinite)
@@ -76,11 +80,12 @@ def audit_trial(
     review: AnnotationRecord | None,
     config: AuditConfig,
     criteria: OscillationCriteria | None,
+    pauses: Pauses = (),
 ) -> TrialAudit:
     """Audit one trial; ``criteria`` are the oscillation criteria at the session's rate
     (None when that rate cannot resolve them)."""
     metrics = compute_trial_metrics(frames, row.outcome == "success", session.thresholds)
-    flags = detect_flags(frames, metrics, session, config, criteria)
+    flags = detect_flags(frames, metrics, session, config, criteria, pauses=pauses)
     return TrialAudit(
         row=row,
         session=session,

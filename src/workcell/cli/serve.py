@@ -56,6 +56,20 @@ def register(subparsers: Subparsers) -> None:
         help="seconds a dropped operator has to reconnect (default: %(default)s)",
     )
     parser.add_argument(
+        "--admit-cores",
+        type=float,
+        metavar="N",
+        help="cores the sessions may use together: one more session starts only while the "
+        "running ones measurably fit N cores and keep real time (default: this machine's)",
+    )
+    parser.add_argument(
+        "--no-admission",
+        dest="admission",
+        action="store_false",
+        help="start every session at once, whatever the load (for benchmarks that measure "
+        "an overloaded machine; by default a start waits while the machine has no headroom)",
+    )
+    parser.add_argument(
         "--allow-origin",
         action="append",
         default=[],
@@ -139,6 +153,8 @@ def options_from(
         max_sessions=args.sessions,
         ray=args.ray,
         ws_compression=args.ws_compression,
+        admit_cores=args.admit_cores,
+        admission=args.admission,
     )
     return options, generated
 

@@ -130,7 +130,10 @@ class ClientDiagnostics:
 class SimDiagnostics:
     """The running session's real-time loop: steps late by more than one control period,
     wall time dropped after a stall, the longest step, and the real-time factor (sim
-    seconds per wall second; 1 keeps real time)."""
+    seconds per wall second, the operator's pauses left out; 1 keeps real time): over the
+    latest few seconds once measured, else since the session started. ``cores``: the CPU
+    the session's process used over those seconds (0 until measured), ``paused_s`` the wall
+    time it stood paused."""
 
     session_id: str
     control_period_s: float
@@ -140,6 +143,8 @@ class SimDiagnostics:
     max_step_ms: float
     real_time_factor: float
     seat: str = "1"
+    cores: float = 0.0
+    paused_s: float = 0.0
 
 
 @dataclass(frozen=True)
@@ -157,13 +162,15 @@ class Diagnostics:
 class PlannedStep:
     """One session of a study participant's plan: its place in their sequence (from 1),
     its condition, which of the study's steps (from 1), its mode and trials (0 for a
-    challenge, which runs ``task.rounds`` rounds)."""
+    challenge, which runs ``task.rounds`` rounds), and how many of its trials earlier
+    sessions already ended (a step stopped part way resumes after them)."""
 
     position: int
     condition: str
     step: int
     mode: str
     trials: int
+    trials_done: int = 0
 
 
 @dataclass(frozen=True)
@@ -213,6 +220,12 @@ class StudyOverview:
     running: int
     max_sessions: int
     participants: tuple[ParticipantRow, ...]
+    behind: str = ""
+    """In words, when running sessions fall behind real time (their trials are flagged
+    ``sampling_gap``); empty when none does (:func:`workcell.server.admission.
+    behind_real_time`)."""
+    waiting: int = 0
+    """Session starts waiting in line for headroom (:mod:`workcell.server.admission`)."""
 
 
 API_TYPES: tuple[type, ...] = (

@@ -110,9 +110,22 @@ class Input:
 
 @dataclass(frozen=True)
 class Stop:
-    """The operator ends the session (the running trial ends interrupted: operator_stop)."""
+    """The operator ends the session (the running trial ends interrupted: operator_stop);
+    ``reason``, their words (up to :data:`~workcell.task.events.STOP_NOTE_MAX`
+    characters, may be empty), is recorded in a ``stop_requested`` event."""
 
+    reason: str = ""
     type: Literal["stop"] = "stop"
+
+
+@dataclass(frozen=True)
+class Pause:
+    """The operator pauses (``paused``) or resumes the running trial: while paused the
+    physics and the trial's clock stand still; recorded as ``paused`` and ``resumed``
+    events. A pause asked during a countdown begins when the trial's clock starts."""
+
+    paused: bool
+    type: Literal["pause"] = "pause"
 
 
 @dataclass(frozen=True)
@@ -147,7 +160,7 @@ class Ping:
     type: Literal["ping"] = "ping"
 
 
-ClientMessage = Hello | StartSession | Input | Stop | Act | FrameStats | Ping
+ClientMessage = Hello | StartSession | Input | Stop | Pause | Act | FrameStats | Ping
 
 
 # --- server -> client -------------------------------------------------------------------------
@@ -293,6 +306,8 @@ class SessionEnded:
     detail: str = ""
     """What went wrong, when ``reason`` is ``"error"`` or ``"storage_error"`` (e.g. the
     disk is full, the store writer process died)."""
+    stop_note: str = ""
+    """Why whoever stopped the session did (their words), when it was stopped with one."""
     type: Literal["session_ended"] = "session_ended"
 
 
@@ -308,6 +323,19 @@ class Error:
     problem: FieldProblem | None = None
     """The refused value as data, when the problem is one field's."""
     type: Literal["error"] = "error"
+
+
+@dataclass(frozen=True)
+class Queued:
+    """The operator's :class:`StartSession` waits: the machine has no headroom for one
+    more session at real time (:mod:`workcell.server.admission`). ``position`` (from 1)
+    in the line of ``waiting`` starts; the server starts it by itself once there is room
+    and sends this again whenever the position or the reason changes."""
+
+    position: int
+    waiting: int
+    message: str
+    type: Literal["queued"] = "queued"
 
 
 @dataclass(frozen=True)
@@ -328,10 +356,20 @@ ServerMessage = (
     | SessionStarted
     | SessionEnded
     | Error
+    | Queued
     | Pong
 )
 
-CLIENT_MESSAGES: tuple[type, ...] = (Hello, StartSession, Input, Stop, Act, FrameStats, Ping)
+CLIENT_MESSAGES: tuple[type, ...] = (
+    Hello,
+    StartSession,
+    Input,
+    Stop,
+    Pause,
+    Act,
+    FrameStats,
+    Ping,
+)
 SERVER_MESSAGES: tuple[type, ...] = (
     Welcome,
     Scene,
@@ -341,5 +379,6 @@ SERVER_MESSAGES: tuple[type, ...] = (
     SessionStarted,
     SessionEnded,
     Error,
+    Queued,
     Pong,
 )

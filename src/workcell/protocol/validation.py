@@ -21,7 +21,7 @@ from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 from workcell.errors import WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.messages import ErrorCode
-from workcell.task.events import TrialStarted
+from workcell.task.events import STOP_NOTE_MAX, TrialStarted
 
 QUATERNION_TOLERANCE = 1e-2
 """How far from 1 a pose quaternion's norm may be before it is refused."""
@@ -45,7 +45,11 @@ RANGES: dict[tuple[type, str], tuple[float, float]] = {
     (m.Ping, "rtt_ms"): (0.0, 3_600_000.0),
 }
 """Inclusive bounds of numeric fields (each element, for tuples)."""
-MAX_TEXT: dict[tuple[type, str], int] = {(m.Hello, "resume_token"): 128, (m.Hello, "seat"): 16}
+MAX_TEXT: dict[tuple[type, str], int] = {
+    (m.Hello, "resume_token"): 128,
+    (m.Hello, "seat"): 16,
+    (m.Stop, "reason"): STOP_NOTE_MAX,
+}
 """Longest allowed text of a field (characters)."""
 WIDE_INTEGERS: frozenset[tuple[type, str]] = frozenset({(TrialStarted, "trial_seed")})
 """Whole numbers the server sends that may exceed 2^53 (a 63-bit seed): a browser reads

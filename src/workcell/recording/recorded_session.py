@@ -27,6 +27,7 @@ process can be handed one and run its session there.
 from __future__ import annotations
 
 import contextlib
+import time
 from collections.abc import Callable, Iterator
 from dataclasses import dataclass, field, replace
 from pathlib import Path
@@ -40,12 +41,20 @@ from workcell.recording.media import CameraOptions, MediaRecorder
 from workcell.recording.recorder import Recorder, RecordingStore
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
-from workcell.task.pacing import Pacer, PacingStats, StopRequest
+from workcell.task.hud import HudPhase
+from workcell.task.pacing import Pacer, PacingStats, PauseRequest, StopRequest
 from workcell.task.runner import SessionRunner, TrialResult
 from workcell.tasks.registry import load_task
 
 StopReason = Callable[[], ev.InterruptionReason | None]
 """Why the session must stop now (its running trial is interrupted so), or None."""
+STOPPED_BY: dict[ev.InterruptionReason, ev.StopBy] = {
+    "operator_stop": "operator",
+    "admin_stop": "admin",
+}
+"""The stops someone asked for, recorded with their words as a ``stop_requested`` event."""
+PAUSE_POLL_S = 0.1
+"""How often a paused loop looks at the recorder's health while it waits."""
 
 
 @dataclass(frozen=True)
@@ -82,10 +91,19 @@ class RecordedSession:
     """A session: built from its configuration (the world, operator and runner), recording
     while inside :meth:`recording`, run by :meth:`run`. :meth:`open` does both at once."""
 
-    def __init__(self, config: RecordedSessionConfig, stop: StopRequest | None = None) -> None:
+    def __init__(
+        self,
+        config: RecordedSessionConfig,
+        stop: StopRequest | None = None,
+        pause: PauseRequest | None = None,
+    ) -> None:
         self.config = config
         self.stop = stop if stop is not None else StopRequest()
         """Set from any thread to end the running trial (see :meth:`StopRequest.request`)."""
+        self.pause = pause if pause is not None else PauseRequest()
+        """Set from any thread to pause the running trial: before its next control period
+        the loop stands still (no physics, no trial clock) until it is resumed or stopped,
+        recorded as ``paused`` and ``resumed`` events."""
         self.sim = Simulation(config.session.world, load_task(config.session.task.kind).scene())
         self._driving = config.driver.build(config.session, self.sim)
         self.operator = self._driving.operator
@@ -162,10 +180,16 @@ class RecordedSession:
         def stop_reason() -> ev.InterruptionReason | None:
             nonlocal ended
             reason = self._stop_reason(should_stop)
+            if reason is None and self.pause.paused and self.runner.phase is HudPhase.RUNNING:
+                self._hold(pacer)
+                reason = self._stop_reason(should_stop)
             if reason is None and pacer is not None and not pacer.wait(self.stop):
                 reason = self._stop_reason(None)  # requested while the pacer waited
             if reason is not None:
                 ended = reason
+            if reason in STOPPED_BY:
+                by, note = STOPPED_BY[reason], self.stop.note
+                self.runner.note(lambda i, t: ev.StopRequested(i, t, by, note))
             if reason == "storage_error" and self.recorder is not None:
                 # the trial ends when the store says it did (the runner's own interrupt
                 # that follows finds it ended)
@@ -186,6 +210,22 @@ class RecordedSession:
             self.recorder.close(interrupted=ended != "completed")
             self._report(on_trial)  # the last trials' ends are written now
         return ended
+
+    def _hold(self, pacer: Pacer | None) -> None:
+        """Stand paused until resumed, stopped, or the recorder fails; the wall time it
+        stood is recorded (``resumed``) and skipped by the pacer."""
+        began = time.monotonic()
+        self.runner.note(ev.Paused)
+        while self.pause.paused and not self.stop.is_set():
+            if self.recorder is not None:
+                self.recorder.check()
+            if self.failure is not None:
+                break
+            self.pause.wait_for_change(PAUSE_POLL_S)
+        paused_s = time.monotonic() - began
+        self.runner.note(lambda i, t: ev.Resumed(i, t, round(paused_s, 3)))
+        if pacer is not None:
+            pacer.skip(paused_s)
 
     def _stop_reason(self, should_stop: StopReason | None) -> ev.InterruptionReason | None:
         if self.recorder is not None:

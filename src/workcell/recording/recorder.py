@@ -199,6 +199,9 @@ class Recorder:
                 self._start_trial(event)
             elif isinstance(event, ev.LevelChanged):
                 self._add_event(event, session_level=True)  # between two trials' clocks
+            elif isinstance(event, ev.StopRequested) and self._trial_id is None:
+                # stopped during a countdown: its trial never starts, the stop is the session's
+                self._add_event(event, session_level=True)
             elif self._trial_id is None:
                 self._pending_events.append(event)  # countdown: the trial row comes next
             else:

@@ -29,6 +29,7 @@ from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import RelayedSession, SessionArgs, SessionFactory
 from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal
+from workcell.server.waiting_line import WaitingLine
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.tasks.registry import built_in_task, load_task
@@ -62,8 +63,12 @@ class Conductor:
         shards: SessionShards | None = None,
         planner: SessionPlanner | None = None,
         launch: SessionFactory = SessionProcess,
+        *,
+        line: WaitingLine | None = None,
     ) -> None:
         self.options = options
+        self.line = line
+        """Where a start waits while the machine has no headroom (None: never waits)."""
         self.seat = seat
         self.planner = planner
         self.launch = launch
@@ -81,6 +86,9 @@ class Conductor:
         self._grace: asyncio.TimerHandle | None = None
         self._starting = False
         self._idle_scene: m.Scene | None = None
+        self._paused_event: str | None = None
+        """The running trial's ``paused`` event while it stands paused (sent to a client
+        that connects meanwhile)."""
         self.sessions_started = 0
 
     # --- connections ------------------------------------------------------------------------
@@ -91,6 +99,8 @@ class Conductor:
 
     def disconnected(self, client: Client) -> None:
         self.clients.discard(client)
+        if self.line is not None:
+            self.line.leave(client)
         if client is not self.operator:
             return
         self.operator = None
@@ -136,6 +146,8 @@ class Conductor:
         if session is not None:
             client.send(self._started_message(session))
         client.send(session.scene if session and session.scene else await self._default_scene())
+        if session is not None and self._paused_event is not None:
+            client.send_text(self._paused_event)  # a client that comes in mid-pause hears it
         return role
 
     def _may_resume(self, offered: str | None) -> bool:
@@ -159,9 +171,21 @@ class Conductor:
         if client is not self.operator:
             client.refuse("not_allowed", "start_session: only the operator starts a session")
             return
-        if self.session is not None or self._starting:
+        if self.busy:
             client.refuse("not_allowed", "start_session: a session is running; stop it first")
             return
+        if self.line is None or self.line.admit(self, client, start):
+            await self.begin(client, start)
+
+    @property
+    def busy(self) -> bool:
+        """A session runs or starts at this seat."""
+        return self.session is not None or self._starting
+
+    async def begin(self, client: Client, start: m.StartSession) -> None:
+        """Start the session now (admitted): tell every client, or ``client`` why not."""
+        if self.busy or client is not self.operator:
+            return  # the seat started otherwise, or its operator left while waiting
         self._starting = True
         try:
             session = await self._start(client, start)
@@ -247,21 +271,30 @@ class Conductor:
         if client is self.operator and self.session is not None:
             self.session.report_frames(message)
 
-    def stop_by_admin(self) -> bool:
+    def stop_by_admin(self, note: str = "") -> bool:
         """The study's admin ends the running session (its trial ends interrupted:
-        ``admin_stop``); False when none runs."""
+        ``admin_stop``; ``note``, their words, is recorded and told to the participant);
+        False when none runs."""
         if self.session is None:
             return False
-        self.session.request_stop("admin_stop")
+        self.session.request_stop("admin_stop", note)
         return True
 
-    def stop(self, client: Client) -> None:
+    def stop(self, client: Client, message: m.Stop) -> None:
         if client is not self.operator:
             client.refuse("not_allowed", "stop: only the operator stops the session")
         elif self.session is None:
             client.refuse("not_allowed", "stop: no session is running")
         else:
-            self.session.request_stop("operator_stop")
+            self.session.request_stop("operator_stop", message.reason.strip())
+
+    def pause(self, client: Client, message: m.Pause) -> None:
+        if client is not self.operator:
+            client.refuse("not_allowed", "pause: only the operator pauses the session")
+        elif self.session is None:
+            client.refuse("not_allowed", "pause: no session is running")
+        else:
+            self.session.request_pause(message.paused)
 
     # --- session output (on the loop) -------------------------------------------------------
 
@@ -272,6 +305,10 @@ class Conductor:
                 client.send_text(text)
 
     def broadcast_text(self, text: str) -> None:
+        if '"kind":"paused"' in text:
+            self._paused_event = text
+        elif '"kind":"resumed"' in text or '"kind":"trial_ended"' in text:
+            self._paused_event = None
         for client in self.clients:
             if client.role is not None:
                 client.send_text(text)
@@ -287,6 +324,7 @@ class Conductor:
         if self.shards is not None:
             ended = await asyncio.to_thread(self._merge, ended)
         self.session = None
+        self._paused_event = None
         if self.operator is None:
             self.resume_token = None
             if self._grace is not None:

@@ -39,7 +39,9 @@ def sim_diagnostics(conductor: Conductor) -> SimDiagnostics | None:
         return None
     stats = session.pacing
     period = session.config.world.control_substeps * session.config.world.timestep
-    wall = time.monotonic() - stats.started if stats.steps else 0.0
+    wall = time.monotonic() - stats.started - stats.paused_s if stats.steps else 0.0
+    overall = round(stats.steps * period / wall, 4) if wall > 0 else 0.0
+    recent = round(stats.recent_real_time_factor, 4)
     return SimDiagnostics(
         session_id=session.session_id,
         control_period_s=period,
@@ -47,6 +49,8 @@ def sim_diagnostics(conductor: Conductor) -> SimDiagnostics | None:
         late_steps=stats.late_steps,
         dropped_s=round(stats.dropped_s, 6),
         max_step_ms=round(stats.max_step_s * 1000.0, 3),
-        real_time_factor=round(stats.steps * period / wall, 4) if wall > 0 else 0.0,
+        real_time_factor=recent if recent > 0 else overall,
         seat=conductor.seat,
+        cores=round(stats.recent_cores, 3),
+        paused_s=round(stats.paused_s, 3),
     )

@@ -29,7 +29,7 @@ from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
 from workcell.task.hud import HudPhase
-from workcell.task.pacing import PacingStats, StopRequest
+from workcell.task.pacing import PacingStats, PauseRequest, StopRequest
 from workcell.task.runner import SessionRunner
 from workcell.teleop.operator import TeleopOperator
 from workcell.teleop.rate import at_teleop_rate
@@ -82,6 +82,7 @@ class LiveSession:
         self.scene: Scene | None = None
         self._session: RecordedSession | None = None
         self._stop = StopRequest()
+        self._pause = PauseRequest()
         self._requests: collections.deque[Callable[[SessionRunner], None]] = collections.deque()
         self._ready = threading.Event()
         self._startup_error: BaseException | None = None
@@ -117,9 +118,16 @@ class LiveSession:
 
         self._requests.append(lambda runner: runner.note(event))
 
-    def request_stop(self, reason: ev.InterruptionReason) -> None:
-        """End the running trial as interrupted with ``reason`` (from any thread)."""
-        self._stop.request(reason)
+    def request_stop(self, reason: ev.InterruptionReason, note: str = "") -> None:
+        """End the running trial as interrupted with ``reason`` (from any thread);
+        ``note``: the words of whoever stopped it (recorded, and told to the clients)."""
+        self._stop.request(reason, note)
+        self._pause.wake()
+
+    def request_pause(self, paused: bool) -> None:
+        """Pause or resume the running trial (from any thread): see
+        ``RecordedSession.pause`` (:mod:`workcell.recording.recorded_session`)."""
+        self._pause.set(paused)
 
     def join(self, timeout: float | None = None) -> bool:
         self._thread.join(timeout)
@@ -144,7 +152,7 @@ class LiveSession:
     def _main(self) -> None:
         with contextlib.ExitStack() as stack:
             try:
-                session = RecordedSession(self.recorded, self._stop)
+                session = RecordedSession(self.recorded, self._stop, self._pause)
                 stack.enter_context(session.recording())
             except BaseException as error:  # reported to the caller of start()
                 self._startup_error = error
@@ -191,6 +199,7 @@ class LiveSession:
                     successes=sum(r.outcome == "success" for r in results),
                     total_score=sum(r.score for r in results),
                     detail=detail,
+                    stop_note=self._stop.note if reason == self._stop.reason else "",
                 )
             )
 
@@ -199,6 +208,8 @@ class LiveSession:
         trial's conditions changed it (box size, target...)."""
         if isinstance(event, ev.ClientFrames):
             return  # the client's own figures, for the record only
+        if isinstance(event, ev.Resumed):  # a hand moved while paused does not jump its arm
+            self.operator.after_pause()
         if self.scene is not None and isinstance(event, ev.CountdownStarted | ev.TrialStarted):
             scene = describe(world.model, world.data)
             if _shapes(scene) != _shapes(self.scene):

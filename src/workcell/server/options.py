@@ -66,6 +66,15 @@ class ServerOptions:
     offers it: less bandwidth for a client on a slow link, for CPU on both ends of every
     message. Off: a State is about 1.7 KB, about 1 Mbit/s per driving client at 72 a
     second; compressed, about a ninth of that."""
+    admission: bool = True
+    """Start a session only while the machine has headroom for it (else it waits in line);
+    False (``--no-admission``): every start at once, whatever the load (benchmarks that
+    measure an overloaded machine)."""
+    admit_cores: float | None = None
+    """The cores the sessions may use together, for admission by measured headroom
+    (:mod:`workcell.server.admission`, ``--admit-cores``); None: this machine's."""
+    admit_min_real_time_factor: float = 0.98
+    """The least recent real-time factor of every running session for one more to start."""
     header_timeout_s: float = 10.0
     """How long a connection may take to send a request's headers (from connecting, or
     from the end of the previous response) before it is closed."""
@@ -98,6 +107,17 @@ class ServerOptions:
             problems.append(f"max_messages_per_s = {self.max_messages_per_s}: must be > 0")
         if not (math.isfinite(self.header_timeout_s) and 0 < self.header_timeout_s <= 3600):
             problems.append(f"header_timeout_s = {self.header_timeout_s}: must be 0 to 3600 s")
+        if self.admit_cores is not None and not (
+            math.isfinite(self.admit_cores) and 0 < self.admit_cores <= 4096
+        ):
+            problems.append(f"--admit-cores = {self.admit_cores}: must be > 0 and at most 4096")
+        if not (
+            math.isfinite(self.admit_min_real_time_factor)
+            and 0 <= self.admit_min_real_time_factor <= 2
+        ):
+            problems.append(
+                f"admit_min_real_time_factor = {self.admit_min_real_time_factor}: must be 0 to 2"
+            )
         try:
             allowed_origins(self.allow_origins)
         except ConfigError as error:

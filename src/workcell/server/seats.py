@@ -16,6 +16,8 @@ its sessions follow their plan; any other seat (the admin's, a page without an i
 starts no session, so the study's store holds its participants' planned sessions only.
 Then ``max_sessions`` bounds the sessions running at once:
 a participant who would start one more hears ``server_full`` and may start again later.
+Within that bound, a start waits in line while the machine has no headroom for one more
+session at real time (:mod:`workcell.server.admission`, :mod:`workcell.server.waiting_line`).
 
 Seat "1" always exists (what a one-session server has); a later seat goes once it is idle
 (no client, no session, no operator's place kept), so seat names are not reused while
@@ -32,6 +34,7 @@ import itertools
 import secrets
 
 from workcell.protocol import messages as m
+from workcell.server.admission import AdmissionRule, Measured
 from workcell.server.auth import ADMIN, Principal
 from workcell.server.client import Client
 from workcell.server.conductor import Conductor, SessionPlanner
@@ -40,6 +43,7 @@ from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import SessionFactory
 from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal, StudyDesk
+from workcell.server.waiting_line import WaitingLine
 from workcell.session.config import SessionConfig
 
 
@@ -62,6 +66,11 @@ class Seats:
         self.unseated: set[Client] = set()
         self._seat_of: dict[Client, Conductor] = {}
         self._numbers = itertools.count(1)
+        self.line = WaitingLine(
+            AdmissionRule.of_machine(options.admit_cores, options.admit_min_real_time_factor),
+            self.measured,
+        )
+        """Starts waiting for headroom (:mod:`workcell.server.admission`)."""
         self._add()
 
     @property
@@ -87,6 +96,19 @@ class Seats:
         if conductor is not None:
             conductor.disconnected(client)
         self._tidy()
+
+    def measured(self) -> list[Measured | None]:
+        """Each running or starting session's recent figures (None: not yet measured)."""
+        figures: list[Measured | None] = []
+        for conductor in self.conductors.values():
+            if not conductor.busy:
+                continue
+            pacing = conductor.session.pacing if conductor.session is not None else None
+            if pacing is None or pacing.recent_real_time_factor <= 0:
+                figures.append(None)
+            else:
+                figures.append(Measured(pacing.recent_real_time_factor, pacing.recent_cores))
+        return figures
 
     @property
     def running(self) -> int:
@@ -169,7 +191,8 @@ class Seats:
             planner = ParticipantPlanner(self, self.desk, participant)
         elif self.desk is not None:  # the admin's (or a page's without an invite)
             planner = InvitesOnly(self.desk)
-        conductor = Conductor(self.options, seat, self.shards, planner, self.launch)
+        line = self.line if self.options.admission else None
+        conductor = Conductor(self.options, seat, self.shards, planner, self.launch, line=line)
         self.conductors[seat] = conductor
         return conductor
 
@@ -183,6 +206,7 @@ class Seats:
     # --- shutdown ---------------------------------------------------------------------------
 
     def quit(self) -> None:
+        self.line.close()
         for conductor in list(self.conductors.values()):
             conductor.quit()
 

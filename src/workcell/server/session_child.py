@@ -3,7 +3,8 @@ LiveSession whose output goes down the pipe to the server, and which obeys what 
 sends up it. The same body runs in a session's process and in a session's Ray actor.
 
 The pipe carries tuples. From the server: ``("input", Input)``, ``("new_link",)``,
-``("act", action, source)``, ``("frames", FrameStats)``, ``("stop", reason)``. From the
+``("act", action, source)``, ``("frames", FrameStats)``, ``("pause", paused)``,
+``("stop", reason, note)``. From the
 child: first ``("ready", session_id, scene)`` or ``("failed", message)``, then
 ``("state", text, pacing)``, ``("scene", scene)``, ``("message", text)``,
 ``("log", level, logger, text)`` and last ``("ended", SessionEnded)``.
@@ -127,5 +128,7 @@ def _obey(conn: Connection, live: LiveSession) -> None:
             live.request_action(body[0], body[1])
         elif kind == "frames":
             live.report_frames(body[0])
+        elif kind == "pause":
+            live.request_pause(body[0])
         elif kind == "stop":
-            live.request_stop(body[0])
+            live.request_stop(*body)

@@ -173,11 +173,15 @@ class RelayedSession(ABC):
     def report_frames(self, stats: FrameStats) -> None:
         self._send(("frames", stats))
 
-    def request_stop(self, reason: ev.InterruptionReason) -> None:
-        """Ask the child to end its trial as ``reason``; a child that has not ended
+    def request_pause(self, paused: bool) -> None:
+        self._send(("pause", paused))
+
+    def request_stop(self, reason: ev.InterruptionReason, note: str = "") -> None:
+        """Ask the child to end its trial as ``reason`` (``note``: the words of whoever
+        asked, recorded); a child that has not ended
         :data:`STOP_GRACE_S` later (stopped, hung in native code) is killed, which ends
         its session ``error`` as a crash does."""
-        self._send(("stop", reason))
+        self._send(("stop", reason, note))
         if self._stop_timer is None and self._outbox is not None:
             self._stop_timer = threading.Timer(STOP_GRACE_S, self._stop_overdue)
             self._stop_timer.daemon = True

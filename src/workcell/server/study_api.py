@@ -1,23 +1,28 @@
 """The study's HTTP API (``workcell serve --study``): ``GET /api/study/me`` for a
 participant (204, no content, for a page that is not a participant's, or on a server
 without a study: every page asks), and for the admin ``GET /api/study`` (every
-participant, live) and ``POST /api/study/participants/{id}/stop`` (end their running session)."""
+participant, live) and ``POST /api/study/participants/{id}/stop`` (end their running session;
+an optional JSON body ``{"reason": "..."}`` gives the admin's words, recorded in the
+``stop_requested`` event and shown to the participant)."""
 
 from __future__ import annotations
 
 import asyncio
+import json
 
 from starlette.requests import Request
 from starlette.responses import Response
 from starlette.routing import Route
 
 from workcell.protocol.api import ParticipantRow, ParticipantState, StudyOverview
+from workcell.server.admission import behind_real_time
 from workcell.server.auth import principal_of
 from workcell.server.conductor import Conductor
 from workcell.server.diagnostics import sim_diagnostics
 from workcell.server.http_api import json_response, problem
 from workcell.server.seats import Seats
 from workcell.server.study_desk import Recorded, StudyDesk
+from workcell.task.events import STOP_NOTE_MAX
 
 NO_STUDY = "this server runs no study (workcell serve --study FILE)"
 
@@ -44,8 +49,11 @@ def study_routes(seats: Seats) -> list[Route]:
         participant = request.path_params["participant"]
         if participant not in desk.plans:
             return problem(404, f"participant {participant[:40]!r}: not one of the study's")
+        note = await _stop_note(request)
+        if not isinstance(note, str):
+            return note
         conductor = seats.conductors.get(participant)
-        if conductor is None or not conductor.stop_by_admin():
+        if conductor is None or not conductor.stop_by_admin(note):
             return problem(409, f"participant {participant}: no session is running")
         return json_response({"stopped": participant})
 
@@ -56,6 +64,22 @@ def study_routes(seats: Seats) -> list[Route]:
     ]
 
 
+async def _stop_note(request: Request) -> str | Response:
+    """The admin's reason for a stop (none: ""), or the 400 saying what was wrong."""
+    body = await request.body()
+    if not body.strip():
+        return ""
+    allowed = f'a JSON object {{"reason": text of at most {STOP_NOTE_MAX} characters}}'
+    try:
+        data = json.loads(body)
+    except (ValueError, UnicodeDecodeError):
+        return problem(400, f"stop: the body is not JSON; give {allowed}")
+    reason = data.get("reason", "") if isinstance(data, dict) else None
+    if not isinstance(reason, str) or len(reason) > STOP_NOTE_MAX or set(data) - {"reason"}:
+        return problem(400, f"stop: body {body[:80]!r}: give {allowed}")
+    return reason.strip()
+
+
 def study_overview(seats: Seats, desk: StudyDesk, recorded: Recorded) -> StudyOverview:
     """Every participant as the admin page shows them, from the seats (read on the event
     loop, which changes them) and what the store holds."""
@@ -63,11 +87,14 @@ def study_overview(seats: Seats, desk: StudyDesk, recorded: Recorded) -> StudyOv
         _row(desk, participant, seats.conductors.get(participant), recorded)
         for participant in desk.plans
     )
+    factors = [row.real_time_factor for row in rows if row.real_time_factor is not None]
     return StudyOverview(
         study=desk.study.name,
         running=seats.running,
         max_sessions=seats.options.max_sessions,
         participants=rows,
+        behind=behind_real_time(factors),
+        waiting=seats.line.waiting,
     )
 
 

@@ -22,7 +22,7 @@ from workcell.session.config import SessionConfig
 from workcell.study.config import StudyConfig
 from workcell.study.invites import Invites
 from workcell.study.plan import PlannedSession, participant_ids, participant_plan
-from workcell.study.progress import is_done
+from workcell.study.progress import is_done, resume_point
 
 
 @dataclass(frozen=True)
@@ -73,7 +73,9 @@ class StudyDesk:
             return Recorded(reader.sessions(), reader.trials())
 
     def remaining(self, participant: str, recorded: Recorded) -> list[PlannedSession]:
-        return [p for p in self.plans[participant] if not is_done(p, recorded.sessions)]
+        return [
+            p for p in self.plans[participant] if not is_done(p, recorded.sessions, recorded.trials)
+        ]
 
     def consented(self, participant: str, recorded: Recorded) -> bool:
         """No consent is asked, or a session of ``participant`` records its acceptance."""
@@ -94,7 +96,7 @@ class StudyDesk:
             consented=self.consented(participant, recorded),
             done=len(plan) - len(remaining),
             total=len(plan),
-            next=planned_step(remaining[0]) if remaining else None,
+            next=planned_step(remaining[0], recorded) if remaining else None,
         )
 
     def next_session(self, participant: str, consent: bool) -> SessionConfig | Refusal:
@@ -111,10 +113,15 @@ class StudyDesk:
                 "not_allowed",
                 "start_session: accept the study's consent text first (start_session.consent)",
             )
-        return dataclasses.replace(remaining[0].config, consent=self.consent_digest)
+        planned = remaining[0]
+        task = dataclasses.replace(
+            planned.config.task,
+            first_trial=resume_point(planned, recorded.sessions, recorded.trials),
+        )
+        return dataclasses.replace(planned.config, task=task, consent=self.consent_digest)
 
 
-def planned_step(planned: PlannedSession) -> PlannedStep:
+def planned_step(planned: PlannedSession, recorded: Recorded) -> PlannedStep:
     task = planned.config.task
     return PlannedStep(
         position=planned.position,
@@ -122,4 +129,5 @@ def planned_step(planned: PlannedSession) -> PlannedStep:
         step=planned.step,
         mode=task.mode,
         trials={"practice": 1, "collection": task.trials}.get(task.mode, 0),
+        trials_done=resume_point(planned, recorded.sessions, recorded.trials),
     )

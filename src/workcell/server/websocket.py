@@ -116,7 +116,9 @@ async def _handle(
     elif isinstance(message, m.StartSession):
         return conductor.start_session(client, message)
     elif isinstance(message, m.Stop):
-        conductor.stop(client)
+        conductor.stop(client, message)
+    elif isinstance(message, m.Pause):
+        conductor.pause(client, message)
     elif isinstance(message, m.Act):
         conductor.act(client, message)
     elif isinstance(message, m.FrameStats):

@@ -60,6 +60,14 @@ class TaskConfig:
         low=0,
         high=100_000,
     )
+    first_trial: int = setting(
+        0,
+        "collection: the trial index the session starts at (a study step resumed after a "
+        "stop: the trials before it were done in an earlier session); 0: from the first",
+        unit="trials",
+        low=0,
+        high=100_000,
+    )
     rounds: int = setting(5, "challenge: rounds in the campaign", unit="rounds", low=1, high=100)
     box_score: int = setting(100, "points per delivered box", unit="points", low=0, high=100_000)
     level_boxes: tuple[int, ...] = setting(
@@ -93,6 +101,24 @@ class TaskConfig:
                     tuple(self.level_time_limits_s),
                     f"must have one limit per level: task.level_boxes has "
                     f"{len(self.level_boxes)} levels",
+                )
+            )
+        if self.first_trial and self.mode != "collection":
+            problems.append(
+                checks.problem(
+                    "task.first_trial",
+                    self.first_trial,
+                    f"must be 0 in {self.mode} mode: only a collection session starts at a "
+                    "later trial",
+                )
+            )
+        elif self.first_trial and self.trials and self.first_trial >= self.trials:
+            problems.append(
+                checks.problem(
+                    "task.first_trial",
+                    self.first_trial,
+                    f"must be less than task.trials ({self.trials}): the session would "
+                    "have no trial to run",
                 )
             )
         _raise_if(problems)

@@ -127,6 +127,49 @@ class TrialInterrupted:
     type: Literal["event"] = "event"
 
 
+StopBy = Literal["operator", "admin"]
+"""Who asked a session to stop: its operator, or the study's admin."""
+STOP_NOTE_MAX = 300
+"""Longest stop reason (characters) an operator or the admin may give."""
+
+
+@dataclass(frozen=True)
+class StopRequested:
+    """Someone asked the session to stop (``by``), for ``reason`` (their words, possibly
+    empty); recorded in the trial under way just before it ends interrupted."""
+
+    trial_index: int
+    t_sim: float
+    by: StopBy
+    reason: str
+    kind: Literal["stop_requested"] = "stop_requested"
+    type: Literal["event"] = "event"
+
+
+@dataclass(frozen=True)
+class Paused:
+    """The operator paused the trial: its clock and the physics stop until
+    :class:`Resumed` (``t_sim`` is the same at both)."""
+
+    trial_index: int
+    t_sim: float
+    kind: Literal["paused"] = "paused"
+    type: Literal["event"] = "event"
+
+
+@dataclass(frozen=True)
+class Resumed:
+    """The paused trial runs again after ``paused_s`` seconds of wall time, which its
+    clock, its elapsed and completion times and the audit's wall-clock sampling check do
+    not count."""
+
+    trial_index: int
+    t_sim: float
+    paused_s: float
+    kind: Literal["resumed"] = "resumed"
+    type: Literal["event"] = "event"
+
+
 OperatorAction = Literal[
     "restart_trial",
     "recenter_view",
@@ -213,6 +256,9 @@ TaskEvent = (
     | TrialEnded
     | OperatorActed
     | ClientFrames
+    | StopRequested
+    | Paused
+    | Resumed
 )
 TASK_EVENTS: tuple[type[TaskEvent], ...] = get_args(TaskEvent)
 

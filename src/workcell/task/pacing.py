@@ -19,16 +19,46 @@ from workcell.task.events import InterruptionReason
 
 class StopRequest(threading.Event):
     """A request, from any thread, to end a session's running trial as interrupted with
-    :attr:`reason` (the first request's reason counts)."""
+    :attr:`reason` (the first request's reason counts) and :attr:`note`, the words of
+    whoever asked (an operator's or an admin's stop)."""
 
     def __init__(self) -> None:
         super().__init__()
         self.reason: InterruptionReason | None = None
+        self.note = ""
 
-    def request(self, reason: InterruptionReason) -> None:
+    def request(self, reason: InterruptionReason, note: str = "") -> None:
         if not self.is_set():
             self.reason = reason
+            self.note = note
             self.set()
+
+
+class PauseRequest:
+    """Whether the operator wants the running trial paused (set from any thread); the
+    session loop waits in :meth:`wait_for_change` while it is."""
+
+    def __init__(self) -> None:
+        self._paused = False
+        self._changed = threading.Condition()
+
+    @property
+    def paused(self) -> bool:
+        return self._paused
+
+    def set(self, paused: bool) -> None:
+        with self._changed:
+            self._paused = paused
+            self._changed.notify_all()
+
+    def wake(self) -> None:
+        """Wake a waiting loop without changing anything (a stop was requested)."""
+        with self._changed:
+            self._changed.notify_all()
+
+    def wait_for_change(self, timeout: float) -> None:
+        with self._changed:
+            self._changed.wait(timeout)
 
 
 @dataclass
@@ -44,10 +74,24 @@ class PacingStats:
     """Longest time one step took to compute."""
     started: float = 0.0
     last: float = 0.0
+    paused_s: float = 0.0
+    """Wall time the session stood paused (the operator's pause), not counted behind."""
+    cpu_s: float = 0.0
+    """CPU time of the session's process (every thread of it) at :attr:`last`."""
+    recent_real_time_factor: float = 0.0
+    """Simulated over wall time (pauses left out) across the latest
+    :data:`RECENT_WINDOW_S` of wall time (0 before the first window ends)."""
+    recent_cores: float = 0.0
+    """The process's CPU time over wall time across the same window: how many cores the
+    session used."""
 
     @property
     def wall_s(self) -> float:
         return max(0.0, self.last - self.started)
+
+
+RECENT_WINDOW_S = 3.0
+"""Wall seconds over which :attr:`PacingStats.recent_real_time_factor` is measured."""
 
 
 class Pacer:
@@ -66,6 +110,8 @@ class Pacer:
         self._due = clock()
         self.stats.started = self.stats.last = self._due
         self._step_start = self._due
+        self._window = (self._due, 0, 0.0, time.process_time())
+        """Where the recent window began: wall time, steps, paused time, CPU time."""
 
     def wait(self, stop: threading.Event) -> bool:
         """Sleep until the next step is due; False when ``stop`` was set meanwhile."""
@@ -89,3 +135,24 @@ class Pacer:
         self.stats.max_step_s = max(self.stats.max_step_s, now - self._step_start)
         self.stats.last = now
         self._due += self.period
+        self._measure(now)
+
+    def skip(self, seconds: float) -> None:
+        """The session stood paused for ``seconds``: the grid moves on by as much, and
+        the time is counted as paused, not as dropped or late."""
+        self._due += seconds
+        self.stats.paused_s += seconds
+
+    def _measure(self, now: float) -> None:
+        began, steps, paused, cpu = self._window
+        wall = now - began
+        if wall < RECENT_WINDOW_S:
+            return
+        stats = self.stats
+        cpu_now = time.process_time()
+        running = wall - (stats.paused_s - paused)
+        if running > 0:
+            stats.recent_real_time_factor = (stats.steps - steps) * self.period / running
+            stats.recent_cores = (cpu_now - cpu) / wall
+        stats.cpu_s = cpu_now
+        self._window = (now, stats.steps, stats.paused_s, cpu_now)

@@ -1,6 +1,7 @@
 """Which trial comes next in each mode.
 
-practice: one trial with one box. collection: one-box trials until N (0 = until stopped).
+practice: one trial with one box. collection: one-box trials until N (0 = until stopped),
+from trial index ``task.first_trial`` (a resumed study step; 0 by default).
 challenge: R rounds of the configured levels; a success advances to the next level (after
 the last level, the next round), a timeout repeats the level, and the campaign ends after
 the last level of the last round. An interruption ends the session in every mode.
@@ -35,7 +36,8 @@ class Schedule:
     def first(self) -> TrialSpec:
         if self.task.mode == "challenge":
             return self._level(0, 1, 1)
-        return TrialSpec(0, self.task.mode, None, None, 1, self.task.time_limit_s)
+        first = self.task.first_trial if self.task.mode == "collection" else 0
+        return TrialSpec(first, self.task.mode, None, None, 1, self.task.time_limit_s)
 
     def next(self, spec: TrialSpec, outcome: Outcome) -> TrialSpec | None:
         """The trial after ``spec`` ended with ``outcome``; None when the session is over."""

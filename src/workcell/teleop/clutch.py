@@ -83,6 +83,12 @@ class ArmClutch:
         turned = normalize(multiply(xr_to_base_rotation(relative_xr), anchor.target_quat))
         return (x, y, z, *turned)
 
+    def reanchor(self) -> None:
+        """Forget where the hand was when it gripped, keeping the target: a grip still held
+        engages afresh at the next update, where the arm is, so a hand that moved meanwhile
+        (the session stood paused) does not jump the arm."""
+        self.anchor = None
+
     def hold(self) -> ArmCommand:
         """Input stalled with the grip held: stay engaged (the anchor is kept, so the arm
         follows on from it when input returns) and wait at the current target."""

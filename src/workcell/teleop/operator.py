@@ -136,6 +136,12 @@ class TeleopOperator:
         self._snap_asked = 0
         self.snap = None
 
+    def after_pause(self) -> None:
+        """The session resumes after a pause: each gripped arm re-anchors where it is
+        (:meth:`~workcell.teleop.clutch.ArmClutch.reanchor`); on the simulation thread."""
+        for clutch in self.clutches.values():
+            clutch.reanchor()
+
     def ask_snap(self, direction: int) -> None:
         """Turn the base by :data:`~workcell.teleop.snap_turn.SNAP_ANGLE` (+1: left, -1:
         right), starting at the next control period (on the simulation thread)."""

@@ -1,9 +1,11 @@
 // The screens over the 3D view between trials: the end of a trial (with what comes
-// next), the end of the session or campaign, and "no session running".
+// next), the end of the session or campaign (in a study: the plan's next step), a paused
+// trial, and "no session running".
 
 import type { App } from "../app";
+import type { ParticipantStatus, PlannedStep } from "../protocol";
 import { el } from "../util/dom";
-import { sessionEndSummary, trialEndSummary } from "./hudText";
+import { sessionEndSummary, sessionEndTitle, trialEndSummary } from "./hudText";
 import type { HudLine } from "./hudText";
 
 export function linesToDom(lines: readonly HudLine[], className: string): HTMLElement {
@@ -27,15 +29,61 @@ function nextTrialText(app: App): string {
   return change.repeat ? `Time ran out: ${where} again.` : `Next: ${where}.`;
 }
 
+/** What the end screen offers in a study, and the page's hands for its buttons. */
+export interface EndScreenStudy {
+  /** The participant's status since the session ended: undefined while not known, null on
+   * a page that is not a study participant's. */
+  status?: ParticipantStatus | null;
+  /** Start the plan's next session (or the rest of a stopped one). */
+  onNextStep?: () => void;
+  /** Resume the paused trial. */
+  onResume?: () => void;
+}
+
+/** The plan's next step in words: which session, its condition, and where a stopped one
+ * resumes. */
+export function describeNextStep(next: PlannedStep, total: number): string {
+  const what =
+    next.mode === "practice"
+      ? "one practice trial"
+      : next.mode === "collection"
+        ? `${next.trials} trials`
+        : "a challenge (rounds of levels)";
+  const resumed =
+    next.trials_done > 0 ? `; ${next.trials_done} of its trials are done, it goes on with trial ${next.trials_done + 1}` : "";
+  return `Next: session ${next.position} of ${total}, condition ${next.condition}: ${what}${resumed}.`;
+}
+
+function studyActions(status: ParticipantStatus, onNextStep: (() => void) | undefined): HTMLElement[] {
+  const next = status.next;
+  if (next === null) {
+    return [el("p", { className: "study-next-step", textContent: "You have run every session of this study. Thank you!" })];
+  }
+  const button = el("button", {
+    type: "button",
+    id: "next-step",
+    className: "button primary",
+    textContent: next.trials_done > 0 ? "Resume this session" : "Start the next session",
+  });
+  button.addEventListener("click", () => {
+    button.disabled = true;
+    onNextStep?.();
+  });
+  return [
+    el("p", { className: "study-next-step", textContent: describeNextStep(next, status.total) }),
+    el("div", { className: "actions" }, button),
+  ];
+}
+
 /** Fill `overlay` for the app's current state (hidden while a trial runs). */
-export function renderEndScreen(overlay: HTMLElement, app: App): void {
+export function renderEndScreen(overlay: HTMLElement, app: App, study: EndScreenStudy = {}): void {
   overlay.replaceChildren();
   const ended = app.ended;
   const trialEnd = app.lastTrialEnd;
   if (ended !== null) {
     overlay.className = "overlay campaign-end";
     overlay.append(
-      el("h2", { textContent: ended.trials > 1 ? "Campaign complete" : "Session complete" }),
+      el("h2", { textContent: sessionEndTitle(ended) }),
       linesToDom(sessionEndSummary(ended), "summary"),
     );
     if (trialEnd !== null) {
@@ -44,12 +92,26 @@ export function renderEndScreen(overlay: HTMLElement, app: App): void {
         linesToDom(trialEndSummary(trialEnd), "summary"),
       );
     }
-    const actions = el("div", { className: "actions" });
-    actions.append(
-      el("a", { href: "#/", className: "button primary", textContent: "New session" }),
-      el("a", { href: "#/sessions", className: "button", textContent: "Sessions and replay" }),
+    const status = study.status;
+    if (status !== undefined && status !== null) {
+      overlay.append(...studyActions(status, study.onNextStep));
+    } else if (status === null) {
+      const actions = el("div", { className: "actions" });
+      actions.append(
+        el("a", { href: "#/", className: "button primary", textContent: "New session" }),
+        el("a", { href: "#/sessions", className: "button", textContent: "Sessions and replay" }),
+      );
+      overlay.append(actions);
+    }
+  } else if (app.sessionActive && app.paused) {
+    overlay.className = "overlay paused";
+    const resume = el("button", { type: "button", id: "resume-session", className: "button primary", textContent: "Resume" });
+    resume.addEventListener("click", () => study.onResume?.());
+    overlay.append(
+      el("h2", { textContent: "Paused" }),
+      el("p", { textContent: "The trial's clock and the robot stand still; the pause is not counted in its time." }),
+      el("div", { className: "actions" }, resume),
     );
-    overlay.append(actions);
   } else if (trialEnd !== null) {
     overlay.className = "overlay trial-end";
     const outcome = trialEnd.outcome;

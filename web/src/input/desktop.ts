@@ -23,6 +23,7 @@ export const KEY_MAP: readonly { keys: string; action: string }[] = [
   { keys: "mouse drag", action: "move gripped hands (wheel: up / down)" },
   { keys: "right drag", action: "look around (the robot's head follows)" },
   { keys: "C", action: "first / third person view" },
+  { keys: "P", action: "pause / resume the trial (its clock stops)" },
   { keys: "Esc", action: "release everything" },
 ];
 
@@ -67,6 +68,8 @@ export class DesktopInput {
   private lastPadActive = -Infinity;
   /** Pressed view toggle (C) since the last read. */
   viewToggleRequested = false;
+  /** P was pressed: the page pauses or resumes the trial. */
+  pauseToggleRequested = false;
   /** Wheel turned without a grip held (the page zooms the camera). */
   onZoom: ((delta: number) => void) | null = null;
   private readonly cleanup: (() => void)[] = [];
@@ -207,6 +210,9 @@ export class DesktopInput {
         break;
       case "KeyC":
         this.viewToggleRequested = true;
+        break;
+      case "KeyP":
+        this.pauseToggleRequested = true;
         break;
       case "Escape":
         this.latchedGrip = false;

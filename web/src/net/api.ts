@@ -39,10 +39,15 @@ export function fetchStudy(): Promise<StudyOverview> {
   return getJson<StudyOverview>("api/study");
 }
 
-/** The admin ends a participant's running session; the server's answer as text. */
-export async function stopParticipant(participant: string): Promise<string> {
+/** The admin ends a participant's running session, for `reason` (their words, shown to the
+ * participant; may be empty); the server's answer as text. */
+export async function stopParticipant(participant: string, reason = ""): Promise<string> {
   const id = encodeURIComponent(participant);
-  const response = await fetch(serverUrl(`api/study/participants/${id}/stop`), { method: "POST" });
+  const response = await fetch(serverUrl(`api/study/participants/${id}/stop`), {
+    method: "POST",
+    headers: { "Content-Type": "application/json" },
+    body: JSON.stringify({ reason }),
+  });
   const body = (await response.json().catch(() => ({}))) as { error?: string };
   return response.ok ? `stopped ${participant}` : (body.error ?? `HTTP ${response.status}`);
 }

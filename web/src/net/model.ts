@@ -6,6 +6,7 @@
 import type {
   FieldProblem,
   Hud,
+  Queued,
   Scene,
   ServerMessage,
   SessionEnded,
@@ -22,6 +23,7 @@ export type AppEvent =
   | { kind: "session" }
   | { kind: "task_event"; event: TaskEvent }
   | { kind: "config_rejected"; problems: readonly FieldProblem[] }
+  | { kind: "queued"; message: string }
   | { kind: "server_error"; code: string; message: string; problem: FieldProblem | null };
 
 export const EVENT_HISTORY = 200;
@@ -43,6 +45,11 @@ export class ClientModel {
   /** Whether the grippers hold a box (the latest grasp_changed of this trial). */
   holding = false;
   errors: { code: string; message: string }[] = [];
+  /** Whether the running trial stands paused (its latest paused/resumed event). */
+  paused = false;
+  /** The operator's start waits in line for headroom: the server's latest word (null:
+   * not waiting). */
+  queued: Queued | null = null;
   /** Count of State messages received and of those dropped as stale. */
   readonly stats = { states: 0, stale: 0 };
 
@@ -73,6 +80,8 @@ export class ClientModel {
         if (message.hud !== null) this.hud = message.hud;
         return null;
       case "session_started":
+        this.queued = null;
+        this.paused = false;
         this.session = message;
         this.sessionId = message.session_id;
         this.ended = null;
@@ -81,6 +90,7 @@ export class ClientModel {
         this.state = null;
         return { kind: "session" };
       case "session_ended":
+        this.paused = false;
         this.ended = message;
         this.sessionId = null;
         return { kind: "session" };
@@ -90,9 +100,13 @@ export class ClientModel {
       case "config_rejected":
         return { kind: "config_rejected", problems: message.problems };
       case "error":
+        if (message.message.startsWith("start_session")) this.queued = null; // the start was refused
         this.errors.push({ code: message.code, message: message.message });
         if (this.errors.length > ERROR_HISTORY) this.errors.shift();
         return { kind: "server_error", code: message.code, message: message.message, problem: message.problem };
+      case "queued":
+        this.queued = message;
+        return { kind: "queued", message: message.message };
       case "pong":
         return null;
       default:
@@ -114,6 +128,13 @@ export class ClientModel {
         // The end-of-trial screen stays up through the next trial's countdown.
         this.lastTrialEnd = null;
         this.holding = false;
+        this.paused = false;
+        break;
+      case "paused":
+        this.paused = true;
+        break;
+      case "resumed":
+        this.paused = false;
         break;
       case "grasp_changed":
         this.holding = event.engaged;
@@ -124,6 +145,7 @@ export class ClientModel {
       case "trial_timed_out":
       case "trial_interrupted":
       case "operator_action":
+      case "stop_requested":
       case "client_frames": // recorded only; the server does not send it
         break;
       default:

@@ -1,10 +1,12 @@
 // The study's admin page (#/admin, opened with the admin link `workcell serve --study`
 // prints): every participant live — where they are, their condition, progress, link
 // latency, the session's real-time factor and their outcomes — with their invite link and
-// a button that stops their running session.
+// a button that stops their running session (confirmed, with a reason shown to the
+// participant). A line warns in words when sessions fall behind real time.
 
 import type { App } from "../app";
 import type { ParticipantRow, StudyOverview } from "../protocol";
+import { askToStop } from "../hud/stopDialog";
 import { fetchStudy, stopParticipant } from "../net/api";
 import { el } from "../util/dom";
 
@@ -55,21 +57,30 @@ export function mountAdmin(root: HTMLElement, _app: App): () => void {
   const heading = el("h1", { textContent: "Study" });
   const summary = el("p", { className: "admin-summary", textContent: "Loading…" });
   const notice = el("p", { className: "admin-notice", role: "status" });
+  const warning = el("p", { className: "admin-warning", id: "admin-warning", role: "alert" });
   const table = el("table", { className: "participants" });
   const head = el("tr");
   const titles = ["participant", "state", "sessions", "condition", "RTT ms", "real time", "successes", "invite", ""];
   for (const title of titles) head.append(el("th", { textContent: title }));
   const body = el("tbody");
   table.append(el("thead", {}, head), body);
-  page.append(heading, summary, notice, table);
+  page.append(heading, summary, warning, notice, table);
   root.append(page);
   let disposed = false;
   let timer: number | null = null;
 
   const stop = (participant: string): void => {
-    void stopParticipant(participant).then((text) => {
-      notice.textContent = text;
-      load();
+    const question = {
+      title: `Stop ${participant}'s session?`,
+      explain: `${participant}'s trial under way ends, marked interrupted; their next start goes on from that trial. Your reason is shown to them.`,
+      confirm: "Stop their session",
+    };
+    void askToStop(page, question).then((reason) => {
+      if (reason === null) return;
+      void stopParticipant(participant, reason).then((text) => {
+        notice.textContent = text;
+        load();
+      });
     });
   };
 
@@ -79,6 +90,8 @@ export function mountAdmin(root: HTMLElement, _app: App): () => void {
     summary.textContent =
       `sessions running: ${overview.running} (at most ${overview.max_sessions} at once) · ` +
       `${finished} of ${overview.participants.length} participants finished`;
+    const waiting = overview.waiting > 0 ? `${overview.waiting} start(s) wait for room on the machine. ` : "";
+    warning.textContent = `${overview.behind}${overview.behind !== "" && waiting !== "" ? " · " : ""}${waiting}`.trim();
     body.replaceChildren(...overview.participants.map((row) => participantRow(row, stop)));
   };
 

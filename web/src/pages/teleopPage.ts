@@ -22,7 +22,8 @@ import { applyRecenter, headingOf, NO_RECENTER, recenterOn, recenterPoint, undo 
 import type { Recenter } from "../xr/recenter";
 import { yawOf } from "../scene/frames";
 import { hudLines, trialEndSummary } from "../hud/hudText";
-import { linesToDom, renderEndScreen } from "../hud/endScreen";
+import { linesToDom } from "../hud/endScreen";
+import { SessionControls } from "../hud/sessionControls";
 import { exposeCapture, exposeExtra } from "../debug";
 import { el } from "../util/dom";
 import { describeReport } from "../scene/frameMeter";
@@ -62,11 +63,11 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const vrButton = el("button", { id: "enter-vr", textContent: "Enter VR", disabled: true });
   const viewButton = el("button", { id: "toggle-view", textContent: "View: third person" });
   const restartButton = el("button", { id: "restart-trial", textContent: "Restart trial" });
-  const stopButton = el("button", { id: "stop-session", textContent: "Stop session" });
   const keysButton = el("button", { textContent: "Keys" });
   const frameBadge = el("span", { className: "frame-badge", id: "frame-badge", textContent: describeReport(null) });
   frameBadge.title = "how this page draws: frames per second (median), the slowest 5 % of frames, WebGL draw calls per frame";
-  bar.append(linkBadge, frameBadge, vrButton, viewButton, restartButton, stopButton, keysButton);
+  const controls = new SessionControls(app, viewport, overlay);
+  bar.append(linkBadge, frameBadge, vrButton, viewButton, restartButton, controls.pauseButton, controls.stopButton, keysButton);
   const keymap = el("div", { className: "keymap", id: "keymap" });
   keymap.append(el("h2", { textContent: "Desktop controls" }));
   const keyTable = el("table");
@@ -137,7 +138,6 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   viewButton.addEventListener("click", () => toggleView("desktop"));
   restartButton.addEventListener("click", () => act("restart_trial", "desktop"));
   keysButton.addEventListener("click", () => keymap.classList.toggle("hidden"));
-  stopButton.addEventListener("click", () => app.stopSession());
   vrButton.addEventListener("click", () => {
     if (xr.presenting) {
       void xr.exit();
@@ -164,7 +164,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
           : "Enter immersive VR";
   });
 
-  const renderOverlay = (): void => renderEndScreen(overlay, app);
+  const renderOverlay = (): void => controls.renderOverlay();
 
   const renderHud = (): void => {
     const info = app.connection.info;
@@ -178,8 +178,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
             ? `● refused: ${info.reason ?? ""}`
             : "● connecting…";
     linkBadge.className = `link-badge ${info.status}`;
-    stopButton.disabled = !app.sessionActive || role !== "operator";
-    restartButton.disabled = stopButton.disabled;
+    controls.sync();
+    restartButton.disabled = controls.stopButton.disabled;
     const h = app.ended === null ? app.hud : null; // after the end, the end screen says it
     hud.replaceChildren();
     if (h !== null) {
@@ -201,6 +201,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
           { label: "Successes", value: `${app.ended.successes}/${app.ended.trials}` },
           { label: "Total score", value: String(app.ended.total_score) },
         ]);
+      } else if (controls.stopArmed || app.paused) {
+        hudPanel.show(controls.stopArmed ? "Stop the session?" : "Paused", [
+          { label: "Menu", value: controls.stopArmed ? "Confirm stop" : "Resume" },
+        ]);
       } else if (trialEnd !== null) {
         hudPanel.show("Trial over", trialEndSummary(trialEnd));
       } else {
@@ -217,7 +221,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       act("recenter_view", "xr_menu");
     } else if (item === "toggle_view") toggleView("xr_menu");
     else if (item === "toggle_turn") toggleTurn("xr_menu");
-    else if (item === "stop_session") app.stopSession();
+    else if (item === "pause") controls.togglePause();
+    else if (item === "stop_session" && controls.chooseStopInVr()) menu.state.reopen();
   };
 
   const onFrame = (time: number, frame: XRFrame | undefined): void => {
@@ -262,6 +267,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       });
       if (chosen !== null) choose(chosen, raw.headset);
       const menuOpen = menu.state.open;
+      if (!menuOpen) controls.stopArmed = false; // closing the menu cancels a stop
       if (menuOpen || chosen !== null) {
         reading = { ...xrReading, left: { ...xrReading.left, stick: [0, 0] }, right: { ...xrReading.right, stick: [0, 0] } };
       }
@@ -303,7 +309,9 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       hudPanel.mesh.lookAt(eyesInRig());
       menu.mesh.visible = menuOpen;
       if (menuOpen) {
-        menu.draw(viewer.viewMode === "first" ? "Third person" : "First person", turnMode === "snap" ? "Smooth turning" : "Snap turning");
+        const views = viewer.viewMode === "first" ? "Third person" : "First person";
+        const turns = turnMode === "snap" ? "Smooth turning" : "Snap turning";
+        menu.draw(views, turns, app.paused ? "Resume" : "Pause", controls.stopArmed ? "Confirm stop" : "Stop session");
         // in front of where the operator looks now (raw local-floor, as the rig's children)
         const gaze = raw.headset === null ? 0 : headingOf(raw.headset);
         menu.mesh.position.set(rawEyes.x - 0.6 * Math.sin(gaze), rawEyes.y - 0.1, rawEyes.z - 0.6 * Math.cos(gaze));
@@ -322,6 +330,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (desktop.viewToggleRequested) {
         desktop.viewToggleRequested = false;
         toggleView("desktop");
+      }
+      if (desktop.pauseToggleRequested) {
+        desktop.pauseToggleRequested = false;
+        controls.togglePause();
       }
     }
     lastFrame = reading;
@@ -344,9 +356,11 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     if (app.sessionActive && app.isOperator && app.connection.send({ type: "frame_stats", ...report })) reportsSent += 1;
   });
   const unsubscribe = app.subscribe((event) => {
+    if (event.kind === "session" && app.ended !== null) controls.loadStudy(); // progress moved on
     if (event.kind === "session" || event.kind === "task_event") renderOverlay();
     if (event.kind === "link") renderHud();
   });
+  controls.loadStudy();
   renderOverlay();
   renderHud();
 
@@ -378,7 +392,9 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       snaps: snapTurn.snaps,
       blackout: vignette.blackedOut,
     },
-    menu: { open: menu.state.open, index: menu.state.index },
+    menu: { open: menu.state.open, index: menu.state.index, stop_armed: controls.stopArmed },
+    paused: app.paused,
+    study_next: controls.study?.next ?? null,
     recenter_yaw: recenter.yaw,
     actions: [...actions],
   }));
@@ -386,6 +402,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const removeCapture = exposeCapture("hud_panel", () => hudPanel.canvas.toDataURL("image/png"));
 
   return () => {
+    controls.dispose();
     removeCapture();
     removeExtra();
     removeFrame();

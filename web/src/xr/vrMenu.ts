@@ -1,17 +1,27 @@
 // The in-VR menu: opened with X on the left controller, the right thumbstick moves the
 // highlight, A (or the right trigger) chooses, X or B closes. While it is open the sticks
 // do not drive. Each choice is an action the page carries out (and the server records).
+// "Stop session" asks to be chosen a second time ("Confirm stop") before it stops.
 
 import * as THREE from "three";
 
-export type MenuItem = "restart_trial" | "recenter_view" | "toggle_view" | "toggle_turn" | "stop_session" | "close";
-export const MENU_ITEMS: readonly MenuItem[] = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "stop_session", "close"];
+export type MenuItem = "restart_trial" | "recenter_view" | "toggle_view" | "toggle_turn" | "pause" | "stop_session" | "close";
+export const MENU_ITEMS: readonly MenuItem[] = [
+  "restart_trial",
+  "recenter_view",
+  "toggle_view",
+  "toggle_turn",
+  "pause",
+  "stop_session",
+  "close",
+];
 
 const LABELS: Record<MenuItem, string> = {
   restart_trial: "Restart trial",
   recenter_view: "Recenter view",
   toggle_view: "Switch view",
   toggle_turn: "Switch turning",
+  pause: "Pause",
   stop_session: "Stop session",
   close: "Close menu",
 };
@@ -29,6 +39,12 @@ export class MenuState {
   open = false;
   index = 0;
   private last: MenuInput = { open: false, choose: false, back: false, stickY: 0 };
+
+  /** Open the menu again with the highlight where it was (a choice that asks to be
+   * confirmed). */
+  reopen(): void {
+    this.open = true;
+  }
 
   /** One frame of input; returns the item chosen this frame, if any. */
   update(input: MenuInput): MenuItem | null {
@@ -87,8 +103,8 @@ export class VrMenu {
 
   /** Draw the items with the highlight (only when something changed); the toggles are
    * labelled with what choosing them switches to. */
-  draw(viewLabel: string, turnLabel = LABELS.toggle_turn): void {
-    const key = `${this.state.index}|${viewLabel}|${turnLabel}`;
+  draw(viewLabel: string, turnLabel = LABELS.toggle_turn, pauseLabel = LABELS.pause, stopLabel = LABELS.stop_session): void {
+    const key = `${this.state.index}|${viewLabel}|${turnLabel}|${pauseLabel}|${stopLabel}`;
     if (key === this.drawn) return;
     this.drawn = key;
     const c = this.context;
@@ -107,7 +123,13 @@ export class VrMenu {
       c.fillStyle = "#ffffff";
       c.font = "bold 30px system-ui, sans-serif";
       c.textBaseline = "middle";
-      const label = item === "toggle_view" ? viewLabel : item === "toggle_turn" ? turnLabel : LABELS[item];
+      const labels: Partial<Record<MenuItem, string>> = {
+        toggle_view: viewLabel,
+        toggle_turn: turnLabel,
+        pause: pauseLabel,
+        stop_session: stopLabel,
+      };
+      const label = labels[item] ?? LABELS[item];
       c.fillText(label, 36, y + (ROW - 8) / 2);
     });
     this.texture.needsUpdate = true;

@@ -65,6 +65,7 @@ await runScript("frame_budget", async ({ url, page, artifacts }) => {
       await waitFor(page, (s) => s.teleop?.presenting === false, { what: "the XR session to end" });
     }
     await page.click("#stop-session");
+  await page.click("#stop-confirm"); // the confirmation, with no reason given
     await waitForEnd(page, 15000);
   }
   console.log(`RESULT ${JSON.stringify(results)}`);

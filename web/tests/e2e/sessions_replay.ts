@@ -91,6 +91,7 @@ await runScript("sessions_replay", async ({ url, page, artifacts }) => {
 
   // Stop: the trial ends interrupted and the end-of-campaign screen shows.
   await page.click("#stop-session");
+  await page.click("#stop-confirm"); // the confirmation, with no reason given
   const end = await waitForEnd(page, 15000);
   check(end.ended.reason === "operator_stop", `session ended by ${end.ended.reason}`);
   check(end.session?.mode === "challenge", `the session ran as ${end.session?.mode}`);

@@ -37,6 +37,7 @@ await runScript("xr_exit_toolbar", async ({ url, page, artifacts }) => {
   // The trial the stop ends must have begun: the whole flow can take less than the countdown.
   await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
   await page.click("#stop-session", { timeout: PATIENCE_MS }); // a real pointer click
+  await page.click("#stop-confirm", { timeout: PATIENCE_MS }); // and the confirmation
   const end = await waitForEnd(page, 15000);
   const result = { session_id: end.ended.session_id, reason: end.ended.reason, toolbar_after_vr: after };
   console.log(`RESULT ${JSON.stringify(result)}`);

@@ -67,6 +67,7 @@ await runScript("xr_hands", async ({ url, page, artifacts }) => {
   await page.evaluate(() => document.querySelector<HTMLButtonElement>("#enter-vr")?.click());
   await waitFor(page, (s) => s.teleop?.presenting === false, { what: "the XR session to end" });
   await page.click("#stop-session");
+  await page.click("#stop-confirm"); // the confirmation, with no reason given
   const ended = await waitForEnd(page, 20000);
   console.log(`RESULT ${JSON.stringify({ session_id: ended.session_id ?? s.session_id, moved })}`);
 });

@@ -1,8 +1,8 @@
 // The in-VR menu in an emulated Meta Quest 3 (IWER): X opens it, the right thumbstick
 // moves the highlight, A chooses. Recenter the view after turning the headset, switch to
 // third person, restart the trial (a new trial begins), switch to snap turns and flick the
-// right stick (the server turns the base 30 degrees while the view is blacked out), then stop
-// the session from the menu. Prints "RESULT {json}" for the pytest wrapper, which checks
+// right stick (the server turns the base 30 degrees while the view is blacked out), pause
+// and resume, then stop the session from the menu (chosen twice: the second confirms). Prints "RESULT {json}" for the pytest wrapper, which checks
 // the store's events.
 //
 //   npm run build:e2e && node build/e2e/tests/e2e/xr_menu.js http://127.0.0.1:8000   (in web/)
@@ -44,7 +44,7 @@ function baseYaw(): number {
   return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
 }
 
-const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "stop_session", "close"];
+const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "pause", "stop_session", "close"];
 
 await runScript("xr_menu", async ({ url, page, artifacts }) => {
   await startSession(page, url, { operatorId: "e2e-xr-menu", query: { emulate: "quest3" }, artifacts });
@@ -73,6 +73,11 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
     check(s.teleop?.menu.open === true, "the menu closed while moving the highlight");
     if (item === "recenter_view") await checkDrawn(page, path.join(artifacts, "xr-menu.png"));
     await press("right", "a-button");
+    if (item === "stop_session") {
+      // the first choice asks: the menu stays open on "Confirm stop"; A again stops
+      await waitFor(page, (s) => s.teleop?.menu.open === true && s.teleop.menu.stop_armed, { what: "the menu to ask to confirm the stop" });
+      await press("right", "a-button");
+    }
     await waitFor(page, (s) => s.teleop?.menu.open === false, { what: `A to choose ${item}` });
     log(`chose ${item}`);
   };
@@ -108,6 +113,17 @@ await runScript("xr_menu", async ({ url, page, artifacts }) => {
   log(`snap turn: the base turned ${((turned * 180) / Math.PI).toFixed(1)} degrees, the stick held all along`);
   check(Math.abs(turned + Math.PI / 6) < 0.05, `one flick to the right turned the base ${turned.toFixed(3)} rad (wanted ${(-Math.PI / 6).toFixed(3)})`);
   check(s.teleop?.comfort.snaps === 1, "holding the stick made more than one snap");
+
+  // Pause from the menu: the trial's clock stands still until "Resume" (the same item).
+  await choose("pause");
+  s = await waitFor(page, (s) => s.teleop?.paused === true, { what: "the menu to pause the trial" });
+  const pausedAt = s.state?.t_sim ?? 0;
+  await sleep(1000);
+  s = await waitFor(page, (s) => s.state !== null, { what: "a state" });
+  check(s.state?.t_sim === pausedAt, `the clock moved while paused from the menu: ${pausedAt} -> ${String(s.state?.t_sim)}`);
+  await choose("pause");
+  await waitFor(page, (s) => s.teleop?.paused === false && (s.state?.t_sim ?? 0) > pausedAt, { what: "the menu to resume the trial" });
+  log("paused and resumed from the menu");
 
   await choose("stop_session");
   const end = await waitForEnd(page, 15000);

@@ -14,6 +14,7 @@ function ended(overrides: Partial<SessionEnded>): SessionEnded {
     successes: 2,
     total_score: 190,
     detail: "",
+    stop_note: "",
     ...overrides,
   };
 }
@@ -27,21 +28,26 @@ describe("hudLines", () => {
 });
 
 describe("sessionEndSummary", () => {
-  it("names the typed reason a session ended by", () => {
+  it("says in words who ended the session", () => {
     const lines = sessionEndSummary(ended({ reason: "operator_stop" }));
-    expect(lines.map((line) => line.label)).toEqual(["Trials", "Successes", "Total score", "Ended by"]);
-    expect(lines[3]).toEqual({ label: "Ended by", value: "operator_stop", alert: false });
+    expect(lines.map((line) => line.label)).toEqual(["Trials", "Successes", "Total score", "Ended"]);
+    expect(lines[3]).toEqual({ label: "Ended", value: "You stopped the session", alert: false });
     expect(lines[1]?.value).toBe("2");
+  });
+
+  it("adds the reason whoever stopped it gave", () => {
+    const lines = sessionEndSummary(ended({ reason: "admin_stop", stop_note: "the room closes" }));
+    expect(lines[3]?.value).toBe("The study's administrator stopped the session: the room closes");
   });
 
   it("adds the detail of an error and makes it stand out", () => {
     const lines = sessionEndSummary(ended({ reason: "error", detail: "solver exploded" }));
-    expect(lines[3]).toEqual({ label: "Ended by", value: "error: solver exploded", alert: true });
+    expect(lines[3]).toEqual({ label: "Ended", value: "The session failed: solver exploded", alert: true });
   });
 
   it("says what failed when recording stopped, and makes it stand out", () => {
     const detail = "store s.sqlite: the disk holding /data is full (12 KiB free): free space";
     const lines = sessionEndSummary(ended({ reason: "storage_error", detail }));
-    expect(lines[3]).toEqual({ label: "Ended by", value: `storage_error: ${detail}`, alert: true });
+    expect(lines[3]).toEqual({ label: "Ended", value: `Recording failed: ${detail}`, alert: true });
   });
 });

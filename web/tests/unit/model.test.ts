@@ -6,6 +6,29 @@ import { ClientModel, EVENT_HISTORY } from "../../src/net/model";
 import { grasp, hud, problem, state, trialEnded, trialStarted } from "./messages";
 
 describe("ClientModel.apply", () => {
+  it("follows a pause from its paused event to its resumed one, and forgets it at a new trial", () => {
+    const model = new ClientModel();
+    model.apply({ type: "event", kind: "paused", trial_index: 0, t_sim: 1.5 });
+    expect(model.paused).toBe(true);
+    model.apply({ type: "event", kind: "resumed", trial_index: 0, t_sim: 1.5, paused_s: 3 });
+    expect(model.paused).toBe(false);
+    model.apply({ type: "event", kind: "paused", trial_index: 0, t_sim: 2 });
+    model.apply(trialStarted(1));
+    expect(model.paused).toBe(false);
+  });
+
+  it("keeps the waiting line's word until the session starts", () => {
+    const model = new ClientModel();
+    const queued = { type: "queued", position: 2, waiting: 3, message: "queued: position 2 of 3" } as const;
+    expect(model.apply(queued)).toEqual({ kind: "queued", message: "queued: position 2 of 3" });
+    expect(model.queued?.position).toBe(2);
+    model.apply({ type: "session_started", session_id: "s1", mode: "practice", operator_id: "a", settings: {} });
+    expect(model.queued).toBeNull();
+    model.apply(queued);
+    model.apply({ type: "error", code: "not_allowed", message: "start_session: you have run every session", fatal: false, problem: null });
+    expect(model.queued).toBeNull(); // a start refused after waiting waits no more
+  });
+
   it("keeps the newest State and its HUD, dropping older ones as stale", () => {
     const model = new ClientModel();
     expect(model.apply(state(2, { hud: hud({ remaining_s: 50 }) }))).toBeNull();
@@ -80,7 +103,7 @@ describe("ClientModel.apply", () => {
     expect(model.sessionActive).toBe(true);
     expect(model.events).toHaveLength(0);
     expect(model.state).toBeNull();
-    model.apply({ type: "session_ended", session_id: "s1", reason: "operator_stop", trials: 1, successes: 1, total_score: 190, detail: "" });
+    model.apply({ type: "session_ended", session_id: "s1", reason: "operator_stop", trials: 1, successes: 1, total_score: 190, detail: "", stop_note: "" });
     expect(model.sessionActive).toBe(false);
     expect(model.ended?.total_score).toBe(190);
   });

@@ -34,6 +34,19 @@ describe("the in-VR menu", () => {
     expect(menu.open).toBe(false);
   });
 
+  it("reopens where it was for a choice that asks to be confirmed (Stop session)", () => {
+    const menu = new MenuState();
+    press(menu, { open: true });
+    const stop = MENU_ITEMS.indexOf("stop_session");
+    for (let i = 0; i < stop; i += 1) press(menu, { stickY: -1 });
+    expect(press(menu, { choose: true })).toBe("stop_session");
+    menu.reopen();
+    expect(menu.open).toBe(true);
+    expect(MENU_ITEMS[menu.index]).toBe("stop_session");
+    expect(press(menu, { choose: true })).toBe("stop_session"); // the confirmation
+    expect(MENU_ITEMS).toContain("pause");
+  });
+
   it("closes on B or X without choosing", () => {
     const menu = new MenuState();
     press(menu, { open: true });
