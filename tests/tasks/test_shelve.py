@@ -99,7 +99,7 @@ def test_the_feeder_brings_nothing_and_the_box_waits_on_the_table() -> None:
     after = sim.world.boxes.position(sim.world.data, sim.world.boxes.slots[0])
     assert np.linalg.norm(after - box) < 0.01  # still resting on the table
     recorded = conditions.as_dict()["task"]
-    assert recorded["shelf"] in (0.0, 1.0, 2.0) and len(recorded["shelf_center"]) == 2
+    assert recorded["shelf"] in (0, 1, 2) and len(recorded["shelf_center"]) == 2
 
 
 def _judged(sim: Simulation, judge: ShelveJudge, seconds: float) -> list[bool]:
@@ -168,7 +168,7 @@ def test_the_wrong_board_is_no_success() -> None:
 def test_goal_and_instruction_name_the_asked_board() -> None:
     task = Shelve()
     world = SessionConfig().world
-    recorded = {"task": {"shelf": 0.0, "shelf_center": [1.5, -2.0]}}
+    recorded = {"task": {"shelf": 0, "shelf_center": [1.5, -2.0]}}
     assert task.goal(recorded, world) == pytest.approx((0.65, -2.0, 0.55))
     assert task.trial_instruction(1, recorded) == "Put the box from the table on the bottom shelf."
     assert task.trial_instruction(1, {}) == "Put the box from the table on the top shelf."

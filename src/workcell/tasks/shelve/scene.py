@@ -14,6 +14,7 @@ import math
 
 import mujoco
 import numpy as np
+from numpy.typing import NDArray
 
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import WorldEvent
@@ -30,7 +31,7 @@ PICK_YAW_JITTER = 0.15
 """... turned up to this much (rad) either way."""
 
 
-def box_start(world: World, rng: np.random.Generator) -> tuple[np.ndarray, float]:
+def box_start(world: World, rng: np.random.Generator) -> tuple[NDArray[np.float64], float]:
     """Where the trial's box starts (its centre) and its yaw."""
     cx, cy = world.conditions.target_center
     height = world.config.target.table_height + world.conditions.box_size[2] / 2 + 0.002

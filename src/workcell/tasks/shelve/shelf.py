@@ -75,7 +75,7 @@ class ShelfLayout:
 
     def recorded(self) -> dict[str, float | tuple[float, ...]]:
         """What the trial's conditions record under ``task``."""
-        return {"shelf": float(self.asked), "shelf_center": self.center}
+        return {"shelf": self.asked, "shelf_center": self.center}
 
     @staticmethod
     def from_recorded(task: Mapping[str, Any] | None) -> ShelfLayout:
@@ -86,7 +86,11 @@ class ShelfLayout:
         center, asked = task.get("shelf_center"), task.get("shelf")
         if not (isinstance(center, list | tuple) and len(center) == 2):
             return nominal
-        if not (isinstance(asked, int | float) and int(asked) in range(len(SHELF_NAMES))):
+        if not (
+            isinstance(asked, int | float)
+            and float(asked).is_integer()
+            and int(asked) in range(len(SHELF_NAMES))
+        ):
             return nominal
         return ShelfLayout((float(center[0]), float(center[1])), int(asked))
 
