@@ -7,6 +7,7 @@ Target: >= 95/100 in D0 and >= 90/100 in D2.
 
     .venv/bin/python bench/expert_shelve.py                  # 100 seeds from 1000, D0 and D2
     .venv/bin/python bench/expert_shelve.py --trials 20 --worlds D1
+    .venv/bin/python bench/expert_shelve.py --grasp physical       # contact and friction alone
 """
 
 from __future__ import annotations
@@ -21,6 +22,7 @@ from workcell.control.simulation import Simulation
 from workcell.expert.skill import ExpertConfig
 from workcell.metrics import wilson_interval
 from workcell.session.config import SessionConfig, TaskConfig
+from workcell.sim.config import GRASP_MODES, GraspMode
 from workcell.task.runner import SessionRunner
 from workcell.task.schedule import TrialSpec
 from workcell.tasks import WORLDS
@@ -54,10 +56,12 @@ class WorldResult:
         )
 
 
-def run_world(world_name: str, seeds: Sequence[int]) -> WorldResult:
+def run_world(world_name: str, seeds: Sequence[int], grasp: GraspMode = "assisted") -> WorldResult:
     task = load_task("shelve")
     ranges = next(r for name, r in task.worlds.items() if name == world_name)
-    world = dataclasses.replace(SessionConfig().world, randomization=randomization(ranges))
+    world = dataclasses.replace(
+        SessionConfig().world, randomization=randomization(ranges), grasp=grasp
+    )
     task_config = TaskConfig(
         kind=task.name, mode="practice", time_limit_s=TIME_LIMIT_S, countdown_s=0.0
     )
@@ -88,10 +92,11 @@ def main(argv: Sequence[str] | None = None) -> int:
     parser.add_argument("--trials", type=int, default=100)
     parser.add_argument("--first-seed", type=int, default=FIRST_SEED)
     parser.add_argument("--worlds", nargs="+", choices=WORLDS, default=["D0", "D2"])
+    parser.add_argument("--grasp", choices=GRASP_MODES, default="assisted")
     args = parser.parse_args(argv)
     seeds = range(args.first_seed, args.first_seed + args.trials)
     for world_name in args.worlds:
-        result = run_world(world_name, seeds)
+        result = run_world(world_name, seeds, args.grasp)
         print(result.line(), flush=True)
         for failure in result.failures:
             print(f"  {failure}", flush=True)
