@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.control.command import BaseTwist
+from workcell.expert.grasp_geometry import PalmTargets
 from workcell.expert.operator import ExpertOperator, Placement
 from workcell.expert.phase import ExpertPhase
 from workcell.sim.boxes import BoxSlot
@@ -31,6 +32,11 @@ RAISE_STEP_M = 0.004
 STRAIGHT_IN_M = 0.5
 """The last stretch (m) to the shelf is driven straight in, square to its front, so the
 box never sweeps over a neighbouring board."""
+WINDUP_M = 0.03
+"""While setting the box down, each palm's target stays this close (m) to where the palm is:
+a box that meets the board before the hands expect it (it tilts in a grasp of friction
+alone) stops the hands instead of leaving their targets to run on into the board, from
+where letting go would drag the box off again."""
 SHELF_STAND_M = 0.65
 """How far from the asked board's centre the base stops: the box lands at the board's
 centre within the arms' reach."""
@@ -81,6 +87,22 @@ class ShelveExpert(ExpertOperator):
         before = goal.copy()
         before[:2] -= heading * STRAIGHT_IN_M
         return [*route[:-1], before, goal]
+
+    def _place(self, world: World) -> BaseTwist:
+        twist = super()._place(world)
+        palms = self._palms
+        if self.phase is ExpertPhase.PLACE and palms is not None:
+            here = [world.to_base_frame(world.tcp_pose(side)[0]) for side in ("l", "r")]
+            near = [
+                at + np.clip(target - at, -WINDUP_M, WINDUP_M)
+                for at, target in zip(
+                    here, (palms.left_position, palms.right_position), strict=True
+                )
+            ]
+            self._palms = PalmTargets(
+                near[0], palms.left_quaternion, near[1], palms.right_quaternion
+            )
+        return twist
 
     def _carry(self, world: World) -> BaseTwist:
         """Bring the box to the asked board's height (standing still), then carry it."""
