@@ -51,6 +51,9 @@ def _wrap(angle: float) -> float:
 class ExpertOperator:
     """Delivers boxes one after another for as long as it is asked to act."""
 
+    place_distance: float = PLACE_DISTANCE
+    """How far (m) from where a box is set down the base stops to set it down."""
+
     def __init__(self, config: ExpertConfig | None = None, seed: int = 0) -> None:
         self.config = config or ExpertConfig()
         self.start_trial(seed)
@@ -332,8 +335,8 @@ class ExpertOperator:
         heading = pose[2] + _wrap(heading - pose[2])
         goal = np.array(
             [
-                place_center[0] - PLACE_DISTANCE * math.cos(heading),
-                place_center[1] - PLACE_DISTANCE * math.sin(heading),
+                place_center[0] - self.place_distance * math.cos(heading),
+                place_center[1] - self.place_distance * math.sin(heading),
                 heading,
             ]
         )

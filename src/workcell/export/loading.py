@@ -59,13 +59,15 @@ def load_episodes(
         trial = episode.trial
         frames = store.frames(trial.trial_id)
         goal = source.goal(store, episode)
+        conditions = source.conditions(store, episode)
         arrays = episode_arrays(frames, trial.outcome, source.pool_size, goal)
         states = RecordedStates.from_frames(frames, arrays.boxes)
         world = None
         if worlds is not None:
             world = worlds.get(source.configs[trial.session_id])
             world.check(states, trial.trial_id)
-        yield LoadedEpisode(index, episode, Provenance.of(index, episode), arrays, states, world)
+        provenance = Provenance.of(index, episode, conditions)
+        yield LoadedEpisode(index, episode, provenance, arrays, states, world)
         if progress is not None:
             progress(
                 f"episode {index + 1}/{total}: trial {trial.trial_id} "

@@ -9,6 +9,7 @@ decision behind it), score and frame range. Every dataset format carries the sam
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import asdict, dataclass
 from typing import Any
 
@@ -58,7 +59,14 @@ class Provenance:
     task: str
 
     @classmethod
-    def of(cls, episode_index: int, source: EpisodeSource) -> Provenance:
+    def of(
+        cls,
+        episode_index: int,
+        source: EpisodeSource,
+        conditions: Mapping[str, Any] | None = None,
+    ) -> Provenance:
+        """``source``'s provenance; ``conditions``, the trial's recorded conditions, word
+        its task text (:meth:`workcell.tasks.Task.trial_instruction`)."""
         trial, session, inclusion = source.trial, source.session, source.inclusion
         review = inclusion.review
         tags = StudyTags.of(session.operator_id, session.parameters)
@@ -93,7 +101,9 @@ class Provenance:
             review_reason=review.reason if review else None,
             review_at_wall=review.at_wall if review else None,
             software_version=session.software_version,
-            task=recorded_task(session.parameters).instruction(trial.required_boxes),
+            task=recorded_task(session.parameters).trial_instruction(
+                trial.required_boxes, conditions or {}
+            ),
         )
 
     def as_dict(self) -> dict[str, Any]:

@@ -88,9 +88,9 @@ def read_trial(
     trial = episode.trial
     frames = store.frames(trial.trial_id)
     events = store.events(trial.trial_id)
-    provenance = Provenance.of(index, episode)
-    world = source.configs[trial.session_id].world
     conditions = _conditions(events)
+    provenance = Provenance.of(index, episode, conditions)
+    world = source.configs[trial.session_id].world
     size = conditions.get("box_size", world.box.size)
     rgba = conditions.get("box_rgba", world.box.rgba)
     return TrialRecording(

@@ -11,7 +11,7 @@ import os
 from collections.abc import Callable, Mapping
 from dataclasses import dataclass
 from pathlib import Path
-from typing import TypeVar
+from typing import Any, TypeVar
 
 from workcell.errors import ConfigError
 from workcell.export.audited import audited_inclusions
@@ -61,12 +61,16 @@ class ExportSource:
     def goal(self, store: Store, episode: EpisodeSource) -> tuple[float, ...]:
         """What ``episode``'s trial asked (its task's goal, from its recorded conditions)."""
         config = self.configs[episode.session.session_id]
+        return load_task(config.task.kind).goal(self.conditions(store, episode), config.world)
+
+    def conditions(self, store: Store, episode: EpisodeSource) -> Mapping[str, Any]:
+        """``episode``'s trial conditions as its ``trial_started`` event recorded them ({}:
+        none recorded)."""
         started = store.events(episode.trial.trial_id)
         conditions = next(
             (e.payload.get("conditions") for e in started if e.kind == "trial_started"), None
         )
-        recorded = conditions if isinstance(conditions, Mapping) else {}
-        return load_task(config.task.kind).goal(recorded, config.world)
+        return conditions if isinstance(conditions, Mapping) else {}
 
 
 def check_output(out: str | os.PathLike[str]) -> Path:

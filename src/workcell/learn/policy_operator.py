@@ -67,7 +67,9 @@ class PolicyOperator:
         self._low, self._high = space.low.astype(np.float64), space.high.astype(np.float64)
         size = self.inputs.image_size or ImageSize()
         self._observations = ObservationBuilder(sim, task, self.inputs.cameras, size)
+        self._task_def, self._sim = task, sim
         self._task = task.instruction(1)
+        """What the current trial asks in words (:meth:`Task.trial_instruction`)."""
         self._command = Command()
         self._steps = 0
         self.decisions = 0
@@ -76,6 +78,8 @@ class PolicyOperator:
     def start_trial(self, trial_seed: int) -> None:
         self._policy.reset()
         self._observations.restart()
+        conditions = self._sim.world.conditions.as_dict()  # the trial's, as recorded
+        self._task = self._task_def.trial_instruction(1, conditions)
         self._command = Command()
         self._steps = 0
 

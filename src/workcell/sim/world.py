@@ -139,6 +139,11 @@ class World:
             self.scene.reset(self, rng)
         mujoco.mj_forward(self.model, self.data)
 
+    def hold_feeder(self) -> None:
+        """Release no box until the next reset: for a task whose box starts elsewhere than
+        on the belt (its scene's reset calls this; the reset after re-arms the feeder)."""
+        self._next_release = math.inf
+
     def step(self, close_l: float, close_r: float) -> list[WorldEvent]:
         """Advance one control period (ctrl already written); returns what happened.
 

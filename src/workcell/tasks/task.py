@@ -85,6 +85,12 @@ class Task(ABC):
         """What a trial that must complete ``required`` objects asks, in one sentence
         (the language instruction of every exported episode)."""
 
+    def trial_instruction(self, required: int, conditions: Mapping[str, Any]) -> str:
+        """What one trial asked, in one sentence, given its recorded ``conditions`` (a task
+        whose trials ask different things, such as which shelf, says it here; by default
+        :meth:`instruction`). Every exported episode carries it."""
+        return self.instruction(required)
+
     @abstractmethod
     def scene(self) -> TaskScene:
         """What the task adds to the shared factory and watches there each control period

@@ -1,0 +1,71 @@
+"""Shelve: a box waits on the table; the robot puts it on the shelf the instruction names
+(bottom, middle or top board), reaching up with its spine and arms for the top one."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+from workcell.expert.skill import ExpertConfig
+from workcell.sim.config import WorldConfig
+from workcell.task.operator import Operator
+from workcell.tasks.shelve.expert import ShelveExpert
+from workcell.tasks.shelve.judge import ShelveJudge
+from workcell.tasks.shelve.scene import ShelveScene
+from workcell.tasks.shelve.shelf import ShelfLayout
+from workcell.tasks.shelve.stages import SHELVE_STAGES
+from workcell.tasks.task import Task
+from workcell.tasks.worlds import WorldName, WorldRanges
+
+ASKED = "Put the box from the table on the {shelf} shelf."
+ANY_SHELF = "Put the box from the table on the shelf asked for: the bottom, middle or top one."
+
+D1_SHIFT = 0.1
+"""D1 moves the robot's start, the table and the shelf up to 0.1 m and turns the start up
+to 0.1 rad."""
+D2_SHIFT = 0.3
+"""D2 widens D1's ranges three times and varies the box's size, mass and colour."""
+
+
+class Shelve(Task):
+    name: ClassVar[str] = "shelve"
+    summary: ClassVar[str] = (
+        "put a box from the table on the shelf the instruction names (bottom, middle or top)"
+    )
+    stages: ClassVar[tuple[str, ...]] = SHELVE_STAGES
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
+        "D0": {},
+        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
+        "D2": {
+            "start_shift": D2_SHIFT,
+            "target_shift": D2_SHIFT,
+            "start_yaw": D2_SHIFT,
+            "box_size": 0.15,
+            "box_mass": 0.3,
+            "box_colour": 0.2,
+        },
+    }
+    goal_names: ClassVar[tuple[str, ...]] = ("shelf_x", "shelf_y", "shelf_height")
+    """The asked board's centre in the world and its top's height (m)."""
+
+    def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
+        layout = ShelfLayout.from_recorded(conditions.get("task"))
+        x, y = layout.board_center(layout.asked)
+        return float(x), float(y), layout.board_top(layout.asked)
+
+    def instruction(self, required: int) -> str:
+        return ANY_SHELF
+
+    def trial_instruction(self, required: int, conditions: Mapping[str, Any]) -> str:
+        layout = ShelfLayout.from_recorded(conditions.get("task"))
+        return ASKED.format(shelf=layout.asked_name)
+
+    def scene(self) -> ShelveScene:
+        return ShelveScene(self.name)
+
+    def new_trial(self, required: int) -> ShelveJudge:
+        """One box per trial, whatever ``required`` says."""
+        return ShelveJudge()
+
+    def expert(self, config: ExpertConfig) -> Operator:
+        return ShelveExpert(config)
