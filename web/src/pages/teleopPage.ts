@@ -10,6 +10,7 @@ import type { XrController } from "../xr/xrSession";
 import { xrAvailability } from "../xr/xrSession";
 import { readXrFrame } from "../xr/xrInput";
 import { DesktopInput, KEY_MAP } from "../input/desktop";
+import { keymapOpensAtStart, pageStorage, rememberKeymap } from "../input/keymapPreference";
 import { BUTTON, InputSequencer } from "../input/hands";
 import type { DeviceFrame } from "../input/hands";
 import { HudPanel } from "../hud/hudPanel";
@@ -63,12 +64,13 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const viewButton = el("button", { id: "toggle-view", textContent: "View: third person" });
   const restartButton = el("button", { id: "restart-trial", textContent: "Restart trial" });
   const stopButton = el("button", { id: "stop-session", textContent: "Stop session" });
-  const keysButton = el("button", { textContent: "Keys" });
+  const keysButton = el("button", { id: "toggle-keys", textContent: "Keys" });
   const frameBadge = el("span", { className: "frame-badge", id: "frame-badge", textContent: describeReport(null) });
   frameBadge.title = "how this page draws: frames per second (median), the slowest 5 % of frames, WebGL draw calls per frame";
   bar.append(linkBadge, frameBadge, vrButton, viewButton, restartButton, stopButton, keysButton);
   const keymap = el("div", { className: "keymap", id: "keymap" });
-  keymap.append(el("h2", { textContent: "Desktop controls" }));
+  const keymapClose = el("button", { type: "button", className: "small keymap-close", textContent: "Hide" });
+  keymap.append(el("h2", { textContent: "Desktop controls" }, " ", keymapClose));
   const keyTable = el("table");
   for (const entry of KEY_MAP) {
     const row = el("tr");
@@ -136,7 +138,20 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   };
   viewButton.addEventListener("click", () => toggleView("desktop"));
   restartButton.addEventListener("click", () => act("restart_trial", "desktop"));
-  keysButton.addEventListener("click", () => keymap.classList.toggle("hidden"));
+  // The key map opens the first time only (then the Keys button, remembered), so it does
+  // not cover the lower left of the view for an operator who knows the keys.
+  const storage = pageStorage();
+  const showKeymap = (open: boolean): void => {
+    keymap.classList.toggle("hidden", !open);
+    keysButton.setAttribute("aria-expanded", String(open));
+  };
+  showKeymap(keymapOpensAtStart(storage));
+  const chooseKeymap = (open: boolean): void => {
+    showKeymap(open);
+    rememberKeymap(storage, open);
+  };
+  keysButton.addEventListener("click", () => chooseKeymap(keymap.classList.contains("hidden")));
+  keymapClose.addEventListener("click", () => chooseKeymap(false));
   stopButton.addEventListener("click", () => app.stopSession());
   vrButton.addEventListener("click", () => {
     if (xr.presenting) {
