@@ -2,7 +2,8 @@
 watches a participant's live session; a replay names its trial's participant, condition,
 study step and outcome, counts the frames the Sessions page counts and carries the event
 timeline; the Sessions page's downloads (the store's CSV export zipped, the audit's
-trials.csv of chosen sessions) answer the admin only."""
+trials.csv of chosen sessions, a LeRobot dataset of chosen participants) answer the admin
+only."""
 
 from __future__ import annotations
 
@@ -101,8 +102,21 @@ def test_replay_facts_timeline_and_frame_count_and_the_admins_downloads(tmp_path
         assert manifest["files"]["frames.csv"]["rows"] == trial.n_frames
         assert trial.trial_id in trials_csv
 
+        bearer = {"Authorization": f"Bearer {admin}"}
+        status, archive = server.get("/api/export/lerobot.zip?operator=p01", bearer)
+        assert status == 200, archive[:300]
+        with zipfile.ZipFile(io.BytesIO(archive)) as packed:
+            names = set(packed.namelist())
+            note = packed.read("workcell_selection.txt").decode()
+        assert "meta/info.json" in names and any(n.startswith("data/") for n in names)
+        assert any(n.startswith("meta/workcell_provenance") for n in names)
+        assert "exported 1 episodes" in note and "kept 1 of 1 closed trials" in note
+        status, body = server.get("/api/export/lerobot.zip?operator=p02", bearer)
+        assert status == 409 and b"none of its 1 closed trials can be exported" in body
+
         p01 = token_of(server, "p01")
-        for path in ("/api/export/csv.zip", f"/api/export/trials.csv?session={session_id}"):
+        paths = ("/api/export/csv.zip", "/api/export/lerobot.zip", "/api/export/trials.csv")
+        for path in paths:
             status, refused = get_as(server, path, p01)
             assert status == 403 and "admin" in refused, path
     assert watched > 0
@@ -110,6 +124,6 @@ def test_replay_facts_timeline_and_frame_count_and_the_admins_downloads(tmp_path
 
 def test_downloads_before_anything_is_recorded_say_so(tmp_path: Path) -> None:
     with running_server(tmp_path) as server:
-        for path in ("/api/export/csv.zip", "/api/export/trials.csv"):
+        for path in ("/api/export/csv.zip", "/api/export/trials.csv", "/api/export/lerobot.zip"):
             status, body = server.get(path)
             assert status == 404 and b"the store has no sessions yet" in body, path

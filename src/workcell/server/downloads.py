@@ -1,7 +1,11 @@
 """Downloads from the Sessions page: ``GET /api/export/csv.zip`` (the store's CSV export,
-as ``workcell export --format csv`` writes it, manifest included, zipped) and ``GET
+as ``workcell export --format csv`` writes it, manifest included, zipped), ``GET
 /api/export/trials.csv?session=ID&session=ID...`` (the audit's trials.csv, as ``workcell
-audit`` writes it, of the sessions named; none named: every session's trials).
+audit`` writes it, of the sessions named; none named: every session's trials) and ``GET
+/api/export/lerobot.zip?operator=ID...`` (``workcell export --format lerobot
+[--operator ID]...``: the included trials of those operators, none named: of everyone, as
+a LeRobot dataset without camera images, zipped, with ``workcell_selection.txt`` saying
+what it kept and left out).
 
 Both read the store the server records into, in a worker thread. Like every ``/api/``
 path they need the server's token or a study's admin token when the server has one (a
@@ -29,6 +33,8 @@ from workcell.server.http_api import problem, shown
 from workcell.server.seats import Seats
 
 CSV_ZIP = "workcell-csv-export.zip"
+LEROBOT_ZIP = "workcell-lerobot.zip"
+SELECTION_FILE = "workcell_selection.txt"
 TRIALS_CSV = "trials.csv"
 MAX_SESSIONS_ASKED = 1000
 
@@ -78,9 +84,32 @@ def download_routes(seats: Seats) -> list[Route]:
             background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
         )
 
+    async def lerobot_zip(request: Request) -> Response:
+        operators = tuple(request.query_params.getlist("operator"))
+        if len(operators) > MAX_SESSIONS_ASKED:
+            return problem(400, f"operator: at most {MAX_SESSIONS_ASKED} operators at once")
+        if not store_path.exists():
+            return problem(404, "the store has no sessions yet: nothing to export")
+        work = Path(tempfile.mkdtemp(prefix="workcell-download-"))
+        try:
+            archive = await asyncio.to_thread(zipped_lerobot_export, store_path, operators, work)
+        except StoreError as error:
+            shutil.rmtree(work, ignore_errors=True)
+            return problem(503, str(error))
+        except WorkcellError as error:  # nothing to export, a store that fails verify
+            shutil.rmtree(work, ignore_errors=True)
+            return problem(409, str(error))
+        return FileResponse(
+            archive,
+            media_type="application/zip",
+            filename=LEROBOT_ZIP,
+            background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
+        )
+
     return [
         Route("/api/export/csv.zip", csv_zip),
         Route("/api/export/trials.csv", trials_csv),
+        Route("/api/export/lerobot.zip", lerobot_zip),
     ]
 
 
@@ -91,10 +120,37 @@ def zipped_csv_export(store: Path, work: Path) -> Path:
     out = work / "export"
     with damage_as_store_error(store):
         export_csv(store, out)
-    archive = work / CSV_ZIP
+    return _zipped(out, work / CSV_ZIP)
+
+
+def zipped_lerobot_export(store: Path, operators: tuple[str, ...], work: Path) -> Path:
+    """The included trials of ``operators`` (none: everyone's) as a LeRobot dataset
+    without camera images, zipped in ``work`` with a note of what was kept and left out."""
+    from workcell.export.lerobot_export import export_lerobot  # noqa: PLC0415
+    from workcell.export.options import ExportOptions  # noqa: PLC0415
+
+    out = work / "lerobot"
+    with damage_as_store_error(store):
+        summary = export_lerobot(store, out, ExportOptions(operators=operators))
+    lines = [f"exported {summary.episodes} episodes, {summary.frames} frames"]
+    if summary.selection is not None:
+        chosen = summary.selection
+        left = ", ".join(f"{n} {reason}" for reason, n in chosen.left_out.items())
+        lines.append(
+            f"kept {len(chosen.episodes)} of {chosen.closed} closed trials (included trials"
+            + (f" of {', '.join(operators)}" if operators else "")
+            + f"); left out {sum(chosen.left_out.values())}"
+            + (f": {left}" if left else "")
+        )
+    (out / SELECTION_FILE).write_text("\n".join(lines) + "\n", encoding="utf-8")
+    return _zipped(out, work / LEROBOT_ZIP)
+
+
+def _zipped(folder: Path, archive: Path) -> Path:
+    """Every file below ``folder`` in the zip ``archive``, named from ``folder``."""
     with zipfile.ZipFile(archive, "w", zipfile.ZIP_DEFLATED) as packed:
-        for file in sorted(out.iterdir()):
-            packed.write(file, arcname=file.name)
+        for file in sorted(p for p in folder.rglob("*") if p.is_file()):
+            packed.write(file, arcname=file.relative_to(folder).as_posix())
     return archive
 
 

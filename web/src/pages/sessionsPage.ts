@@ -1,7 +1,8 @@
 // The sessions page: every recorded session and its trials (who ran them, in which
 // condition and study step, outcome, flags, score, inclusion), with a replay link per
 // trial; filters by participant, condition, study step and outcome or inclusion (kept in
-// the address: `#/sessions?participant=p01`); and downloads of what is shown.
+// the address: `#/sessions?participant=p01`); and downloads of what is shown (and a
+// LeRobot dataset of the participant chosen).
 
 import type { App } from "../app";
 import type { SessionSummary, TrialSummary } from "../protocol";
@@ -142,7 +143,8 @@ export function mountSessions(root: HTMLElement, _app: App): () => void {
   const storeZip = el("a", { className: "button download-store", textContent: "Whole store (CSV export, zip)" });
   storeZip.title = "workcell export --format csv of every session, with its manifest (workcell verify --csv)";
   storeZip.href = serverUrl("api/export/csv.zip");
-  const downloads = el("div", { className: "session-downloads" }, "Download: ", shownCsv, auditCsv, storeZip);
+  const lerobotZip = el("a", { className: "button download-lerobot", textContent: "LeRobot dataset (zip)" });
+  const downloads = el("div", { className: "session-downloads" }, "Download: ", shownCsv, auditCsv, storeZip, lerobotZip);
   const count = el("p", { className: "session-count" });
   const list = el("div", { className: "session-list", textContent: "Loading…" });
   page.append(el("h1", { textContent: "Sessions" }), el("div", { className: "session-tools" }, refresh, filters), downloads, count, list);
@@ -170,6 +172,13 @@ export function mountSessions(root: HTMLElement, _app: App): () => void {
     auditCsv.classList.toggle("disabled", shown.length === 0 || tooMany);
     auditCsv.title = tooMany ? `more than ${MOST_NAMED_SESSIONS} sessions: narrow the filter, or clear it for every session` : auditCsv.title;
     shownCsv.disabled = trialCount === 0;
+    // The dataset export selects by operator (workcell export --operator), not by the
+    // other filters: its included trials of the participant chosen, or of everyone.
+    const lerobot = new URL(serverUrl("api/export/lerobot.zip"));
+    if (filter.participant !== "") lerobot.searchParams.append("operator", filter.participant);
+    lerobotZip.href = lerobot.toString();
+    const whose = filter.participant !== "" ? filter.participant : "every participant";
+    lerobotZip.title = `workcell export --format lerobot: the included trials of ${whose} (every condition and step), without camera images`;
     list.replaceChildren();
     if (all.length === 0) list.append(el("p", { textContent: "No sessions recorded yet." }));
     else if (shown.length === 0) list.append(el("p", { textContent: "No session matches the filters." }));

@@ -90,7 +90,10 @@ await runScript("study_views", async ({ url, page, context, artifacts }) => {
   check(auditRows[0]?.["operator_id"] === "p01" && auditRows[0]?.["condition"] === condition && auditRows[0]?.["outcome"] === "timeout", "the audit's trials.csv misses the study tags");
   const store = await downloaded(admin, () => admin.click("a.download-store"));
   check(store.name === "workcell-csv-export.zip" && store.body.subarray(0, 2).toString() === "PK", `the store download is ${store.name}`);
-  log(`downloads: ${shown.name} (${shownRows.length} row), ${audit.name} (${auditRows.length} row), ${store.name} (${store.body.length} bytes)`);
+  const dataset = await downloaded(admin, () => admin.click("a.download-lerobot"));
+  check(dataset.name === "workcell-lerobot.zip" && dataset.body.subarray(0, 2).toString() === "PK", `the dataset download is ${dataset.name}`);
+  check(dataset.body.includes("workcell_selection.txt"), "the dataset does not say what it kept");
+  log(`downloads: ${shown.name} (${shownRows.length} row), ${audit.name} (${auditRows.length} row), ${store.name} (${store.body.length} bytes), ${dataset.name} (${dataset.body.length} bytes)`);
 
   // The replay: its facts, its timeline, the frame count, and time kept at 1x.
   await row.locator("a.replay-link").click();
