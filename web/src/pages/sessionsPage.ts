@@ -139,7 +139,7 @@ export function mountSessions(root: HTMLElement, _app: App): () => void {
   const shownCsv = el("button", { type: "button", className: "download-shown", textContent: "Shown trials (CSV)" });
   shownCsv.title = "the trials listed below, with their participant, condition and study step";
   const auditCsv = el("a", { className: "button download-audit", textContent: "Audit's trials.csv" });
-  auditCsv.title = "the audit's trials.csv (workcell audit) of the sessions listed below: every flag and disposition";
+  const auditTitle = "the audit's trials.csv (workcell audit) of the sessions listed below: every flag and disposition";
   const storeZip = el("a", { className: "button download-store", textContent: "Whole store (CSV export, zip)" });
   storeZip.title = "workcell export --format csv of every session, with its manifest (workcell verify --csv)";
   storeZip.href = serverUrl("api/export/csv.zip");
@@ -170,7 +170,7 @@ export function mountSessions(root: HTMLElement, _app: App): () => void {
     const tooMany = shown.length > MOST_NAMED_SESSIONS && !everything;
     auditCsv.href = url.toString();
     auditCsv.classList.toggle("disabled", shown.length === 0 || tooMany);
-    auditCsv.title = tooMany ? `more than ${MOST_NAMED_SESSIONS} sessions: narrow the filter, or clear it for every session` : auditCsv.title;
+    auditCsv.title = tooMany ? `more than ${MOST_NAMED_SESSIONS} sessions: narrow the filter, or clear it for every session` : auditTitle;
     shownCsv.disabled = trialCount === 0;
     // The dataset export selects by operator (workcell export --operator), not by the
     // other filters: its included trials of the participant chosen, or of everyone.

@@ -9,8 +9,8 @@ import type { Viewer } from "../scene/viewer";
 import type { XrController } from "../xr/xrSession";
 import { xrAvailability } from "../xr/xrSession";
 import { readXrFrame } from "../xr/xrInput";
-import { DesktopInput, KEY_MAP } from "../input/desktop";
-import { keymapOpensAtStart, pageStorage, rememberKeymap } from "../input/keymapPreference";
+import { DesktopInput } from "../input/desktop";
+import { keymapPanel } from "./keymapPanel";
 import { BUTTON, InputSequencer } from "../input/hands";
 import type { DeviceFrame } from "../input/hands";
 import { HudPanel } from "../hud/hudPanel";
@@ -68,16 +68,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const frameBadge = el("span", { className: "frame-badge", id: "frame-badge", textContent: describeReport(null) });
   frameBadge.title = "how this page draws: frames per second (median), the slowest 5 % of frames, WebGL draw calls per frame";
   bar.append(linkBadge, frameBadge, vrButton, viewButton, restartButton, stopButton, keysButton);
-  const keymap = el("div", { className: "keymap", id: "keymap" });
-  const keymapClose = el("button", { type: "button", className: "small keymap-close", textContent: "Hide" });
-  keymap.append(el("h2", { textContent: "Desktop controls" }, " ", keymapClose));
-  const keyTable = el("table");
-  for (const entry of KEY_MAP) {
-    const row = el("tr");
-    row.append(el("th", { textContent: entry.keys }), el("td", { textContent: entry.action }));
-    keyTable.append(row);
-  }
-  keymap.append(keyTable);
+  const keymap = keymapPanel(keysButton);
   const hint = el("div", { className: "hint" });
   const notice = el("div", { className: "notice", role: "alert" });
   viewport.append(hud, bar, keymap, overlay, hint, notice);
@@ -138,20 +129,6 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   };
   viewButton.addEventListener("click", () => toggleView("desktop"));
   restartButton.addEventListener("click", () => act("restart_trial", "desktop"));
-  // The key map opens the first time only (then the Keys button, remembered), so it does
-  // not cover the lower left of the view for an operator who knows the keys.
-  const storage = pageStorage();
-  const showKeymap = (open: boolean): void => {
-    keymap.classList.toggle("hidden", !open);
-    keysButton.setAttribute("aria-expanded", String(open));
-  };
-  showKeymap(keymapOpensAtStart(storage));
-  const chooseKeymap = (open: boolean): void => {
-    showKeymap(open);
-    rememberKeymap(storage, open);
-  };
-  keysButton.addEventListener("click", () => chooseKeymap(keymap.classList.contains("hidden")));
-  keymapClose.addEventListener("click", () => chooseKeymap(false));
   stopButton.addEventListener("click", () => app.stopSession());
   vrButton.addEventListener("click", () => {
     if (xr.presenting) {
