@@ -65,9 +65,10 @@ def main() -> None:
         1,
         0.0,
         39.79,
-        40,
+        0,
         "box_transfer",
         "lifted",
+        40,
     )
 
     def build() -> State:

@@ -96,9 +96,10 @@ def test_a_state_with_numpy_values_and_a_non_finite_float_is_written_as_converte
         1,
         0.0,
         39.79,
-        40,
+        0,
         "box_transfer",
         "lifted",
+        40,
     )
     state = m.State(
         seq=np.int64(3),  # type: ignore[arg-type]  # what a careless builder might pass

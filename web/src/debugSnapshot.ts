@@ -68,11 +68,22 @@ export interface TeleopDebug {
 export interface ReplayDebug {
   trial_id: string;
   loaded: boolean;
+  /** Frames the reply carries (every `every`-th recorded one). */
   frames: number;
+  /** The trial's recorded frames (the count the Sessions page shows). */
+  recorded_frames: number;
   index: number;
+  /** The recorded frame shown (from 0). */
+  recorded_index: number;
   playing: boolean;
   t: number | null;
   base: Pose | null;
+  /** Frames drawn while playing, and frames passed over to keep time. */
+  drawn: number;
+  skipped: number;
+  /** Trial seconds shown per wall second since play began, as the frames were drawn
+   * (null before a second of playing). */
+  rate: number | null;
 }
 
 /** What a page adds to the snapshot, by name. */

@@ -68,7 +68,8 @@ async function boot(): Promise<void> {
   const route = (): void => {
     unmount?.();
     unmount = null;
-    const hash = window.location.hash.replace(/^#/, "") || "/";
+    const full = window.location.hash.replace(/^#/, "") || "/";
+    const hash = full.split("?")[0] ?? full; // `#/sessions?participant=p01`: the page's filter
     for (const a of nav.querySelectorAll("a")) {
       a.classList.toggle("active", a.getAttribute("href") === `#${hash}`);
     }

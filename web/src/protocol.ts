@@ -34,9 +34,18 @@ export interface Hud {
   readonly required_boxes: number;
   readonly countdown_s: number;
   readonly remaining_s: number;
+  /**
+   * The points the trial has earned so far: box score x boxes delivered, what it ends
+   * with unless it succeeds (a timeout or an interruption keeps them alone).
+   */
   readonly score: number;
   readonly task: string;
   readonly stage: string;
+  /**
+   * What a success now would add to ``score``: the seconds left, rounded up
+   * (:func:`workcell.task.scoring.time_bonus`); 0 outside a running trial.
+   */
+  readonly time_bonus: number;
 }
 
 /** A trial's countdown began (``seconds`` long). */
@@ -585,9 +594,44 @@ export interface SessionList {
 }
 
 /**
+ * What the replay page says of its trial: who ran it (``operator_id``, the
+ * participant), in which ``condition`` and ``study_step`` (None: none), its mode and
+ * level, and how it ended (``outcome`` and the numbers after it: None while it runs).
+ */
+export interface ReplayFacts {
+  readonly operator_id: string;
+  readonly condition: string | null;
+  readonly study_step: number | null;
+  readonly mode: string;
+  readonly round: number | null;
+  readonly level: number | null;
+  readonly required_boxes: number;
+  readonly time_limit_s: number;
+  readonly outcome: string | null;
+  readonly interruption_reason: string | null;
+  readonly elapsed_s: number | null;
+  readonly boxes_delivered: number | null;
+  readonly score: number | null;
+  readonly included: boolean | null;
+  readonly exclusion_reason: string | null;
+}
+
+/**
+ * One recorded event of the trial at trial time ``t`` (s): its ``kind`` (a task event's,
+ * ``operator_action``, ...) and a short ``detail`` from its payload.
+ */
+export interface TimelineEvent {
+  readonly t: number;
+  readonly kind: string;
+  readonly detail: string;
+}
+
+/**
  * ``GET /api/trials/{id}/frames?every=N``: every N-th recorded frame as the poses of
  * the ``scene``'s dynamic bodies (in their index order, world frame), rebuilt from the
- * recorded base pose, joints and boxes. ``t_sim[i]`` is the trial time of ``poses[i]``.
+ * recorded base pose, joints and boxes. ``t_sim[i]`` is the trial time of ``poses[i]``,
+ * which is recorded frame ``i * every`` of ``recorded_frames`` (the count the Sessions
+ * page shows).
  */
 export interface TrialReplay {
   readonly trial_id: string;
@@ -596,6 +640,13 @@ export interface TrialReplay {
   readonly scene: Scene;
   readonly t_sim: readonly number[];
   readonly poses: readonly (readonly Pose[])[];
+  readonly recorded_frames: number;
+  readonly facts: ReplayFacts;
+  /**
+   * The trial's events in time order, without the page's own telemetry
+   * (``client_frames``) and the media bookkeeping.
+   */
+  readonly events: readonly TimelineEvent[];
 }
 
 /** One connected client's counters; ``errors`` counts refused messages by code. */

@@ -99,10 +99,45 @@ class SessionList:
 
 
 @dataclass(frozen=True)
+class ReplayFacts:
+    """What the replay page says of its trial: who ran it (``operator_id``, the
+    participant), in which ``condition`` and ``study_step`` (None: none), its mode and
+    level, and how it ended (``outcome`` and the numbers after it: None while it runs)."""
+
+    operator_id: str
+    condition: str | None
+    study_step: int | None
+    mode: str
+    round: int | None
+    level: int | None
+    required_boxes: int
+    time_limit_s: float
+    outcome: str | None
+    interruption_reason: str | None
+    elapsed_s: float | None
+    boxes_delivered: int | None
+    score: int | None
+    included: bool | None
+    exclusion_reason: str | None
+
+
+@dataclass(frozen=True)
+class TimelineEvent:
+    """One recorded event of the trial at trial time ``t`` (s): its ``kind`` (a task event's,
+    ``operator_action``, ...) and a short ``detail`` from its payload."""
+
+    t: float
+    kind: str
+    detail: str
+
+
+@dataclass(frozen=True)
 class TrialReplay:
     """``GET /api/trials/{id}/frames?every=N``: every N-th recorded frame as the poses of
     the ``scene``'s dynamic bodies (in their index order, world frame), rebuilt from the
-    recorded base pose, joints and boxes. ``t_sim[i]`` is the trial time of ``poses[i]``."""
+    recorded base pose, joints and boxes. ``t_sim[i]`` is the trial time of ``poses[i]``,
+    which is recorded frame ``i * every`` of ``recorded_frames`` (the count the Sessions
+    page shows)."""
 
     trial_id: str
     session_id: str
@@ -110,6 +145,11 @@ class TrialReplay:
     scene: Scene
     t_sim: tuple[float, ...]
     poses: tuple[tuple[Pose, ...], ...]
+    recorded_frames: int
+    facts: ReplayFacts
+    events: tuple[TimelineEvent, ...]
+    """The trial's events in time order, without the page's own telemetry
+    (``client_frames``) and the media bookkeeping."""
 
 
 @dataclass(frozen=True)

@@ -13,6 +13,7 @@ from starlette.routing import Mount, Route, WebSocketRoute
 from starlette.websockets import WebSocket
 
 from workcell.server.auth import ADMIN, Principal, TokenAuth
+from workcell.server.downloads import download_routes
 from workcell.server.http_api import routes
 from workcell.server.options import ServerOptions, is_loopback
 from workcell.server.origin import OriginGuard, allowed_origins
@@ -48,6 +49,7 @@ def create_app(options: ServerOptions, seats: Seats | None = None) -> Starlette:
             Route("/", index_route(options.static_dir)),
             *routes(seats),
             *study_routes(seats),
+            *download_routes(seats),
             WebSocketRoute("/ws", ws),
             Mount("/", ClientFiles(options.static_dir)),
         ],

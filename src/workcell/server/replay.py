@@ -2,7 +2,8 @@
 
 The recorded base pose, 17 joints, gripper openings and boxes are put into a world built
 with the session's own parameters, and forward kinematics gives every dynamic body's
-world pose, so the client replays with the same code that draws a live State.
+world pose, so the client replays with the same code that draws a live State. Beside
+them go the trial's facts and event timeline (:mod:`workcell.server.replay_facts`).
 """
 
 from __future__ import annotations
@@ -19,6 +20,7 @@ from workcell.errors import ConfigError, WorkcellError
 from workcell.protocol.api import TrialReplay
 from workcell.protocol.messages import Pose
 from workcell.record.store import Store
+from workcell.server.replay_facts import replay_facts, timeline
 from workcell.server.scene import PoseReader, describe
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
@@ -86,4 +88,7 @@ def trial_replay(store: Store, trial_id: str, every: int) -> TrialReplay:
         scene=describe(model, data),
         t_sim=tuple(times),
         poses=tuple(poses),
+        recorded_frames=count,
+        facts=replay_facts(store, session, trial),
+        events=timeline(store.events(trial_id)),
     )

@@ -38,5 +38,10 @@ class Hud:
     countdown_s: float
     remaining_s: float
     score: int
+    """The points the trial has earned so far: box score x boxes delivered, what it ends
+    with unless it succeeds (a timeout or an interruption keeps them alone)."""
     task: str
     stage: str
+    time_bonus: int
+    """What a success now would add to ``score``: the seconds left, rounded up
+    (:func:`workcell.task.scoring.time_bonus`); 0 outside a running trial."""

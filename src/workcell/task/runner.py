@@ -27,7 +27,7 @@ from workcell.task.bus import EventBus
 from workcell.task.hud import Hud, HudPhase
 from workcell.task.operator import Operator
 from workcell.task.schedule import Schedule, TrialSpec
-from workcell.task.scoring import trial_score
+from workcell.task.scoring import time_bonus, trial_score
 from workcell.tasks import Task, TrialJudge
 from workcell.tasks.registry import load_task
 
@@ -228,11 +228,10 @@ class SessionRunner:
             required_boxes=spec.required_boxes if spec else 0,
             countdown_s=max(0.0, -t) if self.phase is HudPhase.COUNTDOWN else 0.0,
             remaining_s=max(0.0, limit - max(t, 0.0)),
-            score=trial_score(self.config.task.box_score, boxes, limit, max(t, 0.0))
-            if self.phase is HudPhase.RUNNING
-            else 0,
+            score=self.config.task.box_score * boxes if self.phase is HudPhase.RUNNING else 0,
             task=self.task.name,
             stage=self._stage,
+            time_bonus=time_bonus(limit, max(t, 0.0)) if self.phase is HudPhase.RUNNING else 0,
         )
 
     # --- transitions ------------------------------------------------------------------------

@@ -34,7 +34,10 @@ export function hudLines(hud: Hud): HudLine[] {
     value: clock(hud.remaining_s),
     alert: hud.phase === "running" && hud.remaining_s <= 10,
   });
+  // The points earned so far: what the trial ends with unless it succeeds; a success
+  // adds the seconds left, shown apart so the score never counts down.
   lines.push({ label: "Score", value: String(hud.score) });
+  if (hud.phase === "running") lines.push({ label: "Time bonus", value: `+${hud.time_bonus} on success` });
   return lines;
 }
 

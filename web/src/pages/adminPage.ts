@@ -2,13 +2,16 @@
 // prints): every participant live — where they are, their condition, progress, link
 // latency, the session's real-time factor and their outcomes — with their invite link and
 // a button that stops their running session (confirmed, with a reason shown to the
-// participant). A line warns in words when sessions fall behind real time.
+// participant), a link that watches their session live (a spectator of their seat) and one
+// to their recorded sessions. A line warns in words when sessions fall behind real time.
 
 import type { App } from "../app";
 import type { ParticipantRow, StudyOverview } from "../protocol";
 import { askToStop } from "../hud/stopDialog";
 import { fetchStudy, stopParticipant } from "../net/api";
 import { el } from "../util/dom";
+import { authToken } from "../util/env";
+import { NO_FILTER, hashOf } from "./sessionFilter";
 
 const REFRESH_MS = 1000;
 
@@ -48,8 +51,43 @@ function participantRow(row: ParticipantRow, onStop: (participant: string) => vo
     stop.addEventListener("click", () => onStop(row.participant));
     action.append(stop);
   }
-  tr.append(invite, action);
+  tr.append(invite, researcherLinks(row), action);
   return tr;
+}
+
+/** The page that watches a participant's seat live, read-only (a spectator of it), in a
+ * tab of its own: the admin's token goes along, since a new tab keeps no session storage. */
+export function spectateUrl(participant: string, pageHref: string, token: string | null): string {
+  const url = new URL(pageHref);
+  url.search = "";
+  if (token !== null) url.searchParams.set("token", token);
+  url.searchParams.set("role", "spectator");
+  url.searchParams.set("seat", participant);
+  url.hash = "#/teleop";
+  return url.toString();
+}
+
+/** Watch the participant's running session; open their recorded sessions. */
+function researcherLinks(row: ParticipantRow): HTMLTableCellElement {
+  const cell = el("td", { className: "researcher-links" });
+  if (row.state === "running") {
+    const watch = el("a", {
+      href: spectateUrl(row.participant, window.location.href, authToken()),
+      target: "_blank",
+      className: "button small spectate-link",
+      textContent: "Watch",
+    });
+    watch.title = `watch ${row.participant}'s session live, read-only`;
+    cell.append(watch, " ");
+  }
+  cell.append(
+    el("a", {
+      href: hashOf({ ...NO_FILTER, participant: row.participant }),
+      className: "button small sessions-link",
+      textContent: "Sessions",
+    }),
+  );
+  return cell;
 }
 
 export function mountAdmin(root: HTMLElement, _app: App): () => void {
@@ -60,7 +98,7 @@ export function mountAdmin(root: HTMLElement, _app: App): () => void {
   const warning = el("p", { className: "admin-warning", id: "admin-warning", role: "alert" });
   const table = el("table", { className: "participants" });
   const head = el("tr");
-  const titles = ["participant", "state", "sessions", "condition", "RTT ms", "real time", "successes", "invite", ""];
+  const titles = ["participant", "state", "sessions", "condition", "RTT ms", "real time", "successes", "invite", "views", ""];
   for (const title of titles) head.append(el("th", { textContent: title }));
   const body = el("tbody");
   table.append(el("thead", {}, head), body);

@@ -1,6 +1,7 @@
-// The setup page (the paper's Fig. 3): mode, operator, every parameter with its default
-// and allowed range; Start sends StartSession and the server's objections are shown
-// beside the fields they name.
+// The setup page (the paper's Fig. 3): a first screen of a few choices (task, mode, grasp,
+// name) with Start, and every other parameter with its default and allowed range under
+// "Advanced"; Start sends StartSession and the server's objections are shown beside the
+// fields they name (opening "Advanced" when they name a setting there).
 
 import type { App } from "../app";
 import type { Defaults, FieldProblem } from "../protocol";
@@ -12,8 +13,8 @@ import { el } from "../util/dom";
 
 const TASK_KEY = "task.kind";
 const MODE_KEY = "task.mode";
+const GRASP_KEY = "world.grasp";
 const OPERATOR_KEY = "operator_id";
-const CONDITION_KEY = "condition";
 /** Settings only `workcell serve --study` sets (a participant's accepted consent, their
  * session's place in their plan): not on the form. */
 const SET_BY_STUDY_SERVER: readonly string[] = ["consent", "study_step"];
@@ -31,6 +32,7 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
   let controls = new Map<string, FieldControl>();
   let general: HTMLElement | null = null;
   let startButton: HTMLButtonElement | null = null;
+  let advanced: HTMLDetailsElement | null = null;
   let disposed = false;
 
   const showProblems = (problems: readonly FieldProblem[]): void => {
@@ -46,6 +48,8 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
       if (control === undefined) continue;
       control.row.classList.add("invalid");
       control.problem.textContent = lines.join("\n");
+      // a setting under "Advanced" that the server objects to is shown, not left folded
+      if (advanced !== null && advanced.contains(control.row)) advanced.open = true;
       first ??= control;
     }
     if (general !== null) general.textContent = placed.general.map((line) => `${line}\n`).join("");
@@ -68,16 +72,27 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
       })
       .catch((error: unknown) => console.warn("setting hints unavailable:", error));
 
-    // The operator's first choices: the task, the mode (as large buttons) and who they are.
+    // The operator's first screen: the task, the mode (as large buttons: chosen there
+    // alone), the grasp and their name, then Start; every other setting under "Advanced".
     const task = controls.get(TASK_KEY);
     const mode = controls.get(MODE_KEY);
+    const grasp = controls.get(GRASP_KEY);
     const operator = controls.get(OPERATOR_KEY);
-    const condition = controls.get(CONDITION_KEY);
     const top = el("fieldset", { className: "top-choices" });
-    top.append(el("legend", { textContent: "Task, mode and operator" }));
-    if (task !== undefined) top.append(task.row);
+    top.append(el("legend", { textContent: "Task, mode, grasp and name" }));
+    const first = (control: FieldControl | undefined, label: string): void => {
+      if (control === undefined) return;
+      const text = control.row.querySelector("label");
+      if (text !== null) {
+        text.textContent = label;
+        text.title = control.info.key;
+      }
+      top.append(control.row);
+    };
+    first(task, "task");
     if (mode !== undefined) {
       const picker = el("div", { className: "mode-picker", role: "radiogroup" });
+      picker.setAttribute("aria-label", "mode");
       for (const choice of mode.info.choices ?? []) {
         const button = el("button", {
           type: "button",
@@ -86,6 +101,7 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
           title: MODE_HELP[choice] ?? "",
         });
         button.dataset["mode"] = choice;
+        button.setAttribute("role", "radio");
         button.append(el("small", { textContent: MODE_HELP[choice] ?? "" }));
         button.addEventListener("click", () => {
           mode.input.value = choice;
@@ -102,17 +118,28 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
       };
       mode.input.addEventListener("change", sync);
       sync();
+      // The buttons choose the mode; its field stays in the form (read on Start, where
+      // the server's objections land) but is not shown a second time.
+      mode.row.hidden = true;
       top.append(picker, mode.row);
     }
-    if (operator !== undefined) top.append(operator.row);
-    if (condition !== undefined) top.append(condition.row);
+    first(grasp, "grasp");
+    first(operator, "name");
     form.append(top);
 
-    // Every other setting, grouped by its section, in declaration order.
+    general = el("pre", { className: "problem general", role: "alert" });
+    startButton = el("button", { type: "submit", className: "primary start", textContent: "Start" });
+    const actions = el("div", { className: "actions" });
+    actions.append(startButton, general);
+    form.append(actions);
+
+    // Every other setting, grouped by its section, in declaration order, folded away.
+    advanced = el("details", { className: "advanced" });
+    const rest = [...controls.values()].filter((c) => c !== task && c !== mode && c !== grasp && c !== operator);
+    advanced.append(el("summary", { textContent: `Advanced: ${rest.length} more settings (defaults work)` }));
     const docs = new Map(defaults.sections.map((s) => [s.key, s.doc]));
     const groups = new Map<string, HTMLElement>();
-    for (const control of controls.values()) {
-      if (control === task || control === mode || control === operator || control === condition) continue;
+    for (const control of rest) {
       const section = sectionOf(control.info, defaults);
       let group = groups.get(section);
       if (group === undefined) {
@@ -124,22 +151,18 @@ export function mountSetup(root: HTMLElement, app: App): () => void {
         if (doc !== undefined) legend.append(el("span", { className: "doc", textContent: ` — ${doc}` }));
         group.append(legend);
         groups.set(section, group);
-        form.append(group);
+        advanced.append(group);
       }
       group.append(control.row);
     }
-
-    general = el("pre", { className: "problem general", role: "alert" });
-    startButton = el("button", { type: "submit", className: "primary start", textContent: "Start" });
-    const reset = el("button", { type: "button", textContent: "Reset to defaults" });
+    const reset = el("button", { type: "button", className: "reset", textContent: "Reset to defaults" });
     reset.addEventListener("click", () => {
       for (const control of controls.values()) writeValue(control, control.info.default);
       mode?.input.dispatchEvent(new Event("change"));
       showProblems([]);
     });
-    const actions = el("div", { className: "actions" });
-    actions.append(startButton, reset, general);
-    form.append(actions);
+    advanced.append(el("div", { className: "actions" }, reset));
+    form.append(advanced);
     form.addEventListener("submit", (event) => {
       event.preventDefault();
       const values = new Map<string, unknown>();

@@ -9,7 +9,8 @@ import type { Viewer } from "../scene/viewer";
 import type { XrController } from "../xr/xrSession";
 import { xrAvailability } from "../xr/xrSession";
 import { readXrFrame } from "../xr/xrInput";
-import { DesktopInput, KEY_MAP } from "../input/desktop";
+import { DesktopInput } from "../input/desktop";
+import { keymapPanel } from "./keymapPanel";
 import { BUTTON, InputSequencer } from "../input/hands";
 import type { DeviceFrame } from "../input/hands";
 import { HudPanel } from "../hud/hudPanel";
@@ -63,20 +64,12 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const vrButton = el("button", { id: "enter-vr", textContent: "Enter VR", disabled: true });
   const viewButton = el("button", { id: "toggle-view", textContent: "View: third person" });
   const restartButton = el("button", { id: "restart-trial", textContent: "Restart trial" });
-  const keysButton = el("button", { textContent: "Keys" });
+  const keysButton = el("button", { id: "toggle-keys", textContent: "Keys" });
   const frameBadge = el("span", { className: "frame-badge", id: "frame-badge", textContent: describeReport(null) });
   frameBadge.title = "how this page draws: frames per second (median), the slowest 5 % of frames, WebGL draw calls per frame";
   const controls = new SessionControls(app, viewport, overlay);
   bar.append(linkBadge, frameBadge, vrButton, viewButton, restartButton, controls.pauseButton, controls.stopButton, keysButton);
-  const keymap = el("div", { className: "keymap", id: "keymap" });
-  keymap.append(el("h2", { textContent: "Desktop controls" }));
-  const keyTable = el("table");
-  for (const entry of KEY_MAP) {
-    const row = el("tr");
-    row.append(el("th", { textContent: entry.keys }), el("td", { textContent: entry.action }));
-    keyTable.append(row);
-  }
-  keymap.append(keyTable);
+  const keymap = keymapPanel(keysButton);
   const hint = el("div", { className: "hint" });
   const notice = el("div", { className: "notice", role: "alert" });
   viewport.append(hud, bar, keymap, overlay, hint, notice);
@@ -137,7 +130,6 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   };
   viewButton.addEventListener("click", () => toggleView("desktop"));
   restartButton.addEventListener("click", () => act("restart_trial", "desktop"));
-  keysButton.addEventListener("click", () => keymap.classList.toggle("hidden"));
   vrButton.addEventListener("click", () => {
     if (xr.presenting) {
       void xr.exit();

@@ -40,6 +40,10 @@ export async function startSession(
   );
   check(tasks.includes(task), `the setup page offers the tasks ${tasks.join(", ")}, not ${task}`);
   await page.selectOption('select[name="task.kind"]', task);
+  // The first screen is a few choices and Start; every other setting is folded under
+  // "Advanced", opened here to type the test's settings.
+  check(!(await page.isVisible('input[name="task.time_limit_s"]')), "the advanced settings are not folded");
+  await page.click("details.advanced > summary");
 
   // Each setting shows what its declaration allows, and once the hints are in
   // (GET /api/settings/hints) a number typed outside those bounds is marked before the

@@ -27,6 +27,21 @@ describe("hudLines", () => {
   });
 });
 
+describe("the HUD's score", () => {
+  it("is the points earned so far, with the time bonus of a success apart", () => {
+    const lines = hudLines(hud({ score: 0, time_bonus: 119 }));
+    expect(lines.find((line) => line.label === "Score")?.value).toBe("0");
+    expect(lines.find((line) => line.label === "Time bonus")?.value).toBe("+119 on success");
+    const later = hudLines(hud({ score: 100, boxes_delivered: 1, time_bonus: 40 }));
+    expect(later.find((line) => line.label === "Score")?.value).toBe("100");
+  });
+
+  it("shows no time bonus before the trial runs", () => {
+    const lines = hudLines(hud({ phase: "countdown", score: 0, time_bonus: 0 }));
+    expect(lines.some((line) => line.label === "Time bonus")).toBe(false);
+  });
+});
+
 describe("sessionEndSummary", () => {
   it("says in words who ended the session", () => {
     const lines = sessionEndSummary(ended({ reason: "operator_stop" }));

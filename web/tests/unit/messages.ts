@@ -17,6 +17,7 @@ export const hud = (over: Partial<Hud> = {}): Hud => ({
   score: 0,
   task: "box_transfer",
   stage: "none",
+  time_bonus: 100,
   ...over,
 });
 
