@@ -20,8 +20,11 @@ from workcell.record.verify import IntegrityFinding, verify_store
 KEY = ChainKey(b"k" * 32)
 
 
-def signed_store(path: Path, key: ChainKey | None = KEY) -> dict[str, list[str]]:
-    """synthetic.fill_store's two sessions, recorded with ``key``."""
+def signed_store(
+    path: Path, key: ChainKey | None = KEY, *, task: bool = True
+) -> dict[str, list[str]]:
+    """synthetic.fill_store's two sessions, recorded with ``key`` (frames without task
+    columns, as schema version 4 and older wrote them, unless ``task``)."""
     ids: dict[str, list[str]] = {"sessions": [], "trials": []}
     with Store.open(path, writer=True, key=key) as store:
         for s in range(2):
@@ -34,7 +37,9 @@ def signed_store(path: Path, key: ChainKey | None = KEY) -> dict[str, list[str]]
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
                 store.add_frames(
                     trial_id,
-                    synthetic.batch(store, trial_id, synthetic.frames(0, n, seed=10 * s + k)),
+                    synthetic.batch(
+                        store, trial_id, synthetic.frames(0, n, seed=10 * s + k, task=task)
+                    ),
                 )
                 store.commit()
                 store.add_event(session_id, "level_changed", {"level": k + 1})

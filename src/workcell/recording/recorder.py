@@ -45,6 +45,7 @@ from workcell.recording.media import MediaRecorder
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner
+from workcell.tasks import CUSTOM, Evaluation, world_of
 
 MAX_UNCOMMITTED_S = 0.25
 """Sim time a commit may lag behind: what a killed process can lose at most."""
@@ -150,33 +151,58 @@ class Recorder:
         """Trials whose end was handed to the store, by index, until it is written."""
         self._pending_events: list[ev.TaskEvent] = []
         self._capture = FrameCapture(
-            runner.sim.world, runner.sim.controller, self._frames_per_commit
+            runner.sim.world, runner.sim.controller, self._frames_per_commit, runner.task.stages
         )
+        self._stage_index = {stage: i for i, stage in enumerate(runner.task.stages)}
+        self._sampled_step = -1
+        """The physics step of the latest frame captured."""
         store.prepare_frames(self._capture.layout)  # not while the first trial runs
         self.next_step = -1
         self._unsubscribe = runner.bus.subscribe(self._on_event)
+        runner.on_judged.append(self._judged)
 
     # --- the world's sampler ----------------------------------------------------------------
 
     def sample(self) -> None:
-        """Take the frame due now (called by the world at exact physics steps)."""
+        """Take the frame due now (called by the world at exact physics steps), with the
+        task's judgement as the runner has it; a frame the runner judges at its instant
+        (after the world's step: :meth:`_judged`) takes that judgement instead. A full
+        buffer is handed to the store once its last frame is judged, or before the next
+        frame at the latest."""
         runner = self.runner
         capture = self._capture
         source = self._input
+        if capture.full:
+            self._flush_or_fail()
         capture.capture(
             runner.last_command,
             None if source is None else source(),  # None: a command-only operator
             t_sim=runner.trial_time,
             step_wall_ms=runner.last_step_wall_s * 1000.0,
+            stage=self._stage_index.get(runner.stage, -1),
+            progress=runner.progress,
         )
+        self._sampled_step = runner.sim.world.physics_steps
         if self.media is not None:
             self.media.frame(runner.sim.world.data)
         self.next_step += self._steps_per_frame
-        if capture.full:
-            try:
-                self._flush()
-            except StorageError as error:
-                self._fail(error)
+
+    def _judged(self, evaluation: Evaluation) -> None:
+        """The runner judged the trial at a frame instant: the frame of that instant keeps
+        its word."""
+        if self._trial_id is None or self.failure is not None:
+            return
+        if self._sampled_step != self.runner.sim.world.physics_steps:
+            return  # no frame of this instant (not sampled at it)
+        self._capture.judged(self._stage_index.get(evaluation.stage, -1), self.runner.progress)
+        if self._capture.full:
+            self._flush_or_fail()
+
+    def _flush_or_fail(self) -> None:
+        try:
+            self._flush()
+        except StorageError as error:
+            self._fail(error)
 
     def check(self) -> None:
         """Stop recording now if the store already knows it cannot write (its writer
@@ -209,6 +235,9 @@ class Recorder:
             self._fail(error)
 
     def _start_trial(self, event: ev.TrialStarted) -> None:
+        task = self.runner.task
+        named = world_of(task.worlds, self.config.world.randomization)
+        goal = task.goal(event.conditions, self.config.world)
         start = TrialStart(
             mode=event.mode,
             required_boxes=event.required_boxes,
@@ -216,6 +245,9 @@ class Recorder:
             round=event.round,
             level=event.level,
             trial_seed=event.trial_seed,
+            task=self.config.task.kind,
+            world=None if named == CUSTOM else named,
+            goal=dict(zip(task.goal_names, goal, strict=True)),
         )
         self._trial_id = self.store.start_trial(self.session_id, start)
         self._trial_index = event.trial_index
@@ -260,6 +292,8 @@ class Recorder:
                 completion_time_s=event.elapsed_s if event.outcome == "success" else None,
                 boxes_delivered=event.boxes_delivered,
                 score=event.score,
+                stage=self.runner.stage,
+                progress=self.runner.progress,
             ),
             thresholds=self.thresholds,  # metrics from the frames as stored
         )
@@ -320,6 +354,8 @@ class Recorder:
     def close(self, interrupted: bool) -> None:
         """Close the session (its trials have ended) and stop listening."""
         self._unsubscribe()
+        if self._judged in self.runner.on_judged:
+            self.runner.on_judged.remove(self._judged)
         if self.media is not None:
             self.media.close()
         if self.failure is not None:
