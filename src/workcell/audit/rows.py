@@ -18,6 +18,7 @@ from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.entries import FLAG_SEPARATOR
 from workcell.record.study_tags import StudyTags
 from workcell.session.config import RecordingConfig
+from workcell.tasks.registry import DEFAULT_TASK, recorded_kind
 
 
 def recorded_rate(parameters: Mapping[str, Any]) -> tuple[float, str | None]:
@@ -53,6 +54,9 @@ class SessionRow:
     """Which of the participant's planned sessions it was (None: not known)."""
     zone: Zone = field(default_factory=lambda: session_zone({}))
     """The delivery zone the session's world configures (trials may move its centre)."""
+    task: str = DEFAULT_TASK
+    """The ``task.kind`` the session's parameters name (box transfer before tasks had
+    names)."""
 
     @classmethod
     def parse(
@@ -87,6 +91,7 @@ class SessionRow:
             condition=tags.condition or "",
             study_step=tags.study_step,
             zone=session_zone(parameters),
+            task=recorded_kind(parameters),
         )
 
 
@@ -103,10 +108,16 @@ class TrialRow:
     outcome: str | None
     interruption_reason: str | None
     stored: Mapping[str, Any]
+    task: str | None = None
+    """The trial's task as recorded (schema version 5; None before it)."""
+    recorded_stage: str | None = None
+    """The furthest stage its task's judge said the trial reached (schema version 5; None
+    before it, and in a trial never closed)."""
 
     @classmethod
     def parse(cls, row: Mapping[str, Any]) -> TrialRow:
         stored = {name: row[name] for name in TRIAL_COLUMNS}
+        task, stage = row.get("task"), row.get("stage")
         return cls(
             session_id=stored["session_id"],
             trial_id=stored["trial_id"],
@@ -116,6 +127,8 @@ class TrialRow:
             outcome=stored["outcome"],
             interruption_reason=stored["interruption_reason"],
             stored=stored,
+            task=task if isinstance(task, str) and task else None,
+            recorded_stage=stage if isinstance(stage, str) and stage else None,
         )
 
     @property

@@ -148,12 +148,14 @@ def _outcomes_text(c: DispositionCounts) -> str:
     from workcell.audit.counts import counted  # noqa: PLC0415
 
     successes = counted(c.valid_successes, "success", "successes")
-    return f"{successes}, {counted(c.valid_timeouts, 'timeout')}"
+    failed = f", {c.valid_failures} failed" if c.valid_failures else ""
+    return f"{successes}, {counted(c.valid_timeouts, 'timeout')}{failed}"
 
 
 def _marked_text(counts: DispositionCounts) -> str:
     """Valid trials kept despite a flag (left out of ``export --audited``)."""
-    return f"{counts.marked_successes + counts.marked_timeouts} marked by a quality flag"
+    marked = counts.marked_successes + counts.marked_timeouts + counts.marked_failures
+    return f"{marked} marked by a quality flag"
 
 
 def _operator_lines(result: AuditResult) -> list[str]:

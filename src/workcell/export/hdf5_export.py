@@ -63,7 +63,16 @@ T = TypeVar("T", bound=np.generic)
 
 HDF5_NAME = "workcell.hdf5"
 PROVENANCE_NAME = "workcell_provenance"
-FILTERS: tuple[str, ...] = ("success", "timeout", "interrupted", "included", "excluded")
+FILTERS: tuple[str, ...] = (
+    "success",
+    "timeout",
+    "interrupted",
+    "failed",
+    "included",
+    "excluded",
+)
+"""robomimic filter masks: one per outcome (``failed`` since the task API), then the
+included and the excluded trials."""
 NEXT_OBS_CONVENTION = (
     "next_obs row t is obs row t+1; the last row repeats its own observation (robomimic's "
     "convention for recorded data)"
