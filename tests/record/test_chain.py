@@ -85,6 +85,29 @@ def test_an_edited_frame_with_every_checksum_recomputed_is_found(
     assert "the closed session is not what its end link committed to" in findings[1].problem
 
 
+@pytest.mark.parametrize(
+    "edit",
+    [
+        "UPDATE frames SET stage = 'delivered' WHERE trial_id = ? AND frame_index = 3",
+        "UPDATE frames SET progress = 1.0 WHERE trial_id = ? AND frame_index = 3",
+        "UPDATE trials SET stage = 'delivered' WHERE trial_id = ?",
+        "UPDATE trials SET goal_json = '{}' WHERE trial_id = ?",
+    ],
+)
+def test_an_edited_task_column_with_every_checksum_recomputed_is_found(
+    store: tuple[Path, dict[str, list[str]]], edit: str
+) -> None:
+    """The task columns (schema version 5) are chained as every other column is."""
+    path, ids = store
+    trial = ids["trials"][1]
+    with editing(path) as conn:
+        assert conn.execute(edit, (trial,)).rowcount == 1
+        recompute_checksums(conn)
+    findings = verify_store(path)
+    assert {f.table for f in findings} == {"chain"}
+    assert f"trial {trial} is not what its link committed to" in findings[0].problem
+
+
 def test_a_rebuilt_chain_is_found_by_the_key_and_by_a_manifest(
     store: tuple[Path, dict[str, list[str]]], tmp_path: Path
 ) -> None:

@@ -193,10 +193,14 @@ def _stages_of_group(group: GroupStats) -> str:
 
 
 def _stages_text(trials: Sequence[TrialAudit]) -> str:
-    from workcell.audit.stats import task_stages_of  # noqa: PLC0415
+    """The stages trials got to; per task where they ran several."""
+    from workcell.audit.task_funnel import task_funnels  # noqa: PLC0415
     from workcell.audit.task_stages import counts_text  # noqa: PLC0415
 
-    return counts_text(task_stages_of(trials))
+    funnels = task_funnels(trials)
+    if len(funnels) == 1:
+        return counts_text(funnels[0].ended_at)
+    return "; ".join(f"{f.task}: {counts_text(f.ended_at)}" for f in funnels)
 
 
 def _comparison_lines(result: AuditResult) -> list[str]:

@@ -18,7 +18,7 @@
                          (attribute camera_sources says which, and why)
         next_obs/<key>   for every obs/<key>: the observation of the next row (images
                          too, as robomimic stores them: twice the image data)
-    mask/<filter>        demo names: success, timeout, interrupted, included, excluded
+    mask/<filter>        demo names: success, timeout, interrupted, failed, included, excluded
     workcell_provenance  the export-level provenance document (JSON text; a dataset, as
                          it outgrows HDF5's 64 KiB attribute limit with many demos)
 
