@@ -41,3 +41,18 @@ class GivingUpTransfer(BoxTransfer):
 
     def new_trial(self, required: int) -> GivingUpJudge:  # type: ignore[override]
         return GivingUpJudge(required)
+
+
+class StrayJudge(GivingUpJudge):
+    def evaluate(self, world: World) -> Evaluation:
+        return replace(super().evaluate(world), stage="somewhere")
+
+
+class StrayStageTransfer(BoxTransfer):
+    """A task whose judge names a stage its task does not declare (a task's bug)."""
+
+    name: ClassVar[str] = "stray_stage_transfer"
+    summary: ClassVar[str] = "box transfer whose judge names a stage it does not have"
+
+    def new_trial(self, required: int) -> StrayJudge:  # type: ignore[override]
+        return StrayJudge(required)

@@ -102,3 +102,14 @@ def test_a_judge_that_says_failure_ends_the_trial_failed(
     with sqlite3.connect(challenge) as connection:
         rows = connection.execute("SELECT level, outcome FROM trials ORDER BY trial_index")
         assert rows.fetchall() == [(1, "failed")] * 3
+
+
+def test_a_judge_naming_a_stage_its_task_lacks_is_one_clear_error(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    store = tmp_path / "s.sqlite"
+    argv = ["collect", "--writer", "inline", "--store", str(store), "--mode", "practice"]
+    assert main([*argv, "--task", "tests.tasks.giving_up_task:StrayStageTransfer"]) != 0
+    error = capsys.readouterr().err
+    assert "the judge of task stray_stage_transfer says stage 'somewhere'" in error
+    assert "not one of its stages ('none', 'touched'" in error

@@ -298,6 +298,11 @@ class SessionRunner:
             return
         t = self.trial_time
         evaluation = self._judge.evaluate(self.sim.world)
+        if evaluation.stage not in self.task.stages:
+            raise SimulationError(
+                f"the judge of task {self.task.name} says stage {evaluation.stage!r}, which is "
+                f"not one of its stages {self.task.stages} (Task.stages)"
+            )
         self._stage = evaluation.stage
         self._progress = min(1.0, max(0.0, float(evaluation.progress)))
         for listener in self.on_judged:
