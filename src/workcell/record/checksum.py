@@ -131,11 +131,16 @@ def _appended_tails(
     for version, texts, count in appended:
         marker = appended_marker(version)
         block = reals[:, real_at : real_at + count]
-        held: NDArray[np.bool_] = np.any(~np.isnan(block), axis=1)
-        for i in range(n):
-            values = text[i][len(text[i]) + text_at : len(text[i]) + text_at + texts]
-            if held[i] or any(v is not None for v in values):
-                tails[i] += marker + _text_bytes(values) + block[i].tobytes()
+        held: list[bool] = np.any(~np.isnan(block), axis=1).tolist()
+        if texts:
+            for i, row in enumerate(text):
+                values = row[len(row) + text_at : len(row) + text_at + texts]
+                if held[i] or any(v is not None for v in values):
+                    tails[i] += marker + _text_bytes(values) + block[i].tobytes()
+        else:
+            for i in range(n):
+                if held[i]:
+                    tails[i] += marker + block[i].tobytes()
         text_at += texts
         real_at += count
     return tails

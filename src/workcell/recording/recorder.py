@@ -2,10 +2,14 @@
 
 It subscribes to the session runner's events and samples a frame at the configured rate on
 the sim clock (exactly: the world calls it at the due physics step), stamping wall time
-too. A sample only copies numbers (:mod:`workcell.recording.frame_capture`); frames are
-handed to the store in batches covering at most 0.25 s of sim time, so a killed process
-loses at most that much. At each trial's end the store computes the metrics of
-docs/architecture.md from the frames as stored and closes the trial. A storage failure
+too. A sample only copies numbers (:mod:`workcell.recording.frame_capture`), with the
+task's judgement of that frame instant (the runner judges after the world's step and tells
+the recorder, :attr:`SessionRunner.on_judged`); frames are handed to the store in batches
+covering at most 0.25 s of sim time (a batch goes once its last frame is judged, or before
+the next frame for a frame the runner does not judge), so a killed process loses at most
+about that much. Each trial row records its task, named world and goal at its start, and
+the judge's last stage and progress at its end. At each trial's end the store computes the
+metrics of docs/architecture.md from the frames as stored and closes the trial. A storage failure
 stops recording, is kept in :attr:`Recorder.failure`, and the caller interrupts the session
 (``storage_error``) at the trial time the store closed the running trial with
 (:attr:`Recorder.stored_end`), so that what the operator is told is what the store says. A
