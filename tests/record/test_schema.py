@@ -292,6 +292,11 @@ def test_a_version_4_store_is_migrated_with_every_row_checksum_and_link_kept(
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
     assert f"migrated: {path} from schema version 4 to 5" in capsys.readouterr().out
     conn = sqlite3.connect(path)
+    Store.open(tmp_path / "fresh.db", writer=True).close()
+    fresh = sqlite3.connect(tmp_path / "fresh.db")
+    for table in ("trials", "frames"):  # as a new store has them (merge copies rows by *)
+        assert _columns(conn, table) == _columns(fresh, table), table
+    fresh.close()
     assert _every_row(conn) == before  # every row, checksum and chain link as it was
     assert len(before["frames"]) == 38 and len(before["trials"]) == len(ids["trials"])
     assert dict(conn.execute("SELECT key, value FROM meta WHERE key LIKE 'chain_tip_%'")) == tip
