@@ -52,11 +52,11 @@ class SessionRow:
     """The session's study condition (setting ``condition``; empty: none)."""
     study_step: int | None = None
     """Which of the participant's planned sessions it was (None: not known)."""
-    zone: Zone = field(default_factory=lambda: session_zone({}))
-    """The delivery zone the session's world configures (trials may move its centre)."""
     task: str = DEFAULT_TASK
     """The ``task.kind`` the session's parameters name (box transfer before tasks had
     names)."""
+    zone: Zone = field(default_factory=lambda: session_zone({}))
+    """The delivery zone the session's world configures (trials may move its centre)."""
 
     @classmethod
     def parse(
@@ -90,8 +90,8 @@ class SessionRow:
             notes=tuple(notes),
             condition=tags.condition or "",
             study_step=tags.study_step,
-            zone=session_zone(parameters),
             task=recorded_kind(parameters),
+            zone=session_zone(parameters),
         )
 
 
