@@ -9,7 +9,10 @@ import json
 import sqlite3
 from pathlib import Path
 
+from workcell.audit.task_stages import FRAMES_TASK, TASK_STAGES, session_task
 from workcell.cli.main import main
+from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.registry import recorded_kind
 
 
 def _audit(store: Path, out: Path) -> tuple[list[dict[str, str]], dict[str, object]]:
@@ -57,3 +60,16 @@ def test_recorded_stages_are_read_recomputed_for_older_trials_and_cross_checked(
     assert finding["message"] == (
         f"recorded stage none (its judge's), but its frames say {recorded}"
     )
+
+
+def test_the_audit_names_box_transfer_and_reads_a_sessions_task_as_the_registry_does() -> None:
+    assert BoxTransfer.name == FRAMES_TASK and BoxTransfer.stages == TASK_STAGES
+    cases: tuple[dict[str, object], ...] = (
+        {},
+        {"task": {"kind": "examples.lift_box:LiftBox"}},
+        {"task": {}},
+        {"task": "box_transfer"},
+        {"task": {"kind": "box_transfer", "mode": "practice"}},
+    )
+    for parameters in cases:
+        assert session_task(parameters) == recorded_kind(parameters)

@@ -8,9 +8,8 @@ from collections.abc import Sequence
 from workcell.audit.html_parts import esc, table
 from workcell.audit.stats import GroupStats
 from workcell.audit.task_funnel import TaskFunnel, task_funnels
-from workcell.audit.task_stages import LIFT_M, TASK_STAGES_VERSION, at_least
+from workcell.audit.task_stages import FRAMES_TASK, LIFT_M, TASK_STAGES_VERSION, at_least
 from workcell.audit.trial_audit import TrialAudit
-from workcell.tasks.registry import DEFAULT_TASK
 
 BOX_TRANSFER_STAGES = (
     f"(definition v{TASK_STAGES_VERSION}): a gripper touched a box, both pads closed on it, "
@@ -36,7 +35,7 @@ def _funnel(funnel: TaskFunnel, titled: bool) -> str:
     header = ("trials", "n", *(s.replace("_", " ") for s in stages[1:]))
     what = (
         BOX_TRANSFER_STAGES
-        if funnel.task == DEFAULT_TASK
+        if funnel.task == FRAMES_TASK
         else "as the task's judge said (its stages: "
         + ", ".join(esc(s) for s in stages)
         + ("" if funnel.loaded else "; the task could not be loaded here, so in the order seen")
@@ -61,5 +60,5 @@ def stages_section(trials: Sequence[TrialAudit], operators: Sequence[GroupStats]
     is kept for the caller; each task's operators are its own trials')."""
     del operators
     funnels = task_funnels(trials)
-    titled = len(funnels) > 1 or any(f.task != DEFAULT_TASK for f in funnels)
+    titled = len(funnels) > 1 or any(f.task != FRAMES_TASK for f in funnels)
     return "<h3>How far trials got</h3>" + "".join(_funnel(f, titled) for f in funnels)

@@ -11,14 +11,13 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from workcell.audit.task_stages import Zone, session_zone
+from workcell.audit.task_stages import FRAMES_TASK, Zone, session_task, session_zone
 from workcell.errors import ConfigError
 from workcell.metrics import MetricThresholds
 from workcell.record.columns import TRIAL_COLUMNS
 from workcell.record.entries import FLAG_SEPARATOR
 from workcell.record.study_tags import StudyTags
 from workcell.session.config import RecordingConfig
-from workcell.tasks.registry import DEFAULT_TASK, recorded_kind
 
 
 def recorded_rate(parameters: Mapping[str, Any]) -> tuple[float, str | None]:
@@ -52,7 +51,7 @@ class SessionRow:
     """The session's study condition (setting ``condition``; empty: none)."""
     study_step: int | None = None
     """Which of the participant's planned sessions it was (None: not known)."""
-    task: str = DEFAULT_TASK
+    task: str = FRAMES_TASK
     """The ``task.kind`` the session's parameters name (box transfer before tasks had
     names)."""
     zone: Zone = field(default_factory=lambda: session_zone({}))
@@ -90,7 +89,7 @@ class SessionRow:
             notes=tuple(notes),
             condition=tags.condition or "",
             study_step=tags.study_step,
-            task=recorded_kind(parameters),
+            task=session_task(parameters),
             zone=session_zone(parameters),
         )
 

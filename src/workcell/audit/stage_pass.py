@@ -15,11 +15,16 @@ from collections.abc import Sequence
 from dataclasses import replace
 
 from workcell.audit.source import AuditSource
-from workcell.audit.task_stages import NO_STAGE_FRAMES, TaskStage, stage_reached, trial_zone
+from workcell.audit.task_stages import (
+    FRAMES_TASK,
+    NO_STAGE_FRAMES,
+    TaskStage,
+    stage_reached,
+    trial_zone,
+)
 from workcell.audit.trial_audit import TrialAudit
-from workcell.tasks.registry import DEFAULT_TASK
 
-FRAMES_DEFINE = DEFAULT_TASK
+FRAMES_DEFINE = FRAMES_TASK
 """The task whose stages the frames define (:mod:`workcell.audit.task_stages`)."""
 
 

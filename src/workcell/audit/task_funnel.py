@@ -5,6 +5,8 @@ own); each task names its stages in order (:attr:`workcell.tasks.Task.stages`), 
 audit shows one funnel per task. A task is loaded by its recorded name
 (:func:`workcell.tasks.registry.task_class`); one that cannot be loaded here (its module
 is not importable) is shown with the stages its trials recorded, in the order first seen.
+Box transfer's stages are read without loading the task (an audit of box transfer loads no
+physics); another task's module is imported.
 """
 
 from __future__ import annotations
@@ -13,15 +15,18 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
 
-from workcell.audit.task_stages import stage_counts
+from workcell.audit.task_stages import FRAMES_TASK, TASK_STAGES, stage_counts
 from workcell.audit.trial_audit import TrialAudit
 from workcell.errors import ConfigError
-from workcell.tasks.registry import task_class
 
 
 @cache
 def declared_stages(kind: str) -> tuple[str, ...] | None:
     """The stages the task ``kind`` declares, in order; None when it cannot be loaded."""
+    if kind == FRAMES_TASK:
+        return TASK_STAGES
+    from workcell.tasks.registry import task_class  # noqa: PLC0415 (loads the task's physics)
+
     try:
         return tuple(task_class(kind).stages)
     except ConfigError:

@@ -39,6 +39,20 @@ __all__ = [
     "stage_reached",
 ]
 
+FRAMES_TASK = "box_transfer"
+"""The task whose stages the frames define here (``BoxTransfer.name``; named, not imported,
+so that an audit loads no physics)."""
+
+
+def session_task(parameters: Mapping[str, Any]) -> str:
+    """The ``task.kind`` a session's ``parameters`` name, read as
+    :func:`workcell.tasks.registry.recorded_kind` reads it (box transfer for a store written
+    before sessions named their task), without loading any task."""
+    task = parameters.get("task")
+    kind = task.get("kind", FRAMES_TASK) if isinstance(task, Mapping) else FRAMES_TASK
+    return str(kind)
+
+
 STAGE_COLUMNS: tuple[str, ...] = ("frame_index", "contact_l", "contact_r", "attached", "boxes")
 """The frame columns the stage is read from."""
 SIGNALS_SQL = (
