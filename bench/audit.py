@@ -68,7 +68,9 @@ def synthetic_frames(rng: np.random.Generator, n: int, oscillate: bool) -> dict[
     t = np.arange(n) / RATE_HZ
     s = t / t[-1]
     cols: dict[str, Any] = {
-        c: np.zeros(n) for c in FRAME_COLUMNS if c not in ("session_id", "trial_id", "boxes")
+        c: np.zeros(n)
+        for c in FRAME_COLUMNS
+        if c not in ("session_id", "trial_id", "boxes", "stage")
     }
     cols.pop("frame_index")
     cols["t_sim"] = t

@@ -45,7 +45,7 @@ def frames(n: int, seed: int) -> dict[str, NDArray[Any]]:
     s = t / max(t[-1], 1e-9)
     out: dict[str, NDArray[Any]] = {}
     for name in FRAME_COLUMNS:
-        if name not in ("session_id", "trial_id", "frame_index", "boxes"):
+        if name not in ("session_id", "trial_id", "frame_index", "boxes", "stage"):
             out[name] = np.zeros(n)
     out["t_sim"] = t
     out["t_wall"] = T_WALL_0 + seed * 1000.0 + t * 0.98

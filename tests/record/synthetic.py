@@ -7,7 +7,9 @@ wrote and compare it with what the store holds.
 from __future__ import annotations
 
 import json
+import sqlite3
 from collections.abc import Mapping
+from dataclasses import replace
 from pathlib import Path
 from typing import Any
 
@@ -16,8 +18,13 @@ from numpy.typing import NDArray
 
 from workcell.record import SessionInfo, Store, StoredMetrics, TrialEnd, TrialStart
 from workcell.record.batch import RowBatch, frames_from_columns
-from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_COLUMNS, FRAME_DEVICE_COLUMNS
-from workcell.record.schema import FRAME_INTEGER_COLUMNS, FRAMES
+from workcell.record.columns import (
+    FILTERED_POSE_COLUMNS,
+    FRAME_COLUMNS,
+    FRAME_DEVICE_COLUMNS,
+    FRAME_TASK_COLUMNS,
+)
+from workcell.record.schema import FRAME_INTEGER_COLUMNS, FRAMES, TRIALS
 
 RATE_HZ = 20.0
 T_WALL_0 = 1_750_000_000.0
@@ -25,8 +32,9 @@ SPEEDUP = 30.0
 N_BOXES = 3
 _ID_COLUMNS = ("session_id", "trial_id")
 _REAL_COLUMNS = tuple(
-    c for c in FRAME_COLUMNS if c not in (*_ID_COLUMNS, "boxes", *FRAME_INTEGER_COLUMNS)
+    c for c in FRAME_COLUMNS if c not in (*_ID_COLUMNS, "boxes", "stage", *FRAME_INTEGER_COLUMNS)
 )
+STAGES = ("none", "touched", "grasped", "lifted", "over_zone", "delivered")
 
 
 def session_info(seed: int = 7) -> SessionInfo:
@@ -41,8 +49,29 @@ def session_info(seed: int = 7) -> SessionInfo:
     )
 
 
-def trial_start(seed: int = 0) -> TrialStart:
-    return TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0, trial_seed=seed)
+def trial_start(seed: int = 0, *, task: bool = False) -> TrialStart:
+    """A trial's start; with ``task``, its task columns (as schema version 5 writes them)."""
+    if not task:
+        return TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0, trial_seed=seed)
+    return TrialStart(
+        mode="collection",
+        required_boxes=1,
+        time_limit_s=120.0,
+        trial_seed=seed,
+        task="box_transfer",
+        world="D1",
+        goal={"goal_x": 1.5 + 0.01 * seed, "goal_y": -0.25},
+    )
+
+
+def drop_appended(conn: sqlite3.Connection, since: int) -> None:
+    """Drop the columns schema version ``since`` and later appended (what an older store
+    did not have)."""
+    for layout in (TRIALS, FRAMES):
+        for group in layout.added:
+            if group.version >= since:
+                for name in group.names:
+                    conn.execute(f'ALTER TABLE {layout.name} DROP COLUMN "{name}"')
 
 
 def trial_end(n_frames: int) -> TrialEnd:
@@ -57,9 +86,12 @@ def trial_end(n_frames: int) -> TrialEnd:
     )
 
 
-def frames(start: int, n: int, seed: int = 0, *, filtered: bool = True) -> dict[str, NDArray[Any]]:
+def frames(
+    start: int, n: int, seed: int = 0, *, filtered: bool = True, task: bool | None = None
+) -> dict[str, NDArray[Any]]:
     """Frames ``start .. start+n-1`` as columns (without the id columns); without the
-    filtered poses (as schema version 2 wrote frames) unless ``filtered``."""
+    filtered poses (as schema version 2 wrote frames) unless ``filtered``, without the task
+    columns (as version 4 and older wrote them) unless ``task`` (default: ``filtered``)."""
     index = np.arange(start, start + n)
     columns: dict[str, NDArray[Any]] = {"frame_index": index}
     values = np.stack([np.random.default_rng([seed, int(i)]).normal(size=64) for i in index])
@@ -85,17 +117,20 @@ def frames(start: int, n: int, seed: int = 0, *, filtered: bool = True) -> dict[
         ],
         dtype=object,
     )
-    left_out = () if filtered else FILTERED_POSE_COLUMNS
+    columns["stage"] = np.array([STAGES[i % len(STAGES)] for i in index], dtype=object)
+    columns["progress"] = (index % 5) / 4.0
+    task = filtered if task is None else task
+    left_out = (() if filtered else FILTERED_POSE_COLUMNS) + (() if task else FRAME_TASK_COLUMNS)
     return {
         name: columns[name] for name in FRAME_COLUMNS if name in columns and name not in left_out
     }
 
 
 def frame_rows(
-    start: int, n: int, seed: int = 0, *, filtered: bool = True
+    start: int, n: int, seed: int = 0, *, filtered: bool = True, task: bool | None = None
 ) -> list[dict[str, object]]:
     """The same frames as one mapping per frame, with NULL device state as None."""
-    columns = frames(start, n, seed, filtered=filtered)
+    columns = frames(start, n, seed, filtered=filtered, task=task)
     rows: list[dict[str, object]] = []
     for i in range(n):
         row: dict[str, object] = {}
@@ -118,9 +153,13 @@ def batch(
     return frames_from_columns(frames, session_id, trial_id, next_index)
 
 
-def fill_store(path: Path, *, filtered: bool = True) -> dict[str, list[str]]:
+def fill_store(
+    path: Path, *, filtered: bool = True, task: bool | None = None
+) -> dict[str, list[str]]:
     """A closed store: two sessions, trials of every kind of end, events, an annotation;
-    frames without filtered poses (as schema version 2 wrote them) unless ``filtered``.
+    frames without filtered poses (as schema version 2 wrote them) unless ``filtered``;
+    trials and frames without task columns (as version 4 and older wrote them) unless
+    ``task`` (default: ``filtered``).
 
     Returns the ids: ``sessions`` and ``trials`` in creation order.
     """
@@ -131,22 +170,24 @@ def fill_store(path: Path, *, filtered: bool = True) -> dict[str, list[str]]:
             ids["sessions"].append(session_id)
             store.add_event(session_id, "session_start", {"operator": "expert"})
             for k, n in enumerate((12, 7)):
-                trial_id = store.start_trial(session_id, trial_start(seed=10 * s + k))
+                task = filtered if task is None else task
+                start = trial_start(seed=10 * s + k, task=task)
+                trial_id = store.start_trial(session_id, start)
                 ids["trials"].append(trial_id)
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
                 seed = 10 * s + k
-                first = frames(0, 5, seed, filtered=filtered)
-                rest = frame_rows(5, n - 5, seed, filtered=filtered)
+                first = frames(0, 5, seed, filtered=filtered, task=task)
+                rest = frame_rows(5, n - 5, seed, filtered=filtered, task=task)
                 store.add_frames(trial_id, batch(store, trial_id, first))
                 store.add_frames(trial_id, batch(store, trial_id, rest))
                 store.commit()
                 store.add_event(
                     session_id, "delivery", {"box": 0}, trial_id=trial_id, t_sim=n / RATE_HZ
                 )
-                if k == 0:
-                    store.end_trial(trial_id, trial_end(n))
-                else:
-                    store.end_trial(trial_id, interrupted_end(n))
+                end = trial_end(n) if k == 0 else interrupted_end(n)
+                if task:
+                    end = replace(end, stage=STAGES[-1 - k], progress=1.0 - k)
+                store.end_trial(trial_id, end)
             store.end_session(session_id)
         store.annotate(ids["trials"][0], "exclude", "operator distracted", "reviewer@lab")
     return ids

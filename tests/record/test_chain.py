@@ -20,8 +20,11 @@ from workcell.record.verify import IntegrityFinding, verify_store
 KEY = ChainKey(b"k" * 32)
 
 
-def signed_store(path: Path, key: ChainKey | None = KEY) -> dict[str, list[str]]:
-    """synthetic.fill_store's two sessions, recorded with ``key``."""
+def signed_store(
+    path: Path, key: ChainKey | None = KEY, *, task: bool = True
+) -> dict[str, list[str]]:
+    """synthetic.fill_store's two sessions, recorded with ``key`` (frames without task
+    columns, as schema version 4 and older wrote them, unless ``task``)."""
     ids: dict[str, list[str]] = {"sessions": [], "trials": []}
     with Store.open(path, writer=True, key=key) as store:
         for s in range(2):
@@ -34,7 +37,9 @@ def signed_store(path: Path, key: ChainKey | None = KEY) -> dict[str, list[str]]
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
                 store.add_frames(
                     trial_id,
-                    synthetic.batch(store, trial_id, synthetic.frames(0, n, seed=10 * s + k)),
+                    synthetic.batch(
+                        store, trial_id, synthetic.frames(0, n, seed=10 * s + k, task=task)
+                    ),
                 )
                 store.commit()
                 store.add_event(session_id, "level_changed", {"level": k + 1})
@@ -78,6 +83,29 @@ def test_an_edited_frame_with_every_checksum_recomputed_is_found(
     assert {f.table for f in findings} == {"chain"}  # every checksum agrees; the chain not
     assert f"trial {trial} is not what its link committed to" in findings[0].problem
     assert "the closed session is not what its end link committed to" in findings[1].problem
+
+
+@pytest.mark.parametrize(
+    "edit",
+    [
+        "UPDATE frames SET stage = 'delivered' WHERE trial_id = ? AND frame_index = 3",
+        "UPDATE frames SET progress = 1.0 WHERE trial_id = ? AND frame_index = 3",
+        "UPDATE trials SET stage = 'delivered' WHERE trial_id = ?",
+        "UPDATE trials SET goal_json = '{}' WHERE trial_id = ?",
+    ],
+)
+def test_an_edited_task_column_with_every_checksum_recomputed_is_found(
+    store: tuple[Path, dict[str, list[str]]], edit: str
+) -> None:
+    """The task columns (schema version 5) are chained as every other column is."""
+    path, ids = store
+    trial = ids["trials"][1]
+    with editing(path) as conn:
+        assert conn.execute(edit, (trial,)).rowcount == 1
+        recompute_checksums(conn)
+    findings = verify_store(path)
+    assert {f.table for f in findings} == {"chain"}
+    assert f"trial {trial} is not what its link committed to" in findings[0].problem
 
 
 def test_a_rebuilt_chain_is_found_by_the_key_and_by_a_manifest(

@@ -8,7 +8,7 @@ import numpy as np
 
 from tests.record import synthetic
 from workcell.record.batch import RowBatch
-from workcell.record.columns import FILTERED_POSE_COLUMNS
+from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_TASK_COLUMNS, TRIAL_TASK_COLUMNS
 from workcell.record.schema import FRAMES, TRIALS, TableLayout
 
 
@@ -50,7 +50,7 @@ def test_tables_do_not_share_checksums() -> None:
 def test_appended_columns_count_only_where_a_row_holds_them() -> None:
     # frame 4 of seed 0 has device state (frames 0, 3, 6 ... have none)
     fixed = {"session_id": "s", "trial_id": "t"}
-    row = synthetic.frame_rows(4, 1)[0]
+    row = synthetic.frame_rows(4, 1, task=False)[0]
     without = {k: v for k, v in row.items() if k not in FILTERED_POSE_COLUMNS}
     v2_form = RowBatch.from_mappings(VERSION_2_FRAMES, [without], fixed).checksums()[0]
     absent = RowBatch.from_mappings(FRAMES, [without], fixed).checksums()[0]
@@ -63,9 +63,61 @@ def test_appended_columns_count_only_where_a_row_holds_them() -> None:
     assert len({held, one_changed, only_one, v2_form}) == 4
 
 
+def test_the_task_columns_count_only_where_a_row_holds_them() -> None:
+    fixed = {"session_id": "s", "trial_id": "t"}
+    row = synthetic.frame_rows(4, 1)[0]  # every column, the task's stage and progress too
+    old = {k: v for k, v in row.items() if k not in FRAME_TASK_COLUMNS}
+    version_4 = RowBatch.from_mappings(VERSION_4_FRAMES, [old], fixed).checksums()[0]
+    absent = RowBatch.from_mappings(FRAMES, [old], fixed).checksums()[0]
+    nulls = {"stage": None, "progress": None}
+    assert (
+        absent
+        == version_4
+        == RowBatch.from_mappings(FRAMES, [{**old, **nulls}], fixed).checksums()[0]
+    )
+    sums = {
+        RowBatch.from_mappings(FRAMES, [{**old, **task}], fixed).checksums()[0]
+        for task in (
+            {"stage": "lifted", "progress": 0.0},
+            {"stage": "lifted", "progress": None},
+            {"stage": None, "progress": 0.0},
+            {"stage": "grasped", "progress": 0.0},
+            {"stage": "lifted", "progress": 0.5},
+        )
+    }
+    assert len(sums | {version_4}) == 6
+    # the versions' columns never pass for one another: no filtered poses, a stage held
+    no_poses = {**old, **dict.fromkeys(FILTERED_POSE_COLUMNS), "stage": "lifted"}
+    assert RowBatch.from_mappings(FRAMES, [no_poses], fixed).checksums()[0] not in sums
+
+
+def test_the_trials_task_columns_count_only_where_a_row_holds_them() -> None:
+    row: dict[str, object] = dict.fromkeys(TRIALS.names)
+    row |= {"session_id": "s", "trial_id": "t", "trial_index": 0, "mode": "collection"}
+    row |= {"required_boxes": 1, "time_limit_s": 60.0, "started_wall": 1.0}
+    version_4 = TableLayout(
+        "trials",
+        tuple(c for c in TRIALS.columns if c.name not in TRIAL_TASK_COLUMNS),
+        TRIALS.key,
+    )
+    old = {k: v for k, v in row.items() if k not in TRIAL_TASK_COLUMNS}
+    before = RowBatch.from_mappings(version_4, [old]).checksums()[0]
+    assert RowBatch.from_mappings(TRIALS, [row]).checksums()[0] == before
+    held = RowBatch.from_mappings(TRIALS, [{**row, "task": "box_transfer"}]).checksums()[0]
+    world = RowBatch.from_mappings(TRIALS, [{**row, "world": "box_transfer"}]).checksums()[0]
+    assert len({before, held, world}) == 3
+
+
 VERSION_2_FRAMES = TableLayout(
     "frames",
     tuple(c for c in FRAMES.columns if c.name not in FRAMES.appended),
     FRAMES.key,
 )
 """The frames table as schema version 2 had it."""
+VERSION_4_FRAMES = TableLayout(
+    "frames",
+    tuple(c for c in FRAMES.columns if c.name not in FRAME_TASK_COLUMNS),
+    FRAMES.key,
+    added=FRAMES.added[:1],
+)
+"""The frames table as schema version 4 had it."""

@@ -67,6 +67,8 @@ def test_sigkill_at_random_moments_loses_no_committed_frame(tmp_path: Path) -> N
             n = _assert_committed_frames_intact(store, trial.trial_id, at_least=last)
             assert trial.n_frames == n
             assert trial.elapsed_s == pytest.approx((n - 1) / synthetic.RATE_HZ)
+            last_frame = synthetic.frame_rows(n - 1, 1, seed=3)[0]
+            assert (trial.stage, trial.progress) == (last_frame["stage"], last_frame["progress"])
             assert store.sessions()[0].status == "recovered"
             assert [e.kind for e in store.events(trial.trial_id)] == ["interruption"]
         assert verify_store(path) == [], path

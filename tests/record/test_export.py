@@ -21,8 +21,10 @@ from workcell.record.columns import (
     FILTERED_POSE_COLUMNS,
     FRAME_COLUMNS,
     FRAME_CONTRACT_COLUMNS,
+    FRAME_TASK_COLUMNS,
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
+    TRIAL_TASK_COLUMNS,
 )
 from workcell.record.csv_format import FILES, file_sha256
 from workcell.record.export_csv import columns_equal, export_csv, read_csv_export
@@ -52,7 +54,8 @@ def test_files_have_exactly_the_contract_columns(exported: tuple[Path, Path]) ->
     assert _header(out / "frames.csv")[: len(FRAME_CONTRACT_COLUMNS)] == list(
         FRAME_CONTRACT_COLUMNS
     )
-    assert _header(out / "trials.csv") == list(TRIAL_COLUMNS)
+    assert _header(out / "trials.csv") == [*TRIAL_COLUMNS, *TRIAL_TASK_COLUMNS]
+    assert _header(out / "frames.csv")[-2:] == list(FRAME_TASK_COLUMNS)
     assert _header(out / "sessions.csv") == list(SESSION_COLUMNS)
     assert _header(out / "events.csv") == list(EVENT_COLUMNS)
     assert verify_export(out) == []
@@ -96,7 +99,7 @@ def test_manifest_records_parameters_and_checksums(exported: tuple[Path, Path]) 
         assert entry["metric_definitions"] == session.metric_definitions
     assert manifest["files"]["frames.csv"]["rows"] == n_frames
     assert all(len(f["sha256"]) == 64 for f in manifest["files"].values())
-    assert manifest["columns"]["trials.csv"] == list(TRIAL_COLUMNS)
+    assert manifest["columns"]["trials.csv"] == [*TRIAL_COLUMNS, *TRIAL_TASK_COLUMNS]
 
 
 @pytest.mark.parametrize("name", ["frames.csv", "trials.csv", "sessions.csv"])
@@ -146,16 +149,18 @@ def test_an_export_made_before_the_filtered_poses_still_reads(exported: tuple[Pa
     frames = out / "frames.csv"
     with frames.open(newline="") as file:
         rows = list(csv.reader(file))
-    keep = len(FRAME_COLUMNS) - len(FILTERED_POSE_COLUMNS)
-    assert rows[0][keep:] == list(FILTERED_POSE_COLUMNS)
+    keep = len(FRAME_COLUMNS) - len(FILTERED_POSE_COLUMNS) - len(FRAME_TASK_COLUMNS)
+    assert rows[0][keep:] == [*FILTERED_POSE_COLUMNS, *FRAME_TASK_COLUMNS]
     with frames.open("w", newline="") as file:
         csv.writer(file).writerows(row[:keep] for row in rows)
+    _cut(out, "trials.csv", len(TRIAL_COLUMNS))
     manifest = json.loads((out / "manifest.json").read_text())
     manifest["files"]["frames.csv"]["sha256"] = file_sha256(frames)
     (out / "manifest.json").write_text(json.dumps(manifest))
     assert verify_export(out) == []
     back = read_csv_export(out).tables["frames.csv"]
     assert all(np.isnan(back[name]).all() for name in FILTERED_POSE_COLUMNS)
+    assert all(value is None for value in back["stage"])
     with Store.open(store, writer=False) as reader:
         trial = reader.trials()[0]
         recorded = reader.frames(trial.trial_id)
@@ -171,3 +176,40 @@ def test_an_export_made_before_the_filtered_poses_still_reads(exported: tuple[Pa
         csv.writer(file).writerows(row[: keep - 1] for row in rows)
     with pytest.raises(ExportError, match="header is not the contract's columns"):
         read_csv_export(out)
+
+
+def _cut(out: Path, name: str, keep: int) -> None:
+    """Keep the first ``keep`` columns of the export's file ``name`` (as an older version
+    wrote it), its sha256 in the manifest rewritten to fit."""
+    path = out / name
+    with path.open(newline="") as file:
+        rows = list(csv.reader(file))
+    with path.open("w", newline="") as file:
+        csv.writer(file, lineterminator="\n").writerows(row[:keep] for row in rows)
+    manifest = json.loads((out / "manifest.json").read_text())
+    manifest["files"][name]["sha256"] = file_sha256(path)
+    (out / "manifest.json").write_text(json.dumps(manifest))
+
+
+def test_an_export_made_before_the_task_columns_still_reads(exported: tuple[Path, Path]) -> None:
+    """A version-4 export has no task columns in trials.csv and frames.csv: it reads, with
+    those columns NULL, and verifies against its own manifest; this version's export holds
+    them."""
+    store, out = exported
+    whole = read_csv_export(out).tables
+    with Store.open(store, writer=False) as reader:
+        trials = {t.trial_id: t for t in reader.trials()}
+    for i, trial_id in enumerate(whole["trials.csv"]["trial_id"]):
+        trial = trials[trial_id]
+        assert whole["trials.csv"]["task"][i] == trial.task == "box_transfer"
+        assert whole["trials.csv"]["stage"][i] == trial.stage
+        assert json.loads(whole["trials.csv"]["goal_json"][i]) == trial.goal
+    assert set(whole["frames.csv"]["stage"]) == set(synthetic.STAGES)
+    _cut(out, "trials.csv", len(TRIAL_COLUMNS))
+    _cut(out, "frames.csv", len(FRAME_COLUMNS) - len(FRAME_TASK_COLUMNS))
+    assert verify_export(out) == []
+    back = read_csv_export(out).tables
+    assert all(value is None for value in back["trials.csv"]["task"])
+    assert np.isnan(back["frames.csv"]["progress"]).all()
+    for column in FRAME_COLUMNS[: -len(FRAME_TASK_COLUMNS)]:
+        assert columns_equal(back["frames.csv"][column], whole["frames.csv"][column]), column

@@ -1,10 +1,11 @@
-"""Schema version 4: tables, column names, ids, migrating versions 1, 2 and 3, and refusing
+"""Schema version 5: tables, column names, ids, migrating versions 1 to 4, and refusing
 what is not a readable store."""
 
 from __future__ import annotations
 
 import re
 import sqlite3
+from dataclasses import replace
 from pathlib import Path
 
 import pytest
@@ -14,8 +15,14 @@ from tests.record import synthetic
 from workcell.cli.main import main
 from workcell.record import RecordError, Store, StoreError, rowio
 from workcell.record.chain_tip import store_root
-from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_COLUMNS, TRIAL_COLUMNS
-from workcell.record.schema import APPLICATION_ID, FRAMES, SCHEMA_VERSION, SESSIONS
+from workcell.record.columns import (
+    FILTERED_POSE_COLUMNS,
+    FRAME_COLUMNS,
+    FRAME_TASK_COLUMNS,
+    TRIAL_COLUMNS,
+    TRIAL_TASK_COLUMNS,
+)
+from workcell.record.schema import APPLICATION_ID, SCHEMA_VERSION, SESSIONS
 from workcell.record.verify import verify_store, verify_store_report
 
 
@@ -23,15 +30,15 @@ def _columns(conn: sqlite3.Connection, table: str) -> list[str]:
     return [row[1] for row in conn.execute(f"PRAGMA table_info({table})")]
 
 
-def test_new_store_has_the_version_4_schema(tmp_path: Path) -> None:
+def test_new_store_has_the_version_5_schema(tmp_path: Path) -> None:
     path = tmp_path / "s.db"
     synthetic.fill_store(path)
     conn = sqlite3.connect(path)
-    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 4
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 5
     assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
     assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     meta = dict(conn.execute("SELECT key, value FROM meta"))
-    assert meta["schema_version"] == "4"
+    assert meta["schema_version"] == "5"
     assert meta["software_version"]
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
     assert {"meta", "sessions", "trials", "events", "frames", "annotations", "chain"} <= tables
@@ -42,12 +49,18 @@ def test_new_store_has_the_version_4_schema(tmp_path: Path) -> None:
     newest = conn.execute("SELECT head FROM chain ORDER BY rowid DESC LIMIT 1").fetchone()
     assert (first[0], meta["chain_tip_head"], meta["chain_tip_links"]) == (own, newest[0], "8")
     # the contract's names, in the contract's order, first
-    assert _columns(conn, "frames")[: len(FRAME_COLUMNS) - 21] == list(FRAME_COLUMNS[:-21])
+    assert _columns(conn, "frames")[: len(FRAME_COLUMNS) - 23] == list(FRAME_COLUMNS[:-23])
     assert _columns(conn, "trials")[: len(TRIAL_COLUMNS)] == list(TRIAL_COLUMNS)
-    for table in ("sessions", "trials", "events", "annotations"):
+    for table in ("sessions", "events", "annotations"):
         assert _columns(conn, table)[-1] == "checksum"
-    # version 3's filtered poses come after the checksum, as ALTER TABLE appends them
-    assert _columns(conn, "frames")[-22:] == ["checksum", *FILTERED_POSE_COLUMNS]
+    # version 3's filtered poses, then version 5's task columns come after the checksum,
+    # as ALTER TABLE appends them
+    assert _columns(conn, "frames")[-24:] == [
+        "checksum",
+        *FILTERED_POSE_COLUMNS,
+        *FRAME_TASK_COLUMNS,
+    ]
+    assert _columns(conn, "trials")[-6:] == ["checksum", *TRIAL_TASK_COLUMNS]
     children = {
         table: {row[2] for row in conn.execute(f"PRAGMA foreign_key_list({table})")}
         for table in ("trials", "events", "frames", "annotations")
@@ -151,8 +164,7 @@ def _as_version_1(path: Path) -> None:
     conn.execute("BEGIN")
     conn.execute("DROP TABLE chain")
     _without_tip_and_roots(conn)
-    for name in FRAMES.appended:
-        conn.execute(f'ALTER TABLE frames DROP COLUMN "{name}"')
+    synthetic.drop_appended(conn, 3)
     conn.execute("UPDATE meta SET value = '1' WHERE key = 'schema_version'")
     for (session_id,) in conn.execute("SELECT session_id FROM sessions").fetchall():
         rowio.update(conn, SESSIONS, {"session_id": session_id}, {"schema_version": 1})
@@ -170,20 +182,20 @@ def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
     with pytest.raises(StoreError) as refused:
         Store.open(path, writer=False)
     message = str(refused.value)
-    assert "schema version 1" in message and "migrating it to version 4" in message
+    assert "schema version 1" in message and "migrating it to version 5" in message
     assert f"workcell verify --recover --store {path}" in message
     with pytest.raises(StoreError, match="schema version 1"):
         verify_store(path)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
     out = capsys.readouterr().out
-    assert f"migrated: {path} from schema version 1 to 4" in out
+    assert f"migrated: {path} from schema version 1 to 5" in out
     assert "2 sessions were chained when the store was migrated" in out
     with Store.open(path, writer=True) as store:
         meta = store.meta()
         sessions = store.sessions()
         links = store.chain()
         counts = store.counts()
-    assert meta["schema_version"] == "4" and "migrated_wall" in meta
+    assert meta["schema_version"] == "5" and "migrated_wall" in meta
     assert [s.schema_version for s in sessions] == [1, 1]  # as they were recorded
     assert counts.trials == len(ids["trials"]) and counts.frames == 38  # every row kept
     assert len(links) == 8 and all(link.signature is None for link in links)
@@ -199,8 +211,7 @@ def _as_version_2(path: Path) -> None:
     conn = sqlite3.connect(path, isolation_level=None)
     conn.execute("BEGIN")
     _without_tip_and_roots(conn)
-    for name in FRAMES.appended:
-        conn.execute(f'ALTER TABLE frames DROP COLUMN "{name}"')
+    synthetic.drop_appended(conn, 3)
     conn.execute("UPDATE meta SET value = '2' WHERE key = 'schema_version'")
     conn.execute("PRAGMA user_version = 2")
     conn.execute("COMMIT")
@@ -219,11 +230,11 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     before = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     heads = conn.execute("SELECT head FROM chain ORDER BY session_id, position").fetchall()
     conn.close()
-    with pytest.raises(StoreError, match="migrating it to version 4") as refused:
+    with pytest.raises(StoreError, match="migrating it to version 5") as refused:
         Store.open(path, writer=False)
     assert "from before the frames' filtered poses" in str(refused.value)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
-    assert f"migrated: {path} from schema version 2 to 4" in capsys.readouterr().out
+    assert f"migrated: {path} from schema version 2 to 5" in capsys.readouterr().out
     conn = sqlite3.connect(path)
     after = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     assert after == before and len(after) == 38
@@ -235,5 +246,99 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     assert findings == []
     assert stats.migrated_sessions == 0  # the chains were not recomputed: nothing to qualify
     with Store.open(path, writer=True) as store:
-        assert store.meta()["schema_version"] == "4" and "migrated_wall" not in store.meta()
+        assert store.meta()["schema_version"] == "5" and "migrated_wall" not in store.meta()
         assert [s.schema_version for s in store.sessions()] == [2, 2]
+
+
+def _as_version_4(path: Path) -> None:
+    """Turn a store recorded without task columns (see the test) into what schema version 4
+    wrote: no task columns in the trials and frames, version 4 in the pragma and meta."""
+    conn = sqlite3.connect(path, isolation_level=None)
+    conn.execute("BEGIN")
+    synthetic.drop_appended(conn, 5)
+    conn.execute("UPDATE meta SET value = '4' WHERE key = 'schema_version'")
+    conn.execute("PRAGMA user_version = 4")
+    conn.execute("COMMIT")
+    conn.close()
+
+
+def _every_row(conn: sqlite3.Connection) -> dict[str, list[tuple[object, ...]]]:
+    """Every table's rows as version 4 had them (its columns, checksums included)."""
+    tables = ("sessions", "trials", "events", "frames", "annotations", "chain", "chain_roots")
+    out = {}
+    for table in tables:
+        names = [n for n in _columns(conn, table) if n not in (*TRIAL_TASK_COLUMNS, "stage")]
+        names = [n for n in names if n not in FRAME_TASK_COLUMNS]
+        quoted = ", ".join(f'"{n}"' for n in names)
+        out[table] = conn.execute(f"SELECT {quoted} FROM {table} ORDER BY rowid").fetchall()
+    return out
+
+
+def test_a_version_4_store_is_migrated_with_every_row_checksum_and_link_kept(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "v4.db"
+    with monkeypatch.context() as recorded_by_version_4:
+        recorded_by_version_4.setattr(workcell.record.store, "SCHEMA_VERSION", 4)
+        ids = synthetic.fill_store(path, task=False)
+    _as_version_4(path)
+    conn = sqlite3.connect(path)
+    before = _every_row(conn)
+    tip = dict(conn.execute("SELECT key, value FROM meta WHERE key LIKE 'chain_tip_%'"))
+    conn.close()
+    with pytest.raises(StoreError, match="migrating it to version 5") as refused:
+        Store.open(path, writer=False)
+    assert "from before the trials' and frames' task columns" in str(refused.value)
+    assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
+    assert f"migrated: {path} from schema version 4 to 5" in capsys.readouterr().out
+    conn = sqlite3.connect(path)
+    Store.open(tmp_path / "fresh.db", writer=True).close()
+    fresh = sqlite3.connect(tmp_path / "fresh.db")
+    for table in ("trials", "frames"):  # as a new store has them (merge copies rows by *)
+        assert _columns(conn, table) == _columns(fresh, table), table
+    fresh.close()
+    assert _every_row(conn) == before  # every row, checksum and chain link as it was
+    assert len(before["frames"]) == 38 and len(before["trials"]) == len(ids["trials"])
+    assert dict(conn.execute("SELECT key, value FROM meta WHERE key LIKE 'chain_tip_%'")) == tip
+    nulls = conn.execute("SELECT task, world, stage, progress, goal_json FROM trials").fetchall()
+    assert nulls == [(None,) * 5] * 4
+    assert conn.execute("SELECT count(*) FROM frames WHERE stage IS NULL").fetchone() == (38,)
+    conn.close()
+    findings, stats = verify_store_report(path)
+    assert findings == [] and stats.migrated_sessions == 0
+    # the migrated store takes trials with task columns, and verifies
+    with Store.open(path, writer=True) as store:
+        assert store.meta()["schema_version"] == "5"
+        session_id = store.create_session(synthetic.session_info(seed=9))
+        trial_id = store.start_trial(session_id, synthetic.trial_start(seed=3, task=True))
+        store.add_frames(trial_id, synthetic.batch(store, trial_id, synthetic.frames(0, 6)))
+        end = synthetic.trial_end(6)
+        store.end_trial(trial_id, replace(end, stage="over_zone", progress=0.0))
+        store.end_session(session_id)
+        old, new = store.trials(ids["sessions"][0])[0], store.trials(session_id)[0]
+    assert (old.task, old.world, old.stage, old.progress, old.goal) == (None,) * 5
+    assert (new.task, new.world, new.stage, new.progress) == (
+        "box_transfer",
+        "D1",
+        "over_zone",
+        0.0,
+    )
+    assert new.goal == {"goal_x": 1.53, "goal_y": -0.25}
+    assert verify_store(path) == []
+
+
+def test_the_task_columns_are_covered_by_the_row_checksums(tmp_path: Path) -> None:
+    path = tmp_path / "s.db"
+    synthetic.fill_store(path)
+    assert verify_store(path) == []
+    conn = sqlite3.connect(path, isolation_level=None)
+    stages = conn.execute("SELECT DISTINCT stage FROM frames").fetchall()
+    assert len(stages) == len(synthetic.STAGES)
+    conn.execute("UPDATE frames SET stage = 'delivered' WHERE frame_index = 2")
+    conn.execute("UPDATE trials SET goal_json = '{\"goal_x\":0}' WHERE trial_index = 1")
+    conn.close()
+    findings = verify_store(path)
+    assert {(f.table, f.problem.split(":")[0]) for f in findings if "checksum" in f.problem} >= {
+        ("frames", "checksum mismatch"),
+        ("trials", "checksum mismatch"),
+    }, [str(f) for f in findings]

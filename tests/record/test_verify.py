@@ -138,7 +138,7 @@ def test_backward_time_and_bad_vocabulary_are_named(
     assert (f"trial {trial} frame 5", "t_sim does not increase") in problems
     assert (
         f"trial {trial}",
-        "outcome 'crashed' is not one of ('success', 'timeout', 'interrupted')",
+        "outcome 'crashed' is not one of ('success', 'timeout', 'interrupted', 'failed')",
     ) in problems
 
 

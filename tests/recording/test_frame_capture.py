@@ -153,7 +153,7 @@ def test_bulk_formatting_equals_one_frame_at_a_time() -> None:
         assert dict(zip(INTEGER_COLUMNS[1:], batch.integer[i][1:], strict=True)) == {
             name: single[name] for name in INTEGER_COLUMNS[1:]
         }
-        assert batch.text[i] == ("session", "trial", single["boxes"])
+        assert batch.text[i] == ("session", "trial", single["boxes"], single["stage"])
     np.testing.assert_array_equal(real_matrix(frames), batch.real)
     # the box texts kept between frames are those a fresh formatter writes
     assert FrameFormatter().boxes_json(frames) == [t[2] for t in batch.text]

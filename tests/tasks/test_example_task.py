@@ -8,6 +8,7 @@ import json
 from pathlib import Path
 
 import pytest
+from examples.lift_box.task import LiftBox
 
 from workcell.cli.main import main
 
@@ -29,6 +30,16 @@ def test_the_example_task_is_collected_audited_and_exported(
     with (tmp_path / "audit" / "trials.csv").open() as file:
         audited = list(csv.DictReader(file))
     assert [t["outcome"] for t in audited] == ["success", "success"]
+    # its trials are read among its own stages, as its judge recorded them
+    assert [t["stage_reached"] for t in audited] == ["held_up", "held_up"]
+    summary = json.loads((tmp_path / "audit" / "summary.json").read_text())
+    funnel = summary["task_stages"]["by_task"][LIFT]
+    assert funnel["stages"] == list(LiftBox.stages)
+    assert funnel["ended_at"] == {"none": 0, "touched": 0, "grasped": 0, "lifted": 0, "held_up": 2}
+    assert funnel["reached"]["lifted"] == 2 and funnel["unknown"] == 0
+    report = (tmp_path / "audit" / "report.html").read_text()
+    assert "<h4>examples.lift_box:LiftBox</h4>" in report and "held up" in report
+    assert "delivered" not in report.split("How far trials got")[1].split("</table>")[0]
     out = tmp_path / "lerobot"
     assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
     info = json.loads((out / "meta" / "info.json").read_text())

@@ -11,6 +11,7 @@ from workcell.audit.disposition import (
     EXCLUDED_BY_REVIEWER,
     EXCLUDED_INCOMPLETE,
     EXCLUDED_LOW_QUALITY,
+    VALID_FAILED,
     VALID_SUCCESS,
     VALID_TIMEOUT,
 )
@@ -22,7 +23,9 @@ class DispositionCounts:
     """raw -> incomplete | complete (successes + timeouts) -> low quality | reviewer
     excluded -> valid (successes + timeouts). ``*_causes`` count the short reasons;
     ``marked_*`` count valid trials kept despite a flag; ``included_by_reviewer`` valid
-    trials the automatic rules had excluded."""
+    trials the automatic rules had excluded. ``*_failures`` count the trials whose task's
+    judge said they could no longer succeed (outcome ``failed``), kept apart from the
+    timeouts (added after the paper's Fig. 4, which knows only timeouts)."""
 
     raw: int
     incomplete: int
@@ -39,6 +42,9 @@ class DispositionCounts:
     valid_timeouts: int
     marked_successes: int
     marked_timeouts: int
+    complete_failures: int = 0
+    valid_failures: int = 0
+    marked_failures: int = 0
 
     @classmethod
     def of(cls, trials: Sequence[TrialAudit]) -> DispositionCounts:
@@ -67,6 +73,9 @@ class DispositionCounts:
             valid_timeouts=stage[VALID_TIMEOUT],
             marked_successes=sum(t.disposition.marked for t in valid if t.row.outcome == "success"),
             marked_timeouts=sum(t.disposition.marked for t in valid if t.row.outcome == "timeout"),
+            complete_failures=sum(t.row.outcome == "failed" for t in complete),
+            valid_failures=stage[VALID_FAILED],
+            marked_failures=sum(t.disposition.marked for t in valid if t.row.outcome == "failed"),
         )
 
 

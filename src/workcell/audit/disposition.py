@@ -4,8 +4,9 @@ Automatic rules, in order:
 1. a trial without a complete outcome (``interrupted``, or never closed) is excluded as
    incomplete;
 2. a success with a disqualifying quality flag is excluded as low quality;
-3. every other success and every timeout is valid; a valid trial with any flag is
-   *marked* (a flagged timeout is kept as a genuine failure, paper §IV-B).
+3. every other success and every timeout or failure (a trial its task's judge said could
+   no longer succeed) is valid; a valid trial with any flag is *marked* (a flagged
+   timeout or failure is kept as a genuine failure, paper §IV-B).
 
 A reviewer's latest ``include`` or ``exclude`` annotation of a trial overrides rules 2 and
 3 and is shown as the reviewer's decision. Exclusion reasons are worded as everywhere else
@@ -22,6 +23,7 @@ from dataclasses import dataclass, replace
 
 from workcell.audit.flags import Flag
 from workcell.audit.rows import TrialRow
+from workcell.record.columns import COMPLETE_OUTCOMES
 from workcell.record.entries import AnnotationRecord
 from workcell.record.inclusion import incomplete_reason, reviewer_reason
 
@@ -30,13 +32,21 @@ EXCLUDED_LOW_QUALITY = "excluded_low_quality"
 EXCLUDED_BY_REVIEWER = "excluded_by_reviewer"
 VALID_SUCCESS = "valid_success"
 VALID_TIMEOUT = "valid_timeout"
+VALID_FAILED = "valid_failed"
 STAGES: tuple[str, ...] = (
     EXCLUDED_INCOMPLETE,
     EXCLUDED_LOW_QUALITY,
     EXCLUDED_BY_REVIEWER,
     VALID_SUCCESS,
     VALID_TIMEOUT,
+    VALID_FAILED,
 )
+VALID_STAGES: dict[str, str] = {
+    "success": VALID_SUCCESS,
+    "timeout": VALID_TIMEOUT,
+    "failed": VALID_FAILED,
+}
+"""The stage of a valid trial, by its outcome (every complete outcome)."""
 """Every final disposition of a trial."""
 
 DECISIONS = ("include", "exclude")
@@ -75,7 +85,7 @@ def latest_decisions(annotations: Iterable[AnnotationRecord]) -> dict[str, Annot
 
 def _automatic(row: TrialRow, flags: Sequence[Flag]) -> tuple[str, str | None, str | None]:
     """(stage, exclusion reason, cause) by rules 1-3."""
-    if row.outcome not in ("success", "timeout"):
+    if row.outcome not in COMPLETE_OUTCOMES:
         cause = row.interruption_reason or "never_closed"
         return EXCLUDED_INCOMPLETE, incomplete_reason(row.outcome, row.interruption_reason), cause
     if row.outcome == "success":
@@ -84,13 +94,13 @@ def _automatic(row: TrialRow, flags: Sequence[Flag]) -> tuple[str, str | None, s
             cause = ", ".join(bad)
             return EXCLUDED_LOW_QUALITY, f"low quality: {cause}", cause
         return VALID_SUCCESS, None, None
-    return VALID_TIMEOUT, None, None
+    return VALID_STAGES[row.outcome], None, None
 
 
 def decide(row: TrialRow, flags: Sequence[Flag], review: AnnotationRecord | None) -> Disposition:
     """The disposition of one trial given its flags and its latest reviewer decision."""
     stage, reason, cause = _automatic(row, flags)
-    valid = stage in (VALID_SUCCESS, VALID_TIMEOUT)
+    valid = stage in VALID_STAGES.values()
     auto = Disposition(
         stage=stage,
         included=valid,
@@ -121,7 +131,7 @@ def decide(row: TrialRow, flags: Sequence[Flag], review: AnnotationRecord | None
         )
     return replace(
         auto,
-        stage=VALID_SUCCESS if row.outcome == "success" else VALID_TIMEOUT,
+        stage=VALID_STAGES[row.outcome or "timeout"],
         included=True,
         exclusion_reason=None,
         cause="reviewer",

@@ -4,11 +4,13 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from workcell.audit.stage_pass import stage_disagrees
 from workcell.audit.trial_audit import TrialAudit
 
 METRIC_MISMATCH = "metric_mismatch"
 QUALITY_FLAG = "quality_flag"
 REVIEW = "review"
+STAGE_MISMATCH = "stage_mismatch"
 SESSION = "session"
 SOURCE = "source"
 
@@ -25,9 +27,16 @@ class Finding:
 
 
 def trial_findings(audit: TrialAudit) -> list[Finding]:
-    """Mismatches, flags and review notes of one audited trial, in that order."""
+    """Mismatches (of metrics, then of the stage), flags and review notes of one audited
+    trial, in that order."""
     ids = {"trial_id": audit.trial_id, "session_id": audit.row.session_id}
     found = [Finding(METRIC_MISMATCH, m.metric, m.describe(), **ids) for m in audit.mismatches]
+    if stage_disagrees(audit):
+        message = (
+            f"recorded stage {audit.row.recorded_stage} (its judge's), but its frames say "
+            f"{audit.recomputed_stage}"
+        )
+        found.append(Finding(STAGE_MISMATCH, "task_stage", message, **ids))
     for flag in audit.flags:
         effect = "disqualifying" if flag.disqualifying else "marked only"
         found.append(Finding(QUALITY_FLAG, flag.name, f"{flag.detail} [{effect}]", **ids))

@@ -27,6 +27,11 @@ SAMPLING: tuple[tuple[str, str, int], ...] = (
 MAX_FINDINGS_SHOWN = 2000
 
 
+def _failures(n: int) -> str:
+    """``, 2 failed``: trials their task's judge failed, where there are any."""
+    return f", {n} failed" if n else ""
+
+
 def counts_table(c: DispositionCounts) -> str:
     def causes(d: dict[str, int]) -> str:
         return ", ".join(f"{k}: {v}" for k, v in d.items()) or DASH
@@ -37,16 +42,23 @@ def counts_table(c: DispositionCounts) -> str:
         (
             "complete",
             c.complete,
-            f"{c.complete_successes} successes, {c.complete_timeouts} timeouts",
+            f"{c.complete_successes} successes, {c.complete_timeouts} timeouts"
+            + _failures(c.complete_failures),
         ),
         ("excluded: low-quality success", c.excluded_low_quality, causes(c.low_quality_causes)),
         ("excluded by reviewer", c.excluded_by_reviewer, ""),
         ("included by reviewer against a rule", c.included_by_reviewer, ""),
-        ("valid", c.valid, f"{c.valid_successes} successes, {c.valid_timeouts} timeouts"),
+        (
+            "valid",
+            c.valid,
+            f"{c.valid_successes} successes, {c.valid_timeouts} timeouts"
+            + _failures(c.valid_failures),
+        ),
         (
             "valid, flagged and marked",
-            c.marked_successes + c.marked_timeouts,
-            f"{c.marked_successes} successes, {c.marked_timeouts} timeouts",
+            c.marked_successes + c.marked_timeouts + c.marked_failures,
+            f"{c.marked_successes} successes, {c.marked_timeouts} timeouts"
+            + _failures(c.marked_failures),
         ),
     ]
     return table(("stage", "trials", "detail"), rows)

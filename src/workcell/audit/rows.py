@@ -11,7 +11,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 from typing import Any
 
-from workcell.audit.task_stages import Zone, session_zone
+from workcell.audit.task_stages import FRAMES_TASK, Zone, session_task, session_zone
 from workcell.errors import ConfigError
 from workcell.metrics import MetricThresholds
 from workcell.record.columns import TRIAL_COLUMNS
@@ -51,6 +51,9 @@ class SessionRow:
     """The session's study condition (setting ``condition``; empty: none)."""
     study_step: int | None = None
     """Which of the participant's planned sessions it was (None: not known)."""
+    task: str = FRAMES_TASK
+    """The ``task.kind`` the session's parameters name (box transfer before tasks had
+    names)."""
     zone: Zone = field(default_factory=lambda: session_zone({}))
     """The delivery zone the session's world configures (trials may move its centre)."""
     seed: int | None = None
@@ -91,6 +94,7 @@ class SessionRow:
             notes=tuple(notes),
             condition=tags.condition or "",
             study_step=tags.study_step,
+            task=session_task(parameters),
             zone=session_zone(parameters),
             seed=None if row.get("seed") is None else int(row["seed"]),
             status=str(row.get("status") or ""),
@@ -110,10 +114,16 @@ class TrialRow:
     outcome: str | None
     interruption_reason: str | None
     stored: Mapping[str, Any]
+    task: str | None = None
+    """The trial's task as recorded (schema version 5; None before it)."""
+    recorded_stage: str | None = None
+    """The furthest stage its task's judge said the trial reached (schema version 5; None
+    before it, and in a trial never closed)."""
 
     @classmethod
     def parse(cls, row: Mapping[str, Any]) -> TrialRow:
         stored = {name: row[name] for name in TRIAL_COLUMNS}
+        task, stage = row.get("task"), row.get("stage")
         return cls(
             session_id=stored["session_id"],
             trial_id=stored["trial_id"],
@@ -123,6 +133,8 @@ class TrialRow:
             outcome=stored["outcome"],
             interruption_reason=stored["interruption_reason"],
             stored=stored,
+            task=task if isinstance(task, str) and task else None,
+            recorded_stage=stage if isinstance(stage, str) and stage else None,
         )
 
     @property

@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from workcell.audit.counts import DispositionCounts
-from workcell.audit.task_stages import TaskStage, stage_counts
+from workcell.audit.task_funnel import trial_stage_counts
 from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import Descriptive, describe, wilson_interval
 
@@ -76,7 +76,7 @@ class GroupStats:
     counts: DispositionCounts
     rate: SuccessRate
     metrics: dict[str, Descriptive]
-    task_stages: dict[TaskStage, int]
+    task_stages: dict[str, int]
     """How many of the group's trials got to each stage and no further (all trials)."""
 
     @classmethod
@@ -90,9 +90,9 @@ class GroupStats:
         )
 
 
-def task_stages_of(trials: Sequence[TrialAudit]) -> dict[TaskStage, int]:
+def task_stages_of(trials: Sequence[TrialAudit]) -> dict[str, int]:
     """How many trials got to each stage and no further (trials not read count nowhere)."""
-    return stage_counts(t.task_stage for t in trials if t.task_stage is not None)
+    return trial_stage_counts(trials)  # in their task's order
 
 
 GROUP_KEYS: dict[str, Callable[[TrialAudit], str]] = {

@@ -31,7 +31,8 @@ from workcell.audit.stats import (
     task_stages_of,
 )
 from workcell.audit.study_progress import StudyProgress
-from workcell.audit.task_stages import TASK_STAGES_VERSION, TaskStage, at_least
+from workcell.audit.task_funnel import task_funnels
+from workcell.audit.task_stages import TASK_STAGES_VERSION, at_least
 from workcell.metrics import METRIC_DEFINITIONS, METRICS_VERSION, Descriptive
 
 FORMAT = "workcell-audit-summary"
@@ -66,7 +67,7 @@ def _group(group: GroupStats) -> dict[str, Any]:
     }
 
 
-def _stages(counts: dict[TaskStage, int]) -> dict[str, Any]:
+def _stages(counts: dict[str, int]) -> dict[str, Any]:
     """Trials per stage they got to and no further, and per stage they got to or beyond."""
     return {"ended_at": counts, "reached": at_least(counts)}
 
@@ -195,6 +196,10 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
         "task_stages": {
             "definition_version": TASK_STAGES_VERSION,
             **_stages(task_stages_of(trials)),
+            "by_task": {
+                f.task: {"stages": list(f.stages), "unknown": f.unknown, **_stages(f.ended_at)}
+                for f in task_funnels(trials)
+            },
         },
         "flags": {
             name: {"trials": flagged[name], "valid_trials": flagged_valid[name]}

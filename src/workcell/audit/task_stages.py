@@ -39,6 +39,20 @@ __all__ = [
     "stage_reached",
 ]
 
+FRAMES_TASK = "box_transfer"
+"""The task whose stages the frames define here (``BoxTransfer.name``; named, not imported,
+so that an audit loads no physics)."""
+
+
+def session_task(parameters: Mapping[str, Any]) -> str:
+    """The ``task.kind`` a session's ``parameters`` name, read as
+    :func:`workcell.tasks.registry.recorded_kind` reads it (box transfer for a store written
+    before sessions named their task), without loading any task."""
+    task = parameters.get("task")
+    kind = task.get("kind", FRAMES_TASK) if isinstance(task, Mapping) else FRAMES_TASK
+    return str(kind)
+
+
 STAGE_COLUMNS: tuple[str, ...] = ("frame_index", "contact_l", "contact_r", "attached", "boxes")
 """The frame columns the stage is read from."""
 SIGNALS_SQL = (
@@ -202,27 +216,29 @@ def stage_reached(frames: StageFrames, zone: Zone, boxes_delivered: int | None) 
     return tracker.stage(boxes_delivered)
 
 
-def stage_counts(stages: Iterable[TaskStage]) -> dict[TaskStage, int]:
-    """How many trials ended at each stage, every stage named (in order)."""
-    counts: dict[TaskStage, int] = dict.fromkeys(TASK_STAGES, 0)
+def stage_counts(stages: Iterable[str], order: Sequence[str] = TASK_STAGES) -> dict[str, int]:
+    """How many trials ended at each stage, every stage of ``order`` (a task's stages,
+    box transfer's by default) named in that order; a stage outside it follows them."""
+    counts: dict[str, int] = dict.fromkeys(order, 0)
     for stage in stages:
-        counts[stage] += 1
+        counts[stage] = counts.get(stage, 0) + 1
     return counts
 
 
-def counts_text(counts: Mapping[TaskStage, int] | Mapping[str, int]) -> str:
+def counts_text(counts: Mapping[str, int]) -> str:
     """The stages trials ended at, furthest first, none left out but zeros:
     ``18 delivered, 2 over_zone``."""
     parts = [f"{n} {stage}" for stage, n in reversed(list(counts.items())) if n]
     return ", ".join(parts) or "no trials"
 
 
-def at_least(counts: Mapping[TaskStage, int]) -> dict[TaskStage, int]:
-    """How many trials reached each stage or a later one (a trial that delivered also
-    touched, grasped, lifted and was over the zone)."""
+def at_least(counts: Mapping[str, int]) -> dict[str, int]:
+    """How many trials reached each stage or a later one, the stages in ``counts``'s
+    order (:func:`stage_counts`: a trial that delivered also touched, grasped, lifted and
+    was over the zone)."""
     total = 0
-    out: dict[TaskStage, int] = {}
-    for stage in reversed(TASK_STAGES):
-        total += counts.get(stage, 0)
+    out: dict[str, int] = {}
+    for stage in reversed(list(counts)):
+        total += counts[stage]
         out[stage] = total
-    return {stage: out[stage] for stage in TASK_STAGES}
+    return {stage: out[stage] for stage in counts}

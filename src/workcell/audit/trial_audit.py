@@ -29,13 +29,22 @@ class TrialAudit:
     flags: tuple[Flag, ...]
     mismatches: tuple[Mismatch, ...]
     disposition: Disposition
-    task_stage: TaskStage | None = None
-    """How far the trial got (:mod:`workcell.audit.task_stages`); None until read from the
-    frames, after every trial is audited."""
+    task_stage: str | None = None
+    """How far the trial got, one of its task's stages (:mod:`workcell.audit.stage_pass`):
+    as recorded, or for a box-transfer trial recorded before stages were read from the
+    frames; None until read (after every trial is audited) or where nothing says."""
+    recomputed_stage: TaskStage | None = None
+    """For a box-transfer trial whose stage was recorded: the stage its frames say (the
+    cross-check), where they were read."""
 
     @property
     def trial_id(self) -> str:
         return self.row.trial_id
+
+    @property
+    def task(self) -> str:
+        """The trial's task (``task.kind``): as its row records it, else its session's."""
+        return self.row.task or self.session.task
 
     @property
     def valid_success(self) -> bool:

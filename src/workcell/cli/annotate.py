@@ -62,6 +62,7 @@ def _find(trials: list[TrialRecord], given: str) -> TrialRecord:
 
 
 def run(args: argparse.Namespace) -> int:
+    from workcell.record.columns import COMPLETE_OUTCOMES  # noqa: PLC0415
     from workcell.record.store import Store  # noqa: PLC0415
 
     problems = [
@@ -80,7 +81,7 @@ def run(args: argparse.Namespace) -> int:
                 file=sys.stderr,
             )
         trial = _find(store.trials(), args.trial)
-        if args.kind == "include" and trial.outcome not in ("success", "timeout"):
+        if args.kind == "include" and trial.outcome not in COMPLETE_OUTCOMES:
             raise ConfigError(
                 [
                     f"--include: trial {trial.trial_id} is {trial.outcome or 'still open'}; an "

@@ -165,12 +165,14 @@ def _outcomes_text(c: DispositionCounts) -> str:
     from workcell.audit.counts import counted  # noqa: PLC0415
 
     successes = counted(c.valid_successes, "success", "successes")
-    return f"{successes}, {counted(c.valid_timeouts, 'timeout')}"
+    failed = f", {c.valid_failures} failed" if c.valid_failures else ""
+    return f"{successes}, {counted(c.valid_timeouts, 'timeout')}{failed}"
 
 
 def _marked_text(counts: DispositionCounts) -> str:
     """Valid trials kept despite a flag (left out of ``export --audited``)."""
-    return f"{counts.marked_successes + counts.marked_timeouts} marked by a quality flag"
+    marked = counts.marked_successes + counts.marked_timeouts + counts.marked_failures
+    return f"{marked} marked by a quality flag"
 
 
 def _operator_lines(result: AuditResult) -> list[str]:
@@ -208,10 +210,14 @@ def _stages_of_group(group: GroupStats) -> str:
 
 
 def _stages_text(trials: Sequence[TrialAudit]) -> str:
-    from workcell.audit.stats import task_stages_of  # noqa: PLC0415
+    """The stages trials got to; per task where they ran several."""
+    from workcell.audit.task_funnel import task_funnels  # noqa: PLC0415
     from workcell.audit.task_stages import counts_text  # noqa: PLC0415
 
-    return counts_text(task_stages_of(trials))
+    funnels = task_funnels(trials)
+    if len(funnels) == 1:
+        return counts_text(funnels[0].ended_at)
+    return "; ".join(f"{f.task}: {counts_text(f.ended_at)}" for f in funnels)
 
 
 def _comparison_lines(result: AuditResult) -> list[str]:

@@ -135,7 +135,8 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
             reward = float(runner.judge.done - done)
         outcome = runner.results[-1].outcome if runner.results else None
         observation = self._observations.observe(self._actions.command)
-        return observation, reward, outcome == "success", outcome == "timeout", self._info()
+        terminated = outcome in ("success", "failed")  # the task ended it: success or failure
+        return observation, reward, terminated, outcome == "timeout", self._info()
 
     def render(self) -> NDArray[np.uint8] | None:
         if self.render_mode != "rgb_array":

@@ -10,7 +10,7 @@ Row ``t`` is recorded frame ``t`` (``frame_index`` equals the store's, ``timesta
 - **next.reward** is 1.0 for each box delivered at that frame (the frame at which a box's
   state became ``delivered``), else 0. A successful one-box trial has exactly one reward,
   on its last row.
-- **next.done** is true on the last row of every episode (success, timeout or
+- **next.done** is true on the last row of every episode (success, failure, timeout or
   interruption); **next.success** is true on the last row of a successful trial.
 """
 
@@ -35,7 +35,9 @@ CONVENTIONS: dict[str, str] = {
     "action": "row t holds the command given after observing frame t (recorded with frame "
     "t+1); the last row repeats its own recorded command",
     "next.reward": "1.0 per box delivered at that frame (its state became delivered), else 0",
-    "next.done": "true on the last row of every episode (success, timeout or interruption)",
+    "next.done": (
+        "true on the last row of every episode (success, failure, timeout or interruption)"
+    ),
     "next.success": "true on the last row of a successful trial",
     "timestamp": "frame_index / fps, seconds from the trial start (t_sim)",
     "observation.state": "TCP quaternions (w, x, y, z) continuous: each frame's sign agrees "

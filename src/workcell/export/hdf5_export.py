@@ -18,7 +18,7 @@
                          (attribute camera_sources says which, and why)
         next_obs/<key>   for every obs/<key>: the observation of the next row (images
                          too, as robomimic stores them: twice the image data)
-    mask/<filter>        demo names: success, timeout, interrupted, included, excluded
+    mask/<filter>        demo names: success, timeout, interrupted, failed, included, excluded
     workcell_provenance  the export-level provenance document (JSON text; a dataset, as
                          it outgrows HDF5's 64 KiB attribute limit with many demos)
 
@@ -63,7 +63,16 @@ T = TypeVar("T", bound=np.generic)
 
 HDF5_NAME = "workcell.hdf5"
 PROVENANCE_NAME = "workcell_provenance"
-FILTERS: tuple[str, ...] = ("success", "timeout", "interrupted", "included", "excluded")
+FILTERS: tuple[str, ...] = (
+    "success",
+    "timeout",
+    "interrupted",
+    "failed",
+    "included",
+    "excluded",
+)
+"""robomimic filter masks: one per outcome (``failed`` since the task API), then the
+included and the excluded trials."""
 NEXT_OBS_CONVENTION = (
     "next_obs row t is obs row t+1; the last row repeats its own observation (robomimic's "
     "convention for recorded data)"

@@ -95,7 +95,10 @@ class RowBatch:
             try:
                 text.append(
                     tuple(
-                        as_text(fixed[n] if n in fixed else row[n], f"{table}.{n}")
+                        as_text(
+                            fixed[n] if n in fixed else row.get(n) if n in optional else row[n],
+                            f"{table}.{n}",
+                        )
                         for n in text_names
                     )
                 )
@@ -125,6 +128,8 @@ class RowBatch:
                 if given is not None and any(v != fixed[name] for v in given):
                     raise RecordError(f"{table}.{name}: every value must be {fixed[name]!r}")
                 text_cols.append([fixed[name]] * n)
+            elif name not in columns and name in layout.appended:
+                text_cols.append([None] * n)
             else:
                 text_cols.append([as_text(v, f"{table}.{name}") for v in columns[name]])
         int_cols = [
@@ -176,7 +181,7 @@ class RowBatch:
             self.real,
             ints.reshape(n, k),
             null.reshape(n, k),
-            appended=len(self.layout.appended),
+            appended=self.layout.appended_counts,
         )
 
     def sql_rows(self, checksums: Sequence[str]) -> list[tuple[object, ...]]:

@@ -11,11 +11,13 @@ real, then integer columns, each group in table order):
   on zero);
 - each integer value as int64, little-endian (NULL as 0), then one byte per integer
   column: 1 where the value is NULL, 0 otherwise;
-- a table's appended columns (real columns a later schema version added, see
-  :class:`~workcell.record.schema.TableLayout`) are left out of the real values above and
-  follow at the end, only where the row holds one of them: the marker
-  ``b"\0appended\0"``, then their values as reals. A row that holds none of them (every
-  row written before they existed) has the form it had before.
+- a table's appended columns (text and real columns later schema versions added, see
+  :class:`~workcell.record.schema.TableLayout`) are left out of the values above and
+  follow at the end, version by version (oldest first), each version's only where the row
+  holds one of its columns: the version's marker (``b"\0appended\0"`` for version 3, the
+  first to append, ``b"\0appended v<N>\0"`` for a later version N), then its text values
+  as above, then its real values as above. A row that holds none of a version's columns
+  (every row written before they existed) has the form it had before.
 
 This is exact for every value SQLite stores, so a checksum recomputed from a row read back
 equals the one computed before the write. Aggregates hash the hex checksums of children in
@@ -32,7 +34,30 @@ from numpy.typing import NDArray
 
 NULL_TEXT = b"\xff\xff\xff\xff"
 APPENDED = b"\0appended\0"
-"""Marks the start of a row's appended columns in its canonical form."""
+"""Marks the start of a row's columns appended by schema version 3 in its canonical form."""
+FIRST_APPENDING_VERSION = 3
+
+
+def appended_marker(version: int) -> bytes:
+    """Marks the start of a row's columns appended by schema ``version``."""
+    return APPENDED if version == FIRST_APPENDING_VERSION else f"\0appended v{version}\0".encode()
+
+
+AppendedCounts = Sequence[tuple[int, int, int]]
+"""Per schema version that appended columns, oldest first: (version, text columns, real
+columns)."""
+
+
+def _text_bytes(values: Iterable[str | None]) -> bytes:
+    out = bytearray()
+    for value in values:
+        if value is None:
+            out += NULL_TEXT
+        else:
+            encoded = value.encode()
+            out += len(encoded).to_bytes(4, "little")
+            out += encoded
+    return bytes(out)
 
 
 def canonical_reals(real: NDArray[np.float64]) -> NDArray[np.float64]:
@@ -49,22 +74,24 @@ def row_checksums(
     integer: NDArray[np.int64],
     integer_null: NDArray[np.bool_],
     *,
-    appended: int = 0,
+    appended: AppendedCounts = (),
 ) -> list[str]:
     """Hex sha256 of each row's canonical form (see the module docstring).
 
-    ``real`` is (n, n_real) with NaN for NULL, its last ``appended`` columns the table's
-    appended ones; ``integer`` (n, n_integer) with anything where ``integer_null`` is True.
+    ``text`` per row and ``real`` (n, n_real) with NaN for NULL end with the table's
+    appended columns, ``appended`` saying how many of each kind each version added;
+    ``integer`` (n, n_integer) with anything where ``integer_null`` is True.
     """
     n = len(text)
     reals = canonical_reals(real).reshape(n, -1) if n else real
-    tails: list[bytes | None] = [None] * n
-    if appended and n:
-        tail = reals[:, reals.shape[1] - appended :]
-        held: NDArray[np.bool_] = np.any(~np.isnan(tail), axis=1)
-        present = [bool(v) for v in held]
-        tails = [APPENDED + tail[i].tobytes() if present[i] else None for i in range(n)]
-        reals = np.ascontiguousarray(reals[:, : reals.shape[1] - appended])
+    tails: list[bytes] = [b""] * n
+    n_text = sum(t for _, t, _ in appended)
+    n_real = sum(r for _, _, r in appended)
+    if (n_text or n_real) and n:
+        tails = _appended_tails(text, reals, appended, n_text, n_real)
+        reals = np.ascontiguousarray(reals[:, : reals.shape[1] - n_real])
+        if n_text:
+            text = [values[: len(values) - n_text] for values in text]
     ints = np.where(integer_null, 0, integer).astype("<i8").reshape(n, -1) if n else integer
     nulls = np.asarray(integer_null, dtype=np.uint8).reshape(n, -1) if n else integer_null
     real_bytes, int_bytes, null_bytes = reals.tobytes(), ints.tobytes(), nulls.tobytes()
@@ -85,11 +112,38 @@ def row_checksums(
         h.update(real_bytes[i * real_stride : (i + 1) * real_stride])
         h.update(int_bytes[i * int_stride : (i + 1) * int_stride])
         h.update(null_bytes[i * null_stride : (i + 1) * null_stride])
-        appended_bytes = tails[i]
-        if appended_bytes is not None:
-            h.update(appended_bytes)
+        h.update(tails[i])
         out.append(h.hexdigest())
     return out
+
+
+def _appended_tails(
+    text: Sequence[Sequence[str | None]],
+    reals: NDArray[np.float64],
+    appended: AppendedCounts,
+    n_text: int,
+    n_real: int,
+) -> list[bytes]:
+    """Each row's appended columns in canonical form (``b""`` where it holds none)."""
+    n = len(text)
+    tails = [b""] * n
+    text_at, real_at = -n_text, reals.shape[1] - n_real
+    for version, texts, count in appended:
+        marker = appended_marker(version)
+        block = reals[:, real_at : real_at + count]
+        held: list[bool] = np.any(~np.isnan(block), axis=1).tolist()
+        if texts:
+            for i, row in enumerate(text):
+                values = row[len(row) + text_at : len(row) + text_at + texts]
+                if held[i] or any(v is not None for v in values):
+                    tails[i] += marker + _text_bytes(values) + block[i].tobytes()
+        else:
+            for i in range(n):
+                if held[i]:
+                    tails[i] += marker + block[i].tobytes()
+        text_at += texts
+        real_at += count
+    return tails
 
 
 def aggregate_checksum(kind: str, groups: Iterable[Iterable[str]]) -> str:

@@ -103,8 +103,14 @@ the session's pose filter (``input.filter``, a One-Euro filter by default), in t
 tracking frame; equal to the raw poses when the filter is off, NULL where the raw pose is.
 Added by schema version 3, after every earlier column (frames recorded before it hold NULL)."""
 
+FRAME_TASK_COLUMNS: tuple[str, ...] = ("stage", "progress")
+"""How the trial stood at the frame's instant, as the session runner saw it: its task's
+judge's ``stage`` (the furthest of the task's stages reached) and ``progress`` (0..1; see
+:class:`workcell.tasks.Evaluation`), the latest judgement at or before the instant. Added by
+schema version 5, after every earlier column (frames recorded before it hold NULL)."""
+
 FRAME_COLUMNS: tuple[str, ...] = (
-    FRAME_CONTRACT_COLUMNS + FRAME_EXTRA_COLUMNS + FILTERED_POSE_COLUMNS
+    FRAME_CONTRACT_COLUMNS + FRAME_EXTRA_COLUMNS + FILTERED_POSE_COLUMNS + FRAME_TASK_COLUMNS
 )
 
 TRIAL_COLUMNS: tuple[str, ...] = (
@@ -132,7 +138,24 @@ TRIAL_COLUMNS: tuple[str, ...] = (
 and the stored metrics of :mod:`workcell.metrics.definitions` (``completion_time_s``, a
 result as much as a metric, stands beside ``elapsed_s``)."""
 
+TRIAL_TASK_COLUMNS: tuple[str, ...] = ("task", "world", "stage", "progress", "goal_json")
+"""A trial's task-neutral columns, the same for every task (added by schema version 5; NULL
+in trials recorded before it): ``task`` the session's ``task.kind`` as recorded (a
+built-in name or ``module:Class``), ``world`` the named world its ranges are (``D0``,
+``D1``, ``D2``; NULL for ranges of no named world), ``stage`` the furthest of the task's
+stages the trial reached and ``progress`` (0..1) its final progress, both as its task's
+judge said at its last frame instant, and ``goal_json`` what the trial asked as numbers,
+a JSON object of the task's ``goal_names`` (:meth:`workcell.tasks.Task.goal`)."""
+
+TRIALS_CSV_COLUMNS: tuple[str, ...] = TRIAL_COLUMNS + TRIAL_TASK_COLUMNS
+"""trials.csv's columns: the contract's, then (since schema version 5) the task-neutral ones."""
+
 OUTCOMES: tuple[str, ...] = get_args(Outcome)
+"""Every trial outcome: ``success``, ``timeout``, ``interrupted`` and (since the task API)
+``failed``, a trial its task's judge said could no longer succeed."""
+COMPLETE_OUTCOMES: tuple[str, ...] = tuple(o for o in OUTCOMES if o != "interrupted")
+"""The outcomes of a complete trial (it ran to an end its task or its clock decided):
+everything but ``interrupted``."""
 INTERRUPTION_REASONS: tuple[str, ...] = get_args(InterruptionReason)
 
 FRAME_DEVICE_COLUMNS: tuple[str, ...] = (

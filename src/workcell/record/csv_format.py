@@ -17,9 +17,17 @@ from workcell.record.columns import (
     EVENT_COLUMNS,
     FRAME_COLUMNS,
     SESSION_COLUMNS,
-    TRIAL_COLUMNS,
+    TRIALS_CSV_COLUMNS,
 )
-from workcell.record.schema import ANNOTATIONS, EVENTS, FRAMES, SESSIONS, TRIALS, TableLayout
+from workcell.record.schema import (
+    ANNOTATIONS,
+    EVENTS,
+    FRAMES,
+    SESSIONS,
+    TRIALS,
+    Appended,
+    TableLayout,
+)
 
 MANIFEST = "manifest.json"
 FORMAT = "workcell-csv"
@@ -28,22 +36,28 @@ FORMAT_VERSION = 1
 
 def _sub_layout(layout: TableLayout, names: tuple[str, ...]) -> TableLayout:
     """``layout`` restricted to the exported ``names`` (in that order)."""
+    added = tuple(
+        Appended(group.version, tuple(n for n in group.names if n in names))
+        for group in layout.added
+    )
     return TableLayout(
         layout.name,
         tuple(layout.column(n) for n in names),
         layout.key,
-        appended=tuple(n for n in layout.appended if n in names),
+        added=tuple(group for group in added if group.names),
     )
 
 
 FILES: dict[str, TableLayout] = {
     "sessions.csv": _sub_layout(SESSIONS, SESSION_COLUMNS),
-    "trials.csv": _sub_layout(TRIALS, TRIAL_COLUMNS),
+    "trials.csv": _sub_layout(TRIALS, TRIALS_CSV_COLUMNS),
     "events.csv": _sub_layout(EVENTS, EVENT_COLUMNS),
     "frames.csv": _sub_layout(FRAMES, FRAME_COLUMNS),
     "annotations.csv": _sub_layout(ANNOTATIONS, ANNOTATION_COLUMNS),
 }
-"""Every exported file and its columns: exactly the contract's, in its order."""
+"""Every exported file and its columns: exactly the contract's, in its order, then the
+columns later schema versions added (frames.csv: the filtered poses since version 3, the
+task columns since version 5; trials.csv: the task columns since version 5)."""
 
 
 def format_row(row: Sequence[Any]) -> list[str]:
@@ -51,19 +65,26 @@ def format_row(row: Sequence[Any]) -> list[str]:
     return ["" if v is None else repr(v) if isinstance(v, float) else str(v) for v in row]
 
 
+def known_widths(layout: TableLayout) -> tuple[int, ...]:
+    """How many columns the file had in each schema version: today's, then those of
+    exports made before each version's appended columns existed (newest first)."""
+    widths = [len(layout.names)]
+    for group in reversed(layout.added):
+        widths.append(widths[-1] - len(group.names))
+    return tuple(widths)
+
+
 def known_header(layout: TableLayout, header: Sequence[str]) -> bool:
     """Whether ``header`` is the file's columns: the contract's, or those of an export made
-    before the layout's appended columns existed (they then read as NULL)."""
+    before some of the layout's appended columns existed (they then read as NULL)."""
     names = tuple(header)
-    return names == layout.names or (
-        bool(layout.appended) and names == layout.names[: -len(layout.appended)]
-    )
+    return any(names == layout.names[:width] for width in known_widths(layout))
 
 
 def parse_row(layout: TableLayout, cells: Sequence[str]) -> list[Any]:
     """Typed values of one CSV row, in the layout's grouped order (see ``RowBatch``); a row
-    of an export made before the appended columns existed holds none of them (NULL)."""
-    if len(cells) not in (len(layout.names), len(layout.names) - len(layout.appended)):
+    of an export made before some appended columns existed holds none of them (NULL)."""
+    if len(cells) not in known_widths(layout):
         raise ValueError(f"a row of {len(cells)} cells, not {len(layout.names)}")
     values = dict(zip(layout.names, cells, strict=False))
     out: list[Any] = []

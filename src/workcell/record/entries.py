@@ -80,7 +80,9 @@ class SessionInfo:
 
 @dataclass(frozen=True)
 class TrialStart:
-    """What a trial records at its start. ``round``/``level`` are None outside challenge."""
+    """What a trial records at its start. ``round``/``level`` are None outside challenge;
+    ``task`` (``task.kind``), ``world`` (D0, D1, D2) and ``goal`` (the task's goal numbers
+    by name) None where not known (stored as NULL)."""
 
     mode: str
     required_boxes: int
@@ -88,11 +90,28 @@ class TrialStart:
     round: int | None = None
     level: int | None = None
     trial_seed: int | None = None
+    task: str | None = None
+    world: str | None = None
+    goal: Mapping[str, float] | None = None
 
     def __post_init__(self) -> None:
         _nonempty(self.mode, "trial mode")
         if not (math.isfinite(self.time_limit_s) and self.time_limit_s > 0):
             raise RecordError(f"trial time_limit_s = {self.time_limit_s}: must be > 0")
+        for name in ("task", "world"):
+            value = getattr(self, name)
+            if value is not None:
+                _nonempty(value, f"trial {name}")
+        if self.goal is not None:
+            to_json(self.goal, "trial goal")
+
+    def task_columns(self) -> dict[str, object]:
+        """The trial row's task columns written at its start."""
+        return {
+            "task": self.task,
+            "world": self.world,
+            "goal_json": None if self.goal is None else to_json(self.goal, "trial goal"),
+        }
 
 
 @dataclass(frozen=True)
@@ -134,8 +153,16 @@ class TrialEnd:
     quality_flags: tuple[str, ...] = ()
     included: bool = True
     exclusion_reason: str | None = None
+    stage: str | None = None
+    """The furthest of the task's stages reached, as its judge said last (None: unknown)."""
+    progress: float | None = None
+    """The task's progress (0..1) as its judge said last (None: unknown)."""
 
     def __post_init__(self) -> None:
+        if self.stage is not None:
+            _nonempty(self.stage, "trial stage")
+        if self.progress is not None and not 0.0 <= self.progress <= 1.0:
+            raise RecordError(f"trial progress = {self.progress}: must be 0 to 1")
         if self.outcome not in OUTCOMES:
             raise RecordError(f"trial outcome {self.outcome!r}: must be one of {OUTCOMES}")
         interrupted = self.outcome == "interrupted"
@@ -194,7 +221,7 @@ def _real(value: float | None) -> float:
     return math.nan if value is None else value
 
 
-_DERIVED = ("metrics", "quality_flags", "included")
+_DERIVED = ("metrics", "quality_flags", "included", "goal")
 """TrialRecord fields not read verbatim from their column of the same name."""
 
 
@@ -224,14 +251,22 @@ class TrialRecord:
     trial_seed: int | None
     started_wall: float
     ended_wall: float | None
+    task: str | None = None
+    """The task columns (schema version 5; None in trials recorded before it)."""
+    world: str | None = None
+    stage: str | None = None
+    progress: float | None = None
+    goal: dict[str, Any] | None = None
 
     @classmethod
     def from_row(cls, row: Mapping[str, Any]) -> TrialRecord:
         flags = row["quality_flags"]
         included = row["included"]
         plain = {f.name: row[f.name] for f in fields(cls) if f.name not in _DERIVED}
+        goal = row["goal_json"]
         return cls(
             **plain,
+            goal=None if goal is None else json.loads(goal),
             metrics=StoredMetrics(**{f.name: _real(row[f.name]) for f in fields(StoredMetrics)}),
             quality_flags=tuple(flags.split(FLAG_SEPARATOR)) if flags else (),
             included=None if included is None else bool(included),

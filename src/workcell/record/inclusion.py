@@ -20,6 +20,7 @@ from __future__ import annotations
 from collections.abc import Sequence
 from dataclasses import dataclass
 
+from workcell.record.columns import COMPLETE_OUTCOMES
 from workcell.record.entries import AnnotationRecord, TrialRecord
 
 DECISION_KINDS = ("include", "exclude")
@@ -59,7 +60,7 @@ class Inclusion:
 
 def decide(trial: TrialRecord, annotations: Sequence[AnnotationRecord]) -> Inclusion:
     """The effective inclusion of a trial (``annotations``: its own, in time order)."""
-    if trial.outcome not in ("success", "timeout"):
+    if trial.outcome not in COMPLETE_OUTCOMES:
         return Inclusion(False, incomplete_reason(trial.outcome, trial.interruption_reason), None)
     decisions = [a for a in annotations if a.kind in DECISION_KINDS]
     if decisions:

@@ -122,12 +122,18 @@ def interrupt_trial(
     key: ChainKey | None,
 ) -> None:
     """Close a trial as interrupted by the store itself (crash recovery, storage error):
-    an ``interruption`` event, elapsed = last sim time seen, ended = last wall time seen;
-    then its chain link."""
+    an ``interruption`` event, elapsed = last sim time seen, ended = last wall time seen,
+    its stage and progress its last frame's (NULL without frames or before schema version
+    5); then its chain link."""
     session_id, started_wall = conn.execute(
         "SELECT session_id, started_wall FROM trials WHERE trial_id = ?", (trial_id,)
     ).fetchone()
     last_sim, last_wall = _last_times(conn, trial_id)
+    last_frame = conn.execute(
+        "SELECT stage, progress FROM frames WHERE trial_id = ? ORDER BY frame_index DESC LIMIT 1",
+        (trial_id,),
+    ).fetchone()
+    stage, progress = last_frame if last_frame is not None else (None, None)
     insert_event(
         conn,
         event_id=event_id,
@@ -149,6 +155,8 @@ def interrupt_trial(
             "exclusion_reason": incomplete_reason("interrupted", reason),
             "elapsed_s": last_sim,
             "ended_wall": max(started_wall, last_wall),
+            "stage": stage,
+            "progress": progress,
         },
     )
     chain.link_trial(conn, trial_id, key)

@@ -18,6 +18,12 @@ empty head, that legacy root; then the tip, signed with the writer's key. A stor
 links are signed is migrated only with its key (else its tip could not be signed, and
 every keyed writer after would refuse it). The tip vouches for the store as it was
 migrated: links deleted before that do not show.
+
+Version 4 → 5 appends the task-neutral columns: the trials' task, world, stage, progress
+and goal (:data:`~workcell.record.columns.TRIAL_TASK_COLUMNS`) and the frames' stage and
+progress (:data:`~workcell.record.columns.FRAME_TASK_COLUMNS`), NULL in every row already
+recorded. As in version 3, a row checksum counts a version's appended columns only where
+the row holds one of them, so every checksum and chain link stays valid.
 """
 
 from __future__ import annotations
@@ -31,16 +37,32 @@ from workcell.record import chain, chain_tip
 from workcell.record.chain_key import ChainKey
 from workcell.record.errors import StoreError
 from workcell.record.ids import new_id
-from workcell.record.schema import CHAIN_ROOTS_SQL, CHAIN_SQL, FRAMES, SCHEMA_VERSION, quote
+from workcell.record.schema import (
+    CHAIN_ROOTS_SQL,
+    CHAIN_SQL,
+    FRAMES,
+    SCHEMA_VERSION,
+    TRIALS,
+    TableLayout,
+    quote,
+)
 
 
 def _v1_to_v2(conn: sqlite3.Connection) -> None:
     conn.execute(CHAIN_SQL)  # the links follow in the last step, from the store's root
 
 
+def _append(conn: sqlite3.Connection, layout: TableLayout, version: int) -> None:
+    """Add the columns schema ``version`` appended to ``layout``'s table (NULL in every row)."""
+    for group in layout.added:
+        if group.version == version:
+            for name in group.names:
+                kind = layout.column(name).kind.upper()
+                conn.execute(f"ALTER TABLE {quote(layout.name)} ADD COLUMN {quote(name)} {kind}")
+
+
 def _v2_to_v3(conn: sqlite3.Connection) -> None:
-    for name in FRAMES.appended:
-        conn.execute(f"ALTER TABLE {quote(FRAMES.name)} ADD COLUMN {quote(name)} REAL")
+    _append(conn, FRAMES, 3)
 
 
 def _v3_to_v4(conn: sqlite3.Connection) -> None:
@@ -55,12 +77,18 @@ def _v3_to_v4(conn: sqlite3.Connection) -> None:
         chain_tip.declare_root(conn, chain_tip.LEGACY_ROOT, own, chain_tip.MIGRATED)
 
 
-MIGRATIONS = {1: _v1_to_v2, 2: _v2_to_v3, 3: _v3_to_v4}
+def _v4_to_v5(conn: sqlite3.Connection) -> None:
+    _append(conn, TRIALS, 5)
+    _append(conn, FRAMES, 5)
+
+
+MIGRATIONS = {1: _v1_to_v2, 2: _v2_to_v3, 3: _v3_to_v4, 4: _v4_to_v5}
 """Version → the step that takes a store of that version to the next."""
 MIGRATION_NOTES = {
-    1: "from before hash chains, filtered poses and chain tips",
-    2: "from before the frames' filtered poses and chain tips",
-    3: "from before chain tips and store roots",
+    1: "from before hash chains, filtered poses, chain tips and task columns",
+    2: "from before the frames' filtered poses, chain tips and task columns",
+    3: "from before chain tips, store roots and task columns",
+    4: "from before the trials' and frames' task columns",
 }
 """Version → what a store of that version lacks, for the message that asks to migrate it."""
 CHAINED_BY = 1

@@ -62,6 +62,8 @@ def end_columns(end: TrialEnd, m: StoredMetrics) -> dict[str, object]:
         "included": int(included),
         "exclusion_reason": reason,
         "ended_wall": time.time(),
+        "stage": end.stage,
+        "progress": end.progress,
     }
 
 

@@ -1,4 +1,4 @@
-"""Schema version 4 of a store: the five tables, their column types, and the DDL.
+"""Schema version 5 of a store: the five tables, their column types, and the DDL.
 
 Every table's columns are the interchange contract's names (:mod:`workcell.record.columns`)
 followed by the store's own (``checksum``, ``content_checksum``, ...). The version lives in
@@ -9,8 +9,10 @@ Version 2 added the ``chain`` table (:mod:`workcell.record.chain`); version 3 th
 filtered device poses (:data:`~workcell.record.columns.FILTERED_POSE_COLUMNS`), appended
 after the ``checksum`` column as ``ALTER TABLE`` appends them, so that a new store and a
 migrated one have the same tables; version 4 the store's identity in its chains (the
-``chain_roots`` table) and the chain tip kept in ``meta``. A writer migrates an older store
-(:mod:`workcell.record.migrate`).
+``chain_roots`` table) and the chain tip kept in ``meta``; version 5 the task-neutral columns
+(:data:`~workcell.record.columns.TRIAL_TASK_COLUMNS` of the trials,
+:data:`~workcell.record.columns.FRAME_TASK_COLUMNS` of the frames), appended the same way. A
+writer migrates an older store (:mod:`workcell.record.migrate`).
 """
 
 from __future__ import annotations
@@ -25,11 +27,13 @@ from workcell.record.columns import (
     FILTERED_POSE_COLUMNS,
     FRAME_COLUMNS,
     FRAME_DEVICE_COLUMNS,
+    FRAME_TASK_COLUMNS,
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
+    TRIAL_TASK_COLUMNS,
 )
 
-SCHEMA_VERSION = 4
+SCHEMA_VERSION = 5
 APPLICATION_ID = 0x57434C31
 """``PRAGMA application_id`` of every Workcell store: ASCII "WCL1"."""
 
@@ -47,27 +51,56 @@ class Column:
     nullable: bool = True
 
 
+@dataclass(frozen=True)
+class Appended:
+    """Text and real columns one later schema ``version`` added to a table, in table order."""
+
+    version: int
+    names: tuple[str, ...]
+
+
 @dataclass(frozen=True, eq=False)
 class TableLayout:
     """One table: its columns in table order, its primary key and its row-checksum column.
 
-    ``appended`` names the real columns a later schema version added: the last columns,
-    stored after ``checksum`` and last among the real columns, and hashed into a row's
-    checksum only where the row holds one of them (:func:`~workcell.record.checksum.row_checksums`),
-    so the rows written before they existed keep their checksums."""
+    ``added`` holds the columns later schema versions added, oldest first: the last
+    columns, stored after ``checksum``, text or real (so that they are the last of their
+    kind too), and each version's hashed into a row's checksum only where the row holds
+    one of them (:func:`~workcell.record.checksum.row_checksums`), so the rows written
+    before they existed keep their checksums."""
 
     name: str
     columns: tuple[Column, ...]
     key: tuple[str, ...]
     constraints: tuple[str, ...] = ()
-    appended: tuple[str, ...] = ()
+    added: tuple[Appended, ...] = ()
 
     def __post_init__(self) -> None:
         tail = tuple(c.name for c in self.columns[len(self.columns) - len(self.appended) :])
         if self.appended and (
-            tail != self.appended or any(self.column(n).kind != "real" for n in tail)
+            tail != self.appended or any(self.column(n).kind == "integer" for n in tail)
         ):
-            raise ValueError(f"{self.name}: appended columns must be the last, real columns")
+            raise ValueError(
+                f"{self.name}: appended columns must be the last columns, text or real"
+            )
+
+    @cached_property
+    def appended(self) -> tuple[str, ...]:
+        """The names of every column a later schema version added, in table order."""
+        return tuple(name for group in self.added for name in group.names)
+
+    @cached_property
+    def appended_counts(self) -> tuple[tuple[int, int, int], ...]:
+        """Per version that added columns (oldest first): (version, how many text, how
+        many real columns), as :func:`~workcell.record.checksum.row_checksums` takes them."""
+        return tuple(
+            (
+                group.version,
+                sum(self.column(n).kind == "text" for n in group.names),
+                sum(self.column(n).kind == "real" for n in group.names),
+            )
+            for group in self.added
+        )
 
     @cached_property
     def names(self) -> tuple[str, ...]:
@@ -144,15 +177,17 @@ FRAMES = TableLayout(
     "frames",
     _columns(
         FRAME_COLUMNS,
-        _of("text", ("session_id", "trial_id", "boxes")) | _of("integer", FRAME_INTEGER_COLUMNS),
+        _of("text", ("session_id", "trial_id", "boxes", "stage"))
+        | _of("integer", FRAME_INTEGER_COLUMNS),
         # Measured values may be NULL in SQL so that a NaN (stored as NULL by SQLite) never
-        # costs a frame; `workcell verify` reports NULLs outside the device columns.
+        # costs a frame; `workcell verify` reports NULLs outside the device columns (and
+        # the task columns, NULL in frames recorded before version 5).
         {"session_id", "trial_id", "frame_index", "boxes"},
-        set(FRAME_DEVICE_COLUMNS),
+        set(FRAME_DEVICE_COLUMNS) | set(FRAME_TASK_COLUMNS),
     ),
     key=("trial_id", "frame_index"),
     constraints=("FOREIGN KEY (session_id, trial_id) REFERENCES trials (session_id, trial_id)",),
-    appended=FILTERED_POSE_COLUMNS,
+    added=(Appended(3, FILTERED_POSE_COLUMNS), Appended(5, FRAME_TASK_COLUMNS)),
 )
 
 TRIAL_EXTRA_COLUMNS: tuple[str, ...] = (
@@ -164,10 +199,14 @@ TRIAL_EXTRA_COLUMNS: tuple[str, ...] = (
 TRIALS = TableLayout(
     "trials",
     _columns(
-        TRIAL_COLUMNS + TRIAL_EXTRA_COLUMNS,
+        TRIAL_COLUMNS + TRIAL_EXTRA_COLUMNS + TRIAL_TASK_COLUMNS,
         _of(
             "text",
             (
+                "task",
+                "world",
+                "stage",
+                "goal_json",
                 "session_id",
                 "trial_id",
                 "mode",
@@ -208,6 +247,7 @@ TRIALS = TableLayout(
         "UNIQUE (session_id, trial_index)",
         "FOREIGN KEY (session_id) REFERENCES sessions (session_id)",
     ),
+    added=(Appended(5, TRIAL_TASK_COLUMNS),),
 )
 
 SESSIONS = TableLayout(

@@ -204,6 +204,7 @@ class Store(StoreReading, Closing):
             "time_limit_s": start.time_limit_s,
             "trial_seed": start.trial_seed,
             "started_wall": time.time(),
+            **start.task_columns(),
         }
         batch = RowBatch.from_mappings(TRIALS, [row])
         with self._write() as conn:

@@ -90,7 +90,9 @@ class FrameLayout:
       controllers and the headset (3 x 7), both thumbsticks (2 x 2), input age, the
       three poses filtered (3 x 7), buttons (2); NaN where the device has no such part,
       and all NaN without a device (a command-only operator: grip and trigger then read
-      from the command, as :func:`input_from_command` says).
+      from the command, as :func:`input_from_command` says);
+    - :data:`TASK_VALUES` values of the task's judgement: the stage (its position in
+      :attr:`stages`) and the progress (0..1), NaN where not known.
     """
 
     nq: int
@@ -106,6 +108,8 @@ class FrameLayout:
     box_qpos: tuple[int, ...]
     """Each box's free-joint qpos address (x, y, z, qw, qx, qy, qz follow)."""
     box_index: tuple[int, ...]
+    stages: tuple[str, ...] = ()
+    """The task's stages, in order (the ``stage`` column names one by its position)."""
 
     @property
     def tcp_at(self) -> int:
@@ -130,11 +134,15 @@ class FrameLayout:
         return self.boxes_at + len(self.box_qpos)
 
     @property
-    def width(self) -> int:
+    def task_at(self) -> int:
         return self.device_at + DEVICE_VALUES
 
+    @property
+    def width(self) -> int:
+        return self.task_at + TASK_VALUES
+
     @classmethod
-    def of(cls, world: World) -> FrameLayout:
+    def of(cls, world: World, stages: tuple[str, ...] = ()) -> FrameLayout:
         model = world.model
 
         def qpos(name: str) -> int:
@@ -155,6 +163,7 @@ class FrameLayout:
             finger_span=2.0 * float(model.jnt_range[finger][1]),
             box_qpos=tuple(slot.qpos for slot in world.boxes.slots),
             box_index=tuple(slot.index for slot in world.boxes.slots),
+            stages=stages,
         )
 
 
@@ -165,6 +174,8 @@ CAPTURED_INTEGERS = 5
 DEVICE_VALUES = 53
 """grip (2), trigger (2), controller_l, controller_r, headset (7 each), stick_l, stick_r
 (2 each), age_s, the three poses filtered (7 each), buttons (2)."""
+TASK_VALUES = 2
+"""The stage's position in the task's stages, and the progress."""
 
 NAN = math.nan
 _NO_POSE: tuple[float, ...] = (NAN,) * 7
@@ -210,9 +221,15 @@ class FrameCapture:
     into the state and one :class:`struct.Struct` packing of the other numbers straight
     into the row, with no object made on the way."""
 
-    def __init__(self, world: World, controller: RobotController, capacity: int) -> None:
+    def __init__(
+        self,
+        world: World,
+        controller: RobotController,
+        capacity: int,
+        stages: tuple[str, ...] = (),
+    ) -> None:
         self.world = world
-        self.layout = layout = FrameLayout.of(world)
+        self.layout = layout = FrameLayout.of(world, stages)
         self.capacity = capacity
         model = world.model
         self._rows = np.full((capacity, layout.width), NAN)
@@ -254,10 +271,14 @@ class FrameCapture:
         t_sim: float,
         step_wall_ms: float,
         t_wall: float | None = None,
+        stage: int = -1,
+        progress: float = NAN,
     ) -> None:
         """Copy the state of this instant (``t_sim`` on the trial clock, ``t_wall`` Unix
-        seconds, now if not given) and of the operator's device (None for a command-only
-        operator, see :func:`input_from_command`); the buffer must not be :attr:`full`."""
+        seconds, now if not given), of the operator's device (None for a command-only
+        operator, see :func:`input_from_command`) and the task's judgement (``stage``: its
+        position in the layout's stages, -1 for none); the buffer must not be
+        :attr:`full`."""
         world = self.world
         # After mj_step the body and site poses are those of the step's start; bring them up
         # to the joint positions so that every pose in the frame belongs to the same instant.
@@ -300,6 +321,17 @@ class FrameCapture:
             rows[count, self.layout.device_at :] = NAN
             self._device_rows.discard(count)
         self._count = count + 1
+        self.judged(stage, progress)
+
+    def judged(self, stage: int, progress: float) -> None:
+        """Set the task's judgement of the latest frame captured (``stage``: a position
+        in the layout's stages, -1 for none)."""
+        if self._count:
+            at = self.layout.task_at
+            self._rows[self._count - 1, at : at + TASK_VALUES] = (
+                NAN if stage < 0 else stage,
+                progress,
+            )
 
     def take(self) -> CapturedFrames:
         """The frames captured since the last take (the buffer is emptied)."""

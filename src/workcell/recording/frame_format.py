@@ -92,6 +92,7 @@ def real_matrix(
     real[:, 109:111] = residuals(ik_tcp.reshape(-1, 3), ik_target.reshape(-1, 3)).reshape(n, 2)
     real[:, 111] = device[:, 29]
     real[:, 112:133] = device[:, 30:51]
+    real[:, 133] = rows[:n, layout.task_at + 1]
     return real
 
 
@@ -134,7 +135,10 @@ class FrameFormatter:
             )
         ]
         boxes = self.boxes_json(frames)
-        text: list[tuple[str | None, ...]] = [(session_id, trial_id, b) for b in boxes]
+        stages = stage_names(frames)
+        text: list[tuple[str | None, ...]] = [
+            (session_id, trial_id, b, s) for b, s in zip(boxes, stages, strict=True)
+        ]
         return RowBatch(FRAMES, text, real, integer)
 
     def boxes_json(self, frames: CapturedFrames) -> list[str]:
@@ -168,6 +172,16 @@ class FrameFormatter:
                 [q + k for q in layout.box_qpos for k in range(7)], dtype=np.intp
             )
             self._box_text = [None] * len(layout.box_qpos)
+
+
+def stage_names(frames: CapturedFrames) -> list[str | None]:
+    """Each frame's stage by name (None where not known)."""
+    names = frames.layout.stages
+    out: list[str | None] = []
+    for value in frames.rows[:, frames.layout.task_at].tolist():
+        known = not math.isnan(value) and 0 <= int(value) < len(names)
+        out.append(names[int(value)] if known else None)
+    return out
 
 
 class FrameReader:
@@ -227,4 +241,5 @@ def _as_dict(batch: RowBatch) -> dict[str, Any]:
     }
     row.update(zip(INTEGER_COLUMNS[1:], batch.integer[0][1:], strict=True))
     row["boxes"] = batch.text[0][2]
+    row["stage"] = batch.text[0][3]
     return row

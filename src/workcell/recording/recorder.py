@@ -2,10 +2,14 @@
 
 It subscribes to the session runner's events and samples a frame at the configured rate on
 the sim clock (exactly: the world calls it at the due physics step), stamping wall time
-too. A sample only copies numbers (:mod:`workcell.recording.frame_capture`); frames are
-handed to the store in batches covering at most 0.25 s of sim time, so a killed process
-loses at most that much. At each trial's end the store computes the metrics of
-docs/architecture.md from the frames as stored and closes the trial. A storage failure
+too. A sample only copies numbers (:mod:`workcell.recording.frame_capture`), with the
+task's judgement of that frame instant (the runner judges after the world's step and tells
+the recorder, :attr:`SessionRunner.on_judged`); frames are handed to the store in batches
+covering at most 0.25 s of sim time (a batch goes once its last frame is judged, or before
+the next frame for a frame the runner does not judge), so a killed process loses at most
+about that much. Each trial row records its task, named world and goal at its start, and
+the judge's last stage and progress at its end. At each trial's end the store computes the
+metrics of docs/architecture.md from the frames as stored and closes the trial. A storage failure
 stops recording, is kept in :attr:`Recorder.failure`, and the caller interrupts the session
 (``storage_error``) at the trial time the store closed the running trial with
 (:attr:`Recorder.stored_end`), so that what the operator is told is what the store says. A
@@ -45,6 +49,7 @@ from workcell.recording.media import MediaRecorder
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner
+from workcell.tasks import CUSTOM, Evaluation, world_of
 
 MAX_UNCOMMITTED_S = 0.25
 """Sim time a commit may lag behind: what a killed process can lose at most."""
@@ -150,33 +155,58 @@ class Recorder:
         """Trials whose end was handed to the store, by index, until it is written."""
         self._pending_events: list[ev.TaskEvent] = []
         self._capture = FrameCapture(
-            runner.sim.world, runner.sim.controller, self._frames_per_commit
+            runner.sim.world, runner.sim.controller, self._frames_per_commit, runner.task.stages
         )
+        self._stage_index = {stage: i for i, stage in enumerate(runner.task.stages)}
+        self._sampled_step = -1
+        """The physics step of the latest frame captured."""
         store.prepare_frames(self._capture.layout)  # not while the first trial runs
         self.next_step = -1
         self._unsubscribe = runner.bus.subscribe(self._on_event)
+        runner.on_judged.append(self._judged)
 
     # --- the world's sampler ----------------------------------------------------------------
 
     def sample(self) -> None:
-        """Take the frame due now (called by the world at exact physics steps)."""
+        """Take the frame due now (called by the world at exact physics steps), with the
+        task's judgement as the runner has it; a frame the runner judges at its instant
+        (after the world's step: :meth:`_judged`) takes that judgement instead. A full
+        buffer is handed to the store once its last frame is judged, or before the next
+        frame at the latest."""
         runner = self.runner
         capture = self._capture
         source = self._input
+        if capture.full:
+            self._flush_or_fail()
         capture.capture(
             runner.last_command,
             None if source is None else source(),  # None: a command-only operator
             t_sim=runner.trial_time,
             step_wall_ms=runner.last_step_wall_s * 1000.0,
+            stage=self._stage_index.get(runner.stage, -1),
+            progress=runner.progress,
         )
+        self._sampled_step = runner.sim.world.physics_steps
         if self.media is not None:
             self.media.frame(runner.sim.world.data)
         self.next_step += self._steps_per_frame
-        if capture.full:
-            try:
-                self._flush()
-            except StorageError as error:
-                self._fail(error)
+
+    def _judged(self, evaluation: Evaluation) -> None:
+        """The runner judged the trial at a frame instant: the frame of that instant keeps
+        its word."""
+        if self._trial_id is None or self.failure is not None:
+            return
+        if self._sampled_step != self.runner.sim.world.physics_steps:
+            return  # no frame of this instant (not sampled at it)
+        self._capture.judged(self._stage_index.get(evaluation.stage, -1), self.runner.progress)
+        if self._capture.full:
+            self._flush_or_fail()
+
+    def _flush_or_fail(self) -> None:
+        try:
+            self._flush()
+        except StorageError as error:
+            self._fail(error)
 
     def check(self) -> None:
         """Stop recording now if the store already knows it cannot write (its writer
@@ -212,6 +242,9 @@ class Recorder:
             self._fail(error)
 
     def _start_trial(self, event: ev.TrialStarted) -> None:
+        task = self.runner.task
+        named = world_of(task.worlds, self.config.world.randomization)
+        goal = task.goal(event.conditions, self.config.world)
         start = TrialStart(
             mode=event.mode,
             required_boxes=event.required_boxes,
@@ -219,6 +252,9 @@ class Recorder:
             round=event.round,
             level=event.level,
             trial_seed=event.trial_seed,
+            task=self.config.task.kind,
+            world=None if named == CUSTOM else named,
+            goal=dict(zip(task.goal_names, goal, strict=True)),
         )
         self._trial_id = self.store.start_trial(self.session_id, start)
         self._trial_index = event.trial_index
@@ -263,6 +299,8 @@ class Recorder:
                 completion_time_s=event.elapsed_s if event.outcome == "success" else None,
                 boxes_delivered=event.boxes_delivered,
                 score=event.score,
+                stage=self.runner.stage,
+                progress=self.runner.progress,
             ),
             thresholds=self.thresholds,  # metrics from the frames as stored
         )
@@ -323,6 +361,8 @@ class Recorder:
     def close(self, interrupted: bool) -> None:
         """Close the session (its trials have ended) and stop listening."""
         self._unsubscribe()
+        if self._judged in self.runner.on_judged:
+            self.runner.on_judged.remove(self._judged)
         if self.media is not None:
             self.media.close()
         if self.failure is not None:

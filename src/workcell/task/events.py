@@ -16,7 +16,10 @@ from typing import Literal, get_args
 from workcell.session.config import Mode
 from workcell.sim import events as world
 
-Outcome = Literal["success", "timeout", "interrupted"]
+Outcome = Literal["success", "timeout", "interrupted", "failed"]
+"""How a trial ended: its task done (``success``), its time up (``timeout``), stopped before
+either (``interrupted``, with a reason), or its task's judge saying it can no longer
+succeed (``failed``, added with the task API; box transfer's judge never says so)."""
 InterruptionReason = Literal[
     "operator_stop",
     "application_quit",

@@ -1,7 +1,8 @@
 """The task state machine: runs the trials of a session, one control step at a time.
 
 Each trial: reset (the world from a seed derived from the session seed and the trial
-index), countdown, running, then success, timeout or interrupted. The trial clock is the
+index), countdown, running, then success, failed (its task's judge says it can no longer
+succeed), timeout or interrupted. The trial clock is the
 sim clock counted in physics steps from the end of the countdown, so limits are exact.
 Every transition is published as a typed event on the bus (the recorder and the HUD
 subscribe). The runner is step-driven; :meth:`SessionRunner.run` is the one session loop,
@@ -28,7 +29,7 @@ from workcell.task.hud import Hud, HudPhase
 from workcell.task.operator import Operator
 from workcell.task.schedule import Schedule, TrialSpec
 from workcell.task.scoring import time_bonus, trial_score
-from workcell.tasks import Task, TrialJudge
+from workcell.tasks import Evaluation, Task, TrialJudge
 from workcell.tasks.registry import load_task
 
 
@@ -44,6 +45,8 @@ class TrialResult:
     score: int
     stage: str
     """The furthest of the task's stages the trial reached (its judge's last word)."""
+    progress: float = 0.0
+    """The task's progress (0..1) as its judge said last."""
 
 
 def trial_seed(session_seed: int, trial_index: int) -> int:
@@ -91,7 +94,11 @@ class SessionRunner:
         self._start_step = 0
         self._judge: TrialJudge = self.task.new_trial(1)
         self._stage = self.task.stages[0]
+        self._progress = 0.0
         self.phase = HudPhase.FINISHED
+        self.on_judged: list[Callable[[Evaluation], None]] = []
+        """Called with the judge's word at each frame instant it judges the trial, before
+        the trial may end on it (the recorder keeps it with the frame of that instant)."""
 
     # --- driving ----------------------------------------------------------------------------
 
@@ -199,6 +206,12 @@ class SessionRunner:
         return self._stage
 
     @property
+    def progress(self) -> float:
+        """The task's progress (0..1) in the current (or last) trial, as its judge said at
+        the latest frame instant."""
+        return self._progress
+
+    @property
     def judge(self) -> TrialJudge:
         """The task's judge of the current (or last) trial."""
         return self._judge
@@ -243,6 +256,7 @@ class SessionRunner:
         )
         self._judge = self.task.new_trial(spec.required_boxes)
         self._stage = self.task.stages[0]
+        self._progress = 0.0
         self._conditions = self.sim.reset(self._seed).as_dict()
         self.operator.start_trial(self._seed)
         self._start_step = self._countdown_steps * self.sim.world.substeps
@@ -273,18 +287,29 @@ class SessionRunner:
         )
 
     def _check_end(self) -> None:
-        """Success or timeout, decided on the frame clock: a trial ends at the first frame
-        instant at or after its deciding moment, so its last frame is its end. The task
-        judges success (:meth:`workcell.tasks.TrialJudge.evaluate`)."""
+        """Success, failure or timeout, decided on the frame clock: a trial ends at the
+        first frame instant at or after its deciding moment, so its last frame is its end.
+        The task judges success and failure (:meth:`workcell.tasks.TrialJudge.evaluate`);
+        a trial its judge says can no longer succeed ends ``failed`` at once."""
         spec = self._spec
         assert spec is not None
         if (self.sim.world.physics_steps - self._start_step) % self._steps_per_frame:
             return
         t = self.trial_time
         evaluation = self._judge.evaluate(self.sim.world)
+        if evaluation.stage not in self.task.stages:
+            raise SimulationError(
+                f"the judge of task {self.task.name} says stage {evaluation.stage!r}, which is "
+                f"not one of its stages {self.task.stages} (Task.stages)"
+            )
         self._stage = evaluation.stage
+        self._progress = min(1.0, max(0.0, float(evaluation.progress)))
+        for listener in self.on_judged:
+            listener(evaluation)
         if evaluation.success:
             self._end("success", None, t)
+        elif evaluation.failure:
+            self._end("failed", None, t)
         elif t >= spec.time_limit_s - 1e-9:
             self.bus.publish(ev.TrialTimedOut(spec.trial_index, t))
             self._end("timeout", None, t)
@@ -326,6 +351,7 @@ class SessionRunner:
             boxes_delivered=done,
             score=score,
             stage=self._stage,
+            progress=self._progress,
         )
         self.results.append(result)
         self.bus.publish(ev.TrialEnded(spec.trial_index, t, outcome, reason, t, done, score))

@@ -49,7 +49,7 @@ class Schedule:
                 return None
             return TrialSpec(index, "collection", None, None, 1, task.time_limit_s)
         assert spec.round is not None and spec.level is not None
-        if outcome == "timeout":
+        if outcome in ("timeout", "failed"):  # the level is repeated
             return self._level(index, spec.round, spec.level)
         if spec.level < task.levels:
             return self._level(index, spec.round, spec.level + 1)
