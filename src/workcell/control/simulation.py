@@ -24,7 +24,8 @@ class Simulation:
 
     def reset(self, seed: int = 0) -> TrialConditions:
         """Back to the start state; the same ``seed`` gives the same trial conditions, start
-        and feed. Returns the trial's conditions (drawn when randomization is on)."""
+        and feed. Returns the trial's conditions (drawn when randomization is on), with
+        what the task's scene drew for the trial (:meth:`TrialConditions.with_task`)."""
         draw_stream, feed_stream, task_stream = np.random.SeedSequence(seed).spawn(3)
         conditions = TrialConditions.draw(self.config, np.random.default_rng(draw_stream))
         joints = self.controller.home_joints
@@ -32,7 +33,7 @@ class Simulation:
         task_rng = np.random.default_rng(task_stream)
         self.world.reset(joints, feed_seed, conditions, task_rng)
         self.controller.reset(conditions.start_pose, joints)
-        return conditions
+        return self.world.conditions  # with what the task's scene drew, if anything
 
     @property
     def time(self) -> float:

@@ -5,12 +5,16 @@ without recompiling and recorded with the trial."""
 from __future__ import annotations
 
 import dataclasses
+from collections.abc import Mapping
 from dataclasses import dataclass
 from typing import Any
 
 import numpy as np
 
 from workcell.sim.config import WorldConfig
+
+TaskValue = float | tuple[float, ...]
+"""One value a task's scene draws for a trial: a number or a few."""
 
 
 @dataclass(frozen=True)
@@ -24,6 +28,10 @@ class TrialConditions:
     release_interval_s: float
     target_center: tuple[float, float]
     start_pose: tuple[float, float, float]
+    task: tuple[tuple[str, TaskValue], ...] = ()
+    """What the task's scene drew for this trial (``name``, value pairs: which shelf, where
+    the shelf stands), set by :meth:`with_task` from the scene's reset; recorded under
+    ``task`` only when there is something (box transfer's scene draws nothing)."""
 
     @staticmethod
     def nominal(config: WorldConfig) -> TrialConditions:
@@ -66,8 +74,23 @@ class TrialConditions:
             start_pose=(sx, sy, yaw),
         )
 
+    def with_task(self, values: Mapping[str, TaskValue]) -> TrialConditions:
+        """These conditions with what the task's scene drew (``values``)."""
+        return dataclasses.replace(self, task=tuple(values.items()))
+
+    @property
+    def task_values(self) -> dict[str, TaskValue]:
+        """What the task's scene drew, by name ({}: nothing)."""
+        return dict(self.task)
+
     def as_dict(self) -> dict[str, Any]:
-        """JSON-ready values, recorded with the trial."""
-        return {
-            k: list(v) if isinstance(v, tuple) else v for k, v in dataclasses.asdict(self).items()
+        """JSON-ready values, recorded with the trial (the task's draw under ``task``, and
+        only when it drew something)."""
+        values = {
+            k: list(v) if isinstance(v, tuple) else v
+            for k, v in dataclasses.asdict(self).items()
+            if k != "task"
         }
+        if self.task:
+            values["task"] = {k: list(v) if isinstance(v, tuple) else v for k, v in self.task}
+        return values

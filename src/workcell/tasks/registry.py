@@ -13,9 +13,10 @@ from typing import Any
 
 from workcell.errors import ConfigError, Problem
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.sort.task import Sort
 from workcell.tasks.task import Task
 
-BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer,)}
+BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer, Sort)}
 """The tasks that come with Workcell, by name, in the order ``workcell tasks`` lists them."""
 DEFAULT_TASK = BoxTransfer.name
 
