@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import sys
 import time
 from collections import Counter
 
@@ -48,11 +49,12 @@ def run_world(world: str, trials: int, first_seed: int, required: int, limit_s: 
         success = result.outcome == "success"
         successes += success
         sim_s += result.elapsed_s
+        end = f"{result.outcome} at {result.stage}, {result.boxes_delivered}/{required} sorted"
+        end += ", missorted" if sort_scene(sim.world).missorted else ""
         if not success:
-            end = f"{result.outcome} at {result.stage}, {result.boxes_delivered}/{required} sorted"
-            end += ", missorted" if sort_scene(sim.world).missorted else ""
             ends[end] += 1
-            print(f"  {world} seed {seed}: {end}", flush=True)
+        done = seed - first_seed + 1
+        print(f"  {world} seed {seed}: {end} in {result.elapsed_s:.1f} s ({successes}/{done})")
     low, high = wilson_interval(successes, trials)
     wall = time.perf_counter() - started
     print(
@@ -66,6 +68,7 @@ def run_world(world: str, trials: int, first_seed: int, required: int, limit_s: 
 
 
 def main() -> None:
+    sys.stdout.reconfigure(line_buffering=True)  # type: ignore[union-attr]
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--worlds", default="D0,D2", help="comma-separated: D0, D1, D2")
     parser.add_argument("--trials", type=int, default=100)
