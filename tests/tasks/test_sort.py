@@ -23,7 +23,7 @@ from workcell.errors import ConfigError
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.config import TargetConfig, WorldConfig
-from workcell.sim.randomization import RandomizationConfig
+from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.sort.judge import SortJudge, sort_scene
 from workcell.tasks.sort.layout import SortLayout, sorting_table_center
 from workcell.tasks.sort.scene import SORTED_S
@@ -131,6 +131,28 @@ def test_a_box_is_sorted_only_once_it_has_rested_a_second_released_in_its_own_zo
     assert world.boxes.position(world.data, slot)[2] < 0  # parked out of sight
 
 
+def test_sorted_boxes_leave_the_pool_until_every_box_is_sorted_then_it_refills() -> None:
+    """Each box is fed once per round, so the boxes arrive in the layout's order; the
+    judge counts each sorted box and succeeds only at the number asked."""
+    sim = _sim()
+    world = sim.world
+    sim.reset(7)
+    judge = Sort().new_trial(4)
+    layout = sort_scene(world).layout
+    for count in range(1, 5):
+        active = world.boxes.active()
+        slot = active[0] if active else world.boxes.release(world.data, world.time)
+        assert slot is not None
+        _place(sim, slot, layout.kind_of(slot.index))
+        evaluation = _run(sim, judge, SORTED_S + 0.2)
+        assert judge.done == count and evaluation.progress == pytest.approx(count / 4)
+        assert evaluation.success is (count == 4)
+        assert evaluation.stage == ("all_sorted" if count == 4 else "sorted_one")
+        if count < 4:
+            assert slot.state is BoxState.DELIVERED  # not fed again this round
+    assert all(s.state is BoxState.PARKED for s in world.boxes.slots)  # the next round
+
+
 def test_a_box_set_down_on_the_other_kinds_table_fails_the_trial() -> None:
     sim = _sim()
     world = sim.world
@@ -214,4 +236,4 @@ def test_a_sorting_table_that_would_stand_on_the_delivery_table_is_one_clear_err
         Simulation(config, Sort().scene())
     (problem,) = raised.value.problems
     assert problem.startswith("world.target.center = ") and "sorting table" in problem
-    assert RandomizationConfig() == config.randomization  # nothing else was wrong
+    Simulation(config, BoxTransfer().scene())  # a valid world for a task with one table
