@@ -15,11 +15,12 @@ import mujoco
 import numpy as np
 
 from workcell.errors import ConfigError, Problem
-from workcell.sim.arena import FRAME_RGBA, TABLE_RGBA
+from workcell.sim.arena import FRAME_RGBA, SAFETY_RGBA, TABLE_RGBA
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.conditions import shape_box
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import BoxDelivered, WorldEvent
+from workcell.sim.looks import add_decor
 from workcell.sim.spec_utils import set_env_collision, set_visual_only
 from workcell.sim.target import HEIGHT_TOLERANCE, REST_SPEED
 from workcell.sim.world import World
@@ -88,6 +89,7 @@ class SortScene:
                     material="painted_steel",
                 )
                 set_env_collision(leg)
+        _add_keep_clear_frame(table, config)
 
     def reset(self, world: World, rng: np.random.Generator) -> None:
         """Draw the trial's layout, move the sorting table, give each pooled box its kind
@@ -163,6 +165,29 @@ def zone_under(config: WorldConfig, layout: SortLayout, position: np.ndarray) ->
         if bool(np.all(np.abs(position[:2] - np.array(center)) <= half)):
             return table
     return None
+
+
+def _add_keep_clear_frame(table: mujoco.MjsBody, config: WorldConfig) -> None:
+    """The safety-yellow floor frame around the table, as the delivery table has
+    (:func:`workcell.sim.arena.build_arena`), moving with it."""
+    t, line, margin = config.target, 0.04, 0.25
+    hx, hy = t.zone[0] / 2 + 0.05 + margin, t.zone[1] / 2 + 0.05 + margin
+    sides = (
+        (0.0, -hy, hx + line, line / 2),
+        (0.0, hy, hx + line, line / 2),
+        (-hx, 0.0, line / 2, hy),
+        (hx, 0.0, line / 2, hy),
+    )
+    for i, (cx, cy, sx, sy) in enumerate(sides):
+        add_decor(
+            table,
+            f"sorting_table_line_{i}",
+            BOX,
+            [sx, sy, 0.001],
+            rgba=SAFETY_RGBA,
+            material="floor_paint",
+            pos=[cx, cy, 0.002],
+        )
 
 
 def _check_room(config: WorldConfig) -> None:
