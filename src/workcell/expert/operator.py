@@ -285,7 +285,7 @@ class ExpertOperator:
         best: BoxSlot | None = None
         for slot in world.boxes.active():
             pos = world.boxes.position(world.data, slot)
-            on_belt = abs(pos[2] - (c.height + world.conditions.box_size[2] / 2)) < 0.03
+            on_belt = abs(pos[2] - (c.height + world.boxes.size_of(slot)[2] / 2)) < 0.03
             settled = world.time - slot.released_at > 1.0
             still = world.boxes.speed(world.data, slot) < REST_SPEED
             ahead = best is None or pos[0] > world.boxes.position(world.data, best)[0]
@@ -300,7 +300,7 @@ class ExpertOperator:
         quat = world.boxes.quaternion(world.data, box)
         box_yaw = 2 * math.atan2(quat[3], quat[0])
         grasp_yaw = box_yaw + math.pi / 2 - float(world.base_pose[2])
-        half = world.conditions.box_size[1] / 2
+        half = world.boxes.size_of(box)[1] / 2
         return palm_targets(center, grasp_yaw, half, gap)
 
     def _ready_arms(self, world: World) -> None:

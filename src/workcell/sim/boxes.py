@@ -36,6 +36,9 @@ class BoxSlot:
     state: BoxState = BoxState.PARKED
     released_at: float = 0.0
     delivered_at: float = 0.0
+    size: tuple[float, float, float] | None = None
+    """This box's own sides when a task gives its boxes different ones (None: the trial's
+    box size, :attr:`BoxPool.box_size`)."""
 
 
 class BoxPool:
@@ -65,11 +68,19 @@ class BoxPool:
 
     def set_box_size(self, size: tuple[float, float, float]) -> None:
         """The size this trial's boxes have; where they land on the belt follows from it."""
-        c = self._config.conveyor
         self.box_size = size
-        self.feed_position = np.array(
+        self.feed_position = self._feed_point(size)
+
+    def _feed_point(self, size: tuple[float, float, float]) -> NDArray[np.float64]:
+        """Where a box of ``size`` lands on the belt start (its centre)."""
+        c = self._config.conveyor
+        return np.array(
             [c.start_x + 0.15 + size[0] / 2, c.center_y, c.height + size[2] / 2 + 0.002]
         )
+
+    def size_of(self, slot: BoxSlot) -> tuple[float, float, float]:
+        """The sides of ``slot``'s box: its own, or the trial's."""
+        return self.box_size if slot.size is None else slot.size
 
     def park_all(self, data: mujoco.MjData) -> None:
         for slot in self.slots:
@@ -109,7 +120,8 @@ class BoxPool:
             return None
         self._model.body_gravcomp[slot.body] = 0.0
         self._set_collision(slot, ENV_CONTYPE, ENV_CONAFFINITY)
-        data.qpos[slot.qpos : slot.qpos + 3] = self.feed_position + np.array([0.0, lateral, 0.0])
+        feed = self.feed_position if slot.size is None else self._feed_point(slot.size)
+        data.qpos[slot.qpos : slot.qpos + 3] = feed + np.array([0.0, lateral, 0.0])
         data.qpos[slot.qpos + 3 : slot.qpos + 7] = (np.cos(yaw / 2), 0.0, 0.0, np.sin(yaw / 2))
         data.qvel[slot.qvel : slot.qvel + 6] = 0.0
         slot.state = BoxState.ACTIVE

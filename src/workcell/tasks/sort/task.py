@@ -1,0 +1,89 @@
+"""Sort: boxes of two kinds (a small and a large one, each of its own colour, drawn per
+trial) arrive on the conveyor in random order; each kind goes to its own table, the
+delivery table or the sorting table across the conveyor, whose zone wears the kind's
+colour."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping, Sequence
+from typing import Any, ClassVar
+
+from workcell.expert.skill import ExpertConfig
+from workcell.sim.config import WorldConfig
+from workcell.task.operator import Operator
+from workcell.tasks.sort.expert import SortExpert
+from workcell.tasks.sort.judge import SortJudge
+from workcell.tasks.sort.layout import SortLayout, sorting_table_center
+from workcell.tasks.sort.scene import SortScene
+from workcell.tasks.sort.stages import SORT_STAGES
+from workcell.tasks.task import Task
+from workcell.tasks.worlds import WorldName, WorldRanges
+
+ONE_BOX = "Sort the box from the conveyor onto the table whose zone has its colour."
+BOXES = "Sort {n} boxes from the conveyor: each onto the table whose zone has its colour."
+MAX_BOXES = 12
+"""The goal names a kind for this many pooled boxes (``feeder.pool_size``'s upper bound)."""
+NO_BOX = -1.0
+"""The goal's table for a pool index the trial's pool does not have."""
+
+D1_SHIFT = 0.1
+"""D1 moves the start and both tables up to 0.1 m and turns the start up to 0.1 rad."""
+D2_SHIFT = 0.3
+"""D2 widens D1's ranges three times and varies the boxes' size and mass and the feed."""
+
+
+class Sort(Task):
+    name: ClassVar[str] = "sort"
+    summary: ClassVar[str] = (
+        "sort boxes of two kinds from the conveyor, each kind onto its own table"
+    )
+    stages: ClassVar[tuple[str, ...]] = SORT_STAGES
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
+        "D0": {},
+        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
+        "D2": {
+            "start_shift": D2_SHIFT,
+            "target_shift": D2_SHIFT,
+            "start_yaw": D2_SHIFT,
+            "box_size": 0.15,
+            "box_mass": 0.3,
+            "conveyor_speed": 0.25,
+            "release_interval": 0.25,
+        },
+    }
+    goal_names: ClassVar[tuple[str, ...]] = (
+        "delivery_table_x",
+        "delivery_table_y",
+        "sorting_table_x",
+        "sorting_table_y",
+        *(f"box_{i}_table" for i in range(MAX_BOXES)),
+    )
+    """The two zones' centres in the world (m), then for each pooled box the table its kind
+    goes to (0: the delivery table, 1: the sorting table; -1: no such box in the pool)."""
+
+    def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
+        center = conditions.get("target_center")
+        if not (isinstance(center, Sequence) and len(center) == 2):
+            center = world.target.center
+        values = conditions.get("task")
+        if isinstance(values, Mapping) and "box_kinds" in values:
+            layout = SortLayout.from_recorded(values, center)
+            tables = layout.tables
+            kinds = [float(k) for k in layout.box_kinds]
+        else:  # conditions recorded without the trial's draw: the nominal tables
+            tables = ((float(center[0]), float(center[1])), sorting_table_center(world))
+            kinds = []
+        kinds = (kinds + [NO_BOX] * MAX_BOXES)[:MAX_BOXES]
+        return (*tables[0], *tables[1], *kinds)
+
+    def instruction(self, required: int) -> str:
+        return ONE_BOX if required == 1 else BOXES.format(n=required)
+
+    def scene(self) -> SortScene:
+        return SortScene(self.name)
+
+    def new_trial(self, required: int) -> SortJudge:
+        return SortJudge(required)
+
+    def expert(self, config: ExpertConfig) -> Operator:
+        return SortExpert(config)
