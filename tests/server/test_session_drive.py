@@ -12,6 +12,7 @@ import numpy as np
 from tests.server.harness import FAST_SETTINGS, body_index, client, hand, running_server
 from workcell.protocol import messages as m
 from workcell.record.store import Store
+from workcell.tasks.registry import BUILT_IN
 
 
 def test_bad_settings_are_rejected_field_by_field(tmp_path: Path) -> None:
@@ -70,7 +71,7 @@ def test_a_client_starts_only_a_built_in_task(tmp_path: Path) -> None:
 
     asyncio.run(scenario())
     assert (
-        "a client may start only a built-in task (box_transfer)"
+        f"a client may start only a built-in task ({', '.join(BUILT_IN)})"
         in said["tests.server.no_such_module:Task"]
     )
     assert "no such task" in said["juggling"]

@@ -23,7 +23,6 @@ from workcell.session.load import resolve_session_config
 from workcell.session.toml_io import from_mapping, load_toml
 from workcell.settings import declared_problems, setting
 from workcell.study.order import Order
-from workcell.tasks.registry import task_class
 
 NAME_PATTERN = r"[\w.-]{1,64}"
 NAME_DOC = "1 to 64 letters, digits, '.', '_' or '-'"
@@ -143,6 +142,10 @@ def condition_session(study: StudyConfig, condition: Condition) -> SessionConfig
 
 
 def _session_problems(settings: Mapping[str, Any]) -> list[str]:
+    # Imported here: the built-in tasks bring the simulation, which a reader of a study
+    # file (the audit of a CSV export, tests/record/test_no_physics.py) does not load.
+    from workcell.tasks.registry import task_class  # noqa: PLC0415
+
     try:
         task_class(resolve_session_config(flags=settings).task.kind)
     except ConfigError as error:
