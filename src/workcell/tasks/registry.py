@@ -13,9 +13,10 @@ from typing import Any
 
 from workcell.errors import ConfigError, Problem
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.palletize.task import Palletize
 from workcell.tasks.task import Task
 
-BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer,)}
+BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer, Palletize)}
 """The tasks that come with Workcell, by name, in the order ``workcell tasks`` lists them."""
 DEFAULT_TASK = BoxTransfer.name
 
