@@ -34,14 +34,14 @@ class Driving:
 
 @dataclass(frozen=True)
 class ExpertDriver:
-    """The scripted expert at ``expert``'s skill."""
+    """The session's task's scripted expert (``Task.expert``) at ``expert``'s skill."""
 
     expert: ExpertConfig = field(default_factory=ExpertConfig)
 
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
-        from workcell.expert import ExpertOperator  # noqa: PLC0415
+        from workcell.tasks.registry import load_task  # noqa: PLC0415
 
-        return Driving(ExpertOperator(self.expert))
+        return Driving(load_task(config.task.kind).expert(self.expert))
 
 
 @dataclass(frozen=True)
