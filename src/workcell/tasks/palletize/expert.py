@@ -29,15 +29,19 @@ BASE_FRONT = 0.33
 """From the base's centre to its front bumper (m)."""
 BASE_CLEARANCE = 0.06
 """Between the base's front and the pallet's edge when it sets a box down (m)."""
+STAND_OFF = BASE_FRONT + BASE_CLEARANCE
+"""From the pallet's edge to the base's centre as it sets a box down (m)."""
 SIDE_CLEARANCE = 0.6
 """How far off the pallet's +y side (toward the conveyor) the base passes (m)."""
 BACK_OFF_M = 0.4
+"""How far the base backs straight away from the pallet once a box is set down (m)."""
 RELEASE_GAP = 0.04
 """How far each palm moves out from the box's side as it lets go (m): little, since the
 hand behind the pad reaches about 0.2 m further out, toward the box beside it in the row."""
 RELEASE_LIFT_SPEED = 0.25
 """How fast the open palms rise past the box's top before the base backs off (m/s)."""
 RELEASE_S = 1.6
+"""How long letting go takes, from opening the grippers to backing off (s)."""
 
 
 class PalletizeExpert(ExpertOperator):
@@ -81,7 +85,7 @@ class PalletizeExpert(ExpertOperator):
         heading = layout.yaw if sign < 0 else layout.yaw + math.pi
         heading = float(world.base_pose[2]) + _wrap(heading - float(world.base_pose[2]))
         slot_x, slot_y = layout.slot_local(self._slot)
-        stand_x = slot_x + sign * (layout.size[0] / 2 + EDGE_MARGIN + BACKOFF_STAND)
+        stand_x = slot_x + sign * (layout.size[0] / 2 + EDGE_MARGIN + STAND_OFF)
         side = layout.to_world(np.array([stand_x, layout.half[1] + SIDE_CLEARANCE]))
         goal = layout.to_world(np.array([stand_x, slot_y]))
         return [np.array([*side, heading]), np.array([*goal, heading])]
@@ -124,10 +128,6 @@ class PalletizeExpert(ExpertOperator):
         heading = float(pose[2]) + _wrap(heading - float(pose[2]))
         route.append(np.array([c.end_x + STANDBY_DISTANCE, c.center_y, heading]))
         return route
-
-
-BACKOFF_STAND = BASE_FRONT + BASE_CLEARANCE
-"""From the pallet's edge to the base's centre as it sets a box down (m)."""
 
 
 def _opened(palms: PalmTargets, gap: float) -> PalmTargets:
