@@ -31,7 +31,7 @@ def test_a_task_of_ones_own_loads_from_module_and_class() -> None:
 @pytest.mark.parametrize(
     ("kind", "says"),
     [
-        ("conveyor_dance", "no such task; the tasks are box_transfer"),
+        ("conveyor_dance", "no such task; the tasks are box_transfer, "),
         ("tests.tasks.no_such_module:Task", "cannot import tests.tasks.no_such_module"),
         ("tests.tasks.external_task:Missing", "has no subclass of workcell.tasks.Task named"),
         ("tests.tasks.external_task:NotATask", "has no subclass of workcell.tasks.Task named"),

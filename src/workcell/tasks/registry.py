@@ -13,11 +13,14 @@ from typing import Any
 
 from workcell.errors import ConfigError, Problem
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.palletize.task import Palletize
 from workcell.tasks.shelve.task import Shelve
 from workcell.tasks.sort.task import Sort
 from workcell.tasks.task import Task
 
-BUILT_IN: dict[str, type[Task]] = {task.name: task for task in (BoxTransfer, Sort, Shelve)}
+BUILT_IN: dict[str, type[Task]] = {
+    task.name: task for task in (BoxTransfer, Palletize, Sort, Shelve)
+}
 """The tasks that come with Workcell, by name, in the order ``workcell tasks`` lists them."""
 DEFAULT_TASK = BoxTransfer.name
 

@@ -1,0 +1,72 @@
+"""Palletize: four boxes arrive on the conveyor; the robot carries each, with both hands,
+to the pallet beside the conveyor's end and sets it in the next free slot of a 2x2
+pattern, until the pallet is full and at rest."""
+
+from __future__ import annotations
+
+from collections.abc import Mapping
+from typing import Any, ClassVar
+
+from workcell.expert.skill import ExpertConfig
+from workcell.sim.config import WorldConfig
+from workcell.task.operator import Operator
+from workcell.tasks.palletize.expert import PalletizeExpert
+from workcell.tasks.palletize.judge import PalletizeJudge
+from workcell.tasks.palletize.layout import SLOT_SIGNS, PalletLayout
+from workcell.tasks.palletize.scene import PalletizeScene
+from workcell.tasks.palletize.stages import PALLET_BOXES, PALLETIZE_STAGES
+from workcell.tasks.task import Task
+from workcell.tasks.worlds import WorldName, WorldRanges
+
+INSTRUCTION = (
+    "Stack the four boxes from the conveyor on the pallet, one in each slot of the 2x2 pattern."
+)
+D1_SHIFT = 0.1
+"""D1 moves the robot's start and the pallet up to 0.1 m and turns both up to 0.1 rad."""
+D2_SHIFT = 0.3
+"""D2 widens D1's ranges three times and varies the boxes' size (and so the slot layout),
+mass and colour, and the feed."""
+
+
+class Palletize(Task):
+    name: ClassVar[str] = "palletize"
+    summary: ClassVar[str] = (
+        "stack four boxes from the conveyor on a pallet in a 2x2 pattern, one at a time"
+    )
+    stages: ClassVar[tuple[str, ...]] = PALLETIZE_STAGES
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
+        "D0": {},
+        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
+        "D2": {
+            "start_shift": D2_SHIFT,
+            "target_shift": D2_SHIFT,
+            "start_yaw": D2_SHIFT,
+            "box_size": 0.15,
+            "box_mass": 0.3,
+            "box_colour": 0.2,
+            "conveyor_speed": 0.25,
+            "release_interval": 0.25,
+        },
+    }
+    goal_names: ClassVar[tuple[str, ...]] = tuple(
+        f"slot_{i + 1}_{axis}" for i in range(len(SLOT_SIGNS)) for axis in ("x", "y")
+    )
+    """The four slots' centres in the world (m), in the order the expert fills them."""
+
+    def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
+        layout = PalletLayout.of(conditions, world)
+        return tuple(float(v) for center in layout.slot_centers() for v in center)
+
+    def instruction(self, required: int) -> str:
+        """Every trial fills the pallet (the schedule's box count does not change it)."""
+        return INSTRUCTION
+
+    def scene(self) -> PalletizeScene:
+        return PalletizeScene(self.name)
+
+    def new_trial(self, required: int) -> PalletizeJudge:
+        """A judge asking for the full pallet, whatever box count the schedule asks."""
+        return PalletizeJudge(PALLET_BOXES)
+
+    def expert(self, config: ExpertConfig) -> Operator:
+        return PalletizeExpert(config)
