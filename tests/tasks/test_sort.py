@@ -27,7 +27,7 @@ from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.sort.judge import SortJudge, sort_scene
 from workcell.tasks.sort.layout import SortLayout, sorting_table_center
 from workcell.tasks.sort.scene import SORTED_S
-from workcell.tasks.sort.task import MAX_BOXES, ONE_BOX, Sort
+from workcell.tasks.sort.task import BOXES, MAX_BOXES, SORTED_BOXES, Sort
 from workcell.tasks.task import Evaluation
 from workcell.tasks.worlds import randomization
 
@@ -225,7 +225,8 @@ def test_collect_in_d2_audit_and_export_carry_the_sort_instruction(
     info = json.loads((out / "meta" / "info.json").read_text())
     names = info["features"]["observation.environment_state"]["names"]
     assert names[-len(Sort.goal_names) :] == list(Sort.goal_names)
-    assert ONE_BOX.encode() in (out / "meta" / "tasks.parquet").read_bytes()
+    asked = BOXES.format(n=SORTED_BOXES)  # every trial sorts its four boxes
+    assert asked.encode() in (out / "meta" / "tasks.parquet").read_bytes()
 
 
 def test_a_sorting_table_that_would_stand_on_the_delivery_table_is_one_clear_error() -> None:

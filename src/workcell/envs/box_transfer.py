@@ -17,6 +17,7 @@ terminated once the task judges the episode a success (``info["is_success"]``: i
 
 from __future__ import annotations
 
+import math
 from collections.abc import Mapping
 from typing import Any
 
@@ -167,8 +168,10 @@ class BoxTransferEnv(gymnasium.Env[dict[str, Any], NDArray[Any]]):
 
     @property
     def _max_episode_steps(self) -> int:
-        """The episode's step limit, where LeRobot's rollout looks for it."""
-        return self.config.max_episode_steps
+        """The episode's step limit, where LeRobot's rollout looks for it (the task's least
+        time limit raises the configured one: :attr:`Task.least_time_limit_s`)."""
+        least = math.ceil(self.task.least_time_limit_s * self.config.fps)
+        return max(self.config.max_episode_steps, least)
 
     def _stage_index(self) -> int:
         return self.task.stages.index(self._runner.stage)

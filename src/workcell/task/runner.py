@@ -247,9 +247,20 @@ class SessionRunner:
             time_bonus=time_bonus(limit, max(t, 0.0)) if self.phase is HudPhase.RUNNING else 0,
         )
 
+    def _as_task_asks(self, spec: TrialSpec) -> TrialSpec:
+        """``spec`` with the task's own count of objects and its least time limit
+        (:attr:`Task.objects_per_trial`, :attr:`Task.least_time_limit_s`)."""
+        task = self.task
+        required = spec.required_boxes if task.objects_per_trial is None else task.objects_per_trial
+        limit = max(spec.time_limit_s, task.least_time_limit_s)
+        if (required, limit) == (spec.required_boxes, spec.time_limit_s):
+            return spec
+        return replace(spec, required_boxes=required, time_limit_s=limit)
+
     # --- transitions ------------------------------------------------------------------------
 
     def _begin(self, spec: TrialSpec, world_seed: int | None = None) -> None:
+        spec = self._as_task_asks(spec)
         self._spec = spec
         self._seed = (
             trial_seed(self.config.seed, spec.trial_index) if world_seed is None else world_seed

@@ -70,6 +70,14 @@ class Task(ABC):
     worlds: ClassVar[Mapping[WorldName, WorldRanges]]
     """The task's worlds ``D0`` (narrow), ``D1`` (moderate) and ``D2`` (broad): how far each
     trial's conditions may stray (:mod:`workcell.tasks.worlds`)."""
+    objects_per_trial: ClassVar[int | None] = None
+    """How many objects every trial of the task asks, whatever the session's schedule says
+    (palletize: the four boxes of its pattern); None: the schedule's count (one in practice
+    and collection, ``task.level_boxes`` in a challenge)."""
+    least_time_limit_s: ClassVar[float] = 0.0
+    """The least time a trial of the task is given: a shorter limit from the session
+    (``task.time_limit_s``, ``task.level_time_limits_s``) is raised to it (palletize: 180 s
+    for four carries)."""
     goal_names: ClassVar[tuple[str, ...]]
     """The names of :meth:`goal`'s numbers, in order (they follow the objects in every
     observation's ``environment_state`` and every dataset's feature names)."""

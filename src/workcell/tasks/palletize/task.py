@@ -18,6 +18,9 @@ from workcell.tasks.palletize.stages import PALLET_BOXES, PALLETIZE_STAGES
 from workcell.tasks.task import Task
 from workcell.tasks.worlds import WorldName, WorldRanges
 
+PALLET_TIME_LIMIT_S = 180.0
+"""Four carries: the expert takes 94-113 s (bench/expert_palletize.py), a person longer."""
+
 INSTRUCTION = (
     "Stack the four boxes from the conveyor on the pallet, one in each slot of the 2x2 pattern."
 )
@@ -56,6 +59,9 @@ class Palletize(Task):
     def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
         layout = PalletLayout.of(conditions, world)
         return tuple(float(v) for center in layout.slot_centers() for v in center)
+
+    objects_per_trial: ClassVar[int | None] = PALLET_BOXES
+    least_time_limit_s: ClassVar[float] = PALLET_TIME_LIMIT_S
 
     def instruction(self, required: int) -> str:
         """Every trial fills the pallet (the schedule's box count does not change it)."""

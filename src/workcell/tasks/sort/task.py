@@ -22,6 +22,8 @@ from workcell.tasks.worlds import WorldName, WorldRanges
 ONE_BOX = "Sort the box from the conveyor onto the table whose zone has its colour."
 BOXES = "Sort {n} boxes from the conveyor: each onto the table whose zone has its colour."
 MAX_BOXES = 12
+SORTED_BOXES = 4
+"""Boxes every trial sorts: two of each kind (the default pool of four)."""
 """The goal names a kind for this many pooled boxes (``feeder.pool_size``'s upper bound)."""
 NO_BOX = -1.0
 """The goal's table for a pool index the trial's pool does not have."""
@@ -75,6 +77,9 @@ class Sort(Task):
             kinds = []
         kinds = (kinds + [NO_BOX] * MAX_BOXES)[:MAX_BOXES]
         return (*tables[0], *tables[1], *kinds)
+
+    objects_per_trial: ClassVar[int | None] = SORTED_BOXES
+    """Two boxes of each kind in every trial (the expert takes 62-76 s, bench/expert_sort.py)."""
 
     def instruction(self, required: int) -> str:
         return ONE_BOX if required == 1 else BOXES.format(n=required)
