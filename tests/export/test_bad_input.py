@@ -80,7 +80,7 @@ def test_nothing_included_points_at_all(tmp_path: Path, capsys: pytest.CaptureFi
     assert line.endswith("pass --all to export trials that are not included")
     argv[-1] = str(tmp_path / "all")
     assert main(["export", *argv, "--all"]) == 0
-    assert "exported 1 episodes" in capsys.readouterr().out
+    assert "exported 1 episode," in capsys.readouterr().out
 
 
 def test_sessions_of_different_rates(tmp_path: Path, capsys: pytest.CaptureFixture[str]) -> None:

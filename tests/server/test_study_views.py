@@ -110,7 +110,7 @@ def test_replay_facts_timeline_and_frame_count_and_the_admins_downloads(tmp_path
             note = packed.read("workcell_selection.txt").decode()
         assert "meta/info.json" in names and any(n.startswith("data/") for n in names)
         assert any(n.startswith("meta/workcell_provenance") for n in names)
-        assert "exported 1 episodes" in note and "kept 1 of 1 closed trials" in note
+        assert "exported 1 episode," in note and "kept 1 of 1 closed trials" in note
         status, body = server.get("/api/export/lerobot.zip?operator=p02", bearer)
         assert status == 409 and b"none of its 1 closed trials can be exported" in body
 

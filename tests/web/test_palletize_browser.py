@@ -7,6 +7,8 @@ from __future__ import annotations
 
 import json
 
+import pytest
+
 from tests.web.test_browser import (
     Server,
     _rows,
@@ -19,6 +21,8 @@ from tests.web.test_browser import (
 from workcell.tasks.palletize.stages import PALLETIZE_STAGES
 
 __all__ = ["browser_available", "one_browser_at_a_time", "scripts_compiled", "server"]
+
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 
 def test_desktop_input_drives_palletize_to_a_grasped_box(server: Server) -> None:

@@ -9,6 +9,8 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import pytest
+
 from tests.web.test_browser import (
     _rows,
     browser_available,
@@ -37,6 +39,8 @@ settings = { "world.grasp" = "assisted" }
 mode = "collection"
 trials = 3
 """
+
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 
 def test_pause_confirmed_stop_with_a_reason_and_the_end_screens_next_step(

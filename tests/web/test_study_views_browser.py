@@ -6,6 +6,8 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import pytest
+
 from tests.web.test_browser import (
     Server,
     _rows,
@@ -38,6 +40,8 @@ settings = { "world.grasp" = "physical" }
 [[steps]]
 mode = "practice"
 """
+
+pytestmark = [pytest.mark.slow, pytest.mark.browser]
 
 
 def test_first_screen_hud_score_and_key_map(server: Server) -> None:

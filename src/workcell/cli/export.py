@@ -134,7 +134,7 @@ def run(args: argparse.Namespace) -> int:
             f"{summary.rendered_videos} rendered)"
         )
     print(
-        f"exported {summary.episodes} episodes, {summary.frames} frames{videos} as "
+        f"exported {_count(summary.episodes, 'episode')}, {summary.frames} frames{videos} as "
         f"{args.format} to {args.out} ({summary.seconds:.1f} s, {rate:.0f} frames/s)"
     )
     if summary.selection is not None:

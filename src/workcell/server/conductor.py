@@ -9,22 +9,21 @@ it back with its resume token; past the grace period the running trial ends
 from __future__ import annotations
 
 import asyncio
-import contextlib
 import dataclasses
 import logging
 import secrets
 from pathlib import Path
 from typing import Any, Protocol
 
-from workcell.control.simulation import Simulation
-from workcell.errors import ConfigError, Problem, WorkcellError
+from workcell.errors import ConfigError, WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.codec import encode
-from workcell.protocol.validation import field_problem
 from workcell.record.errors import StoreError
 from workcell.server.client import Client
+from workcell.server.field_problems import field_problems
 from workcell.server.options import ServerOptions
-from workcell.server.scene import describe
+from workcell.server.scene import idle_scene
+from workcell.server.session_listener import SessionListener
 from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import RelayedSession, SessionArgs, SessionFactory
 from workcell.server.shards import SessionShards
@@ -32,20 +31,9 @@ from workcell.server.study_desk import Refusal
 from workcell.server.waiting_line import WaitingLine
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
-from workcell.tasks.registry import built_in_task, load_task
+from workcell.tasks.registry import built_in_task
 
 logger = logging.getLogger(__name__)
-
-
-def field_problems(error: ConfigError) -> tuple[m.FieldProblem, ...]:
-    """One FieldProblem per line of a ConfigError, its parts as data; a line that names no
-    field (not a :class:`Problem`) has an empty path and the whole line as ``allowed``."""
-    return tuple(
-        field_problem(line.path, line.value, line.allowed, line)
-        if isinstance(line, Problem)
-        else m.FieldProblem(path=(), value=None, allowed=line, message=line)
-        for line in error.problems
-    )
 
 
 class SessionPlanner(Protocol):
@@ -212,7 +200,7 @@ class Conductor:
             args = SessionArgs(
                 config, self.store, options.state_hz, options.max_catch_up_s, options.key_file
             )
-            session = self.launch(args, _Listener(self))
+            session = self.launch(args, SessionListener(self))
             await asyncio.to_thread(session.start)
             return session
         except WorkcellError as error:  # e.g. the store is another process's
@@ -366,7 +354,7 @@ class Conductor:
 
     async def _default_scene(self) -> m.Scene:
         if self._idle_scene is None:
-            self._idle_scene = await asyncio.to_thread(_scene_of, SessionConfig())
+            self._idle_scene = await asyncio.to_thread(idle_scene, SessionConfig())
         return self._idle_scene
 
     # --- shutdown ---------------------------------------------------------------------------
@@ -403,31 +391,3 @@ class Conductor:
     @property
     def loop(self) -> asyncio.AbstractEventLoop | None:
         return self._loop
-
-
-def _scene_of(config: SessionConfig) -> m.Scene:
-    """The scene of a freshly reset world with ``config`` (what an idle client draws)."""
-    world = Simulation(config.world, load_task(config.task.kind).scene()).world
-    return describe(world.model, world.data)
-
-
-class _Listener:
-    """Carries a live session's output from the simulation thread onto the loop."""
-
-    def __init__(self, conductor: Conductor) -> None:
-        self.conductor = conductor
-        loop = conductor.loop
-        assert loop is not None
-        self.loop = loop
-
-    def state(self, text: str) -> None:
-        with contextlib.suppress(RuntimeError):  # the loop closed: the server is gone
-            self.loop.call_soon_threadsafe(self.conductor.broadcast_state, text)
-
-    def message(self, text: str) -> None:
-        with contextlib.suppress(RuntimeError):
-            self.loop.call_soon_threadsafe(self.conductor.broadcast_text, text)
-
-    def ended(self, message: m.SessionEnded) -> None:
-        with contextlib.suppress(RuntimeError):
-            asyncio.run_coroutine_threadsafe(self.conductor.session_ended(message), self.loop)

@@ -13,6 +13,7 @@ import mujoco
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.control.simulation import Simulation
 from workcell.protocol.messages import (
     BodyDescription,
     GeomDescription,
@@ -21,6 +22,8 @@ from workcell.protocol.messages import (
     Scene,
     TextureDescription,
 )
+from workcell.session.config import SessionConfig
+from workcell.tasks.registry import load_task
 
 HEAD_CAMERA_BODY = "head"
 _SHAPES = {
@@ -155,3 +158,9 @@ class PoseReader:
             np.concatenate([data.xpos[self.bodies], data.xquat[self.bodies]], axis=1), DIGITS
         )
         return tuple((x, y, z, w, qx, qy, qz) for x, y, z, w, qx, qy, qz in stacked.tolist())
+
+
+def idle_scene(config: SessionConfig) -> Scene:
+    """The scene of a freshly reset world with ``config`` (what an idle client draws)."""
+    world = Simulation(config.world, load_task(config.task.kind).scene()).world
+    return describe(world.model, world.data)

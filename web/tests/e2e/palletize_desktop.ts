@@ -137,6 +137,7 @@ await runScript("palletize_desktop", async ({ url, page, artifacts }) => {
         if (mouse !== null) await page.mouse.up();
         mouse = null;
         await page.click("#stop-session");
+        await page.click("#stop-confirm"); // the confirmation, with no reason given
       }
       return seen;
     },
