@@ -132,7 +132,8 @@ def zipped_lerobot_export(store: Path, operators: tuple[str, ...], work: Path) -
     out = work / "lerobot"
     with damage_as_store_error(store):
         summary = export_lerobot(store, out, ExportOptions(operators=operators))
-    lines = [f"exported {summary.episodes} episodes, {summary.frames} frames"]
+    episodes = f"{summary.episodes} episode{'' if summary.episodes == 1 else 's'}"
+    lines = [f"exported {episodes}, {summary.frames} frames"]
     if summary.selection is not None:
         chosen = summary.selection
         left = ", ".join(f"{n} {reason}" for reason, n in chosen.left_out.items())
