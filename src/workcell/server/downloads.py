@@ -19,6 +19,7 @@ import asyncio
 import shutil
 import tempfile
 import zipfile
+from collections.abc import Callable, Sequence
 from pathlib import Path
 
 from starlette.background import BackgroundTask
@@ -49,17 +50,11 @@ def download_routes(seats: Seats) -> list[Route]:
     async def csv_zip(request: Request) -> Response:
         if not store_path.exists():
             return problem(404, "the store has no sessions yet: nothing to export")
-        work = Path(tempfile.mkdtemp(prefix="workcell-download-"))
-        try:
-            archive = await asyncio.to_thread(zipped_csv_export, store_path, work)
-        except (StoreError, WorkcellError) as error:
-            shutil.rmtree(work, ignore_errors=True)
-            return problem(503, str(error))
-        return FileResponse(
-            archive,
-            media_type="application/zip",
-            filename=CSV_ZIP,
-            background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
+        return await _download(
+            lambda work: zipped_csv_export(store_path, work),
+            "application/zip",
+            CSV_ZIP,
+            ((StoreError, 503), (WorkcellError, 503)),
         )
 
     async def trials_csv(request: Request) -> Response:
@@ -68,20 +63,11 @@ def download_routes(seats: Seats) -> list[Route]:
             return problem(400, f"session: at most {MAX_SESSIONS_ASKED} sessions at once")
         if not store_path.exists():
             return problem(404, "the store has no sessions yet: nothing to export")
-        work = Path(tempfile.mkdtemp(prefix="workcell-download-"))
-        try:
-            path = await asyncio.to_thread(audited_trials_csv, store_path, asked, work)
-        except UnknownSessionError as error:
-            shutil.rmtree(work, ignore_errors=True)
-            return problem(404, str(error))
-        except (StoreError, WorkcellError) as error:
-            shutil.rmtree(work, ignore_errors=True)
-            return problem(503, str(error))
-        return FileResponse(
-            path,
-            media_type="text/csv",
-            filename=TRIALS_CSV,
-            background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
+        return await _download(
+            lambda work: audited_trials_csv(store_path, asked, work),
+            "text/csv",
+            TRIALS_CSV,
+            ((UnknownSessionError, 404), (StoreError, 503), (WorkcellError, 503)),
         )
 
     async def lerobot_zip(request: Request) -> Response:
@@ -90,20 +76,11 @@ def download_routes(seats: Seats) -> list[Route]:
             return problem(400, f"operator: at most {MAX_SESSIONS_ASKED} operators at once")
         if not store_path.exists():
             return problem(404, "the store has no sessions yet: nothing to export")
-        work = Path(tempfile.mkdtemp(prefix="workcell-download-"))
-        try:
-            archive = await asyncio.to_thread(zipped_lerobot_export, store_path, operators, work)
-        except StoreError as error:
-            shutil.rmtree(work, ignore_errors=True)
-            return problem(503, str(error))
-        except WorkcellError as error:  # nothing to export, a store that fails verify
-            shutil.rmtree(work, ignore_errors=True)
-            return problem(409, str(error))
-        return FileResponse(
-            archive,
-            media_type="application/zip",
-            filename=LEROBOT_ZIP,
-            background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
+        return await _download(  # nothing to export, a store that fails verify: 409
+            lambda work: zipped_lerobot_export(store_path, operators, work),
+            "application/zip",
+            LEROBOT_ZIP,
+            ((StoreError, 503), (WorkcellError, 409)),
         )
 
     return [
@@ -111,6 +88,32 @@ def download_routes(seats: Seats) -> list[Route]:
         Route("/api/export/trials.csv", trials_csv),
         Route("/api/export/lerobot.zip", lerobot_zip),
     ]
+
+
+async def _download(
+    build: Callable[[Path], Path],
+    media_type: str,
+    filename: str,
+    statuses: Sequence[tuple[type[Exception], int]],
+) -> Response:
+    """The file ``build`` writes into a fresh folder (in a worker thread), sent as
+    ``filename`` and removed with its folder once sent; an error of a kind in ``statuses``
+    is answered with its status (the first kind that matches), the folder removed."""
+    work = Path(tempfile.mkdtemp(prefix="workcell-download-"))
+    try:
+        path = await asyncio.to_thread(build, work)
+    except Exception as error:
+        shutil.rmtree(work, ignore_errors=True)
+        for kind, status in statuses:
+            if isinstance(error, kind):
+                return problem(status, str(error))
+        raise
+    return FileResponse(
+        path,
+        media_type=media_type,
+        filename=filename,
+        background=BackgroundTask(shutil.rmtree, work, ignore_errors=True),
+    )
 
 
 def zipped_csv_export(store: Path, work: Path) -> Path:

@@ -10,6 +10,7 @@ from typing import Any, ClassVar
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
 from workcell.task.operator import Operator
+from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.palletize.expert import PalletizeExpert
 from workcell.tasks.palletize.judge import PalletizeJudge
 from workcell.tasks.palletize.layout import SLOT_SIGNS, PalletLayout
@@ -24,11 +25,6 @@ PALLET_TIME_LIMIT_S = 180.0
 INSTRUCTION = (
     "Stack the four boxes from the conveyor on the pallet, one in each slot of the 2x2 pattern."
 )
-D1_SHIFT = 0.1
-"""D1 moves the robot's start and the pallet up to 0.1 m and turns both up to 0.1 rad."""
-D2_SHIFT = 0.3
-"""D2 widens D1's ranges three times and varies the boxes' size (and so the slot layout),
-mass and colour, and the feed."""
 
 
 class Palletize(Task):
@@ -37,20 +33,10 @@ class Palletize(Task):
         "stack four boxes from the conveyor on a pallet in a 2x2 pattern, one at a time"
     )
     stages: ClassVar[tuple[str, ...]] = PALLETIZE_STAGES
-    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
-        "D0": {},
-        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
-        "D2": {
-            "start_shift": D2_SHIFT,
-            "target_shift": D2_SHIFT,
-            "start_yaw": D2_SHIFT,
-            "box_size": 0.15,
-            "box_mass": 0.3,
-            "box_colour": 0.2,
-            "conveyor_speed": 0.25,
-            "release_interval": 0.25,
-        },
-    }
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = BoxTransfer.worlds
+    """Box transfer's: D1 moves the robot's start and the pallet (with the target shift) up
+    to 0.1 m and turns them up to 0.1 rad; D2 widens that three times and varies the boxes'
+    size (and so the slot layout), mass and colour, and the feed."""
     goal_names: ClassVar[tuple[str, ...]] = tuple(
         f"slot_{i + 1}_{axis}" for i in range(len(SLOT_SIGNS)) for axis in ("x", "y")
     )
