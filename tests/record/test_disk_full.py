@@ -16,10 +16,11 @@ import pytest
 
 from tests.record import synthetic
 from tests.record.processes import collect, finish, start_writer
-from tests.record.small_disk import small_disk
+from tests.record.small_disk import fill, small_disk
 from tests.record.writer_process import EXIT_STORAGE_ERROR
 from workcell.cli.main import main
 from workcell.record import Store
+from workcell.record.errors import StorageError
 from workcell.record.export_csv import columns_equal
 from workcell.record.reserve import RESERVE_BYTES, reserve_path
 from workcell.record.verify import verify_store
@@ -132,6 +133,39 @@ def test_collect_on_a_disk_that_fills_up(tmp_path: Path) -> None:
             assert reserve_path(store).stat().st_size == RESERVE_BYTES
         assert not reserve_path(store).exists()  # a clean close removes it
         assert main(["verify", "--recover", "--store", str(store)]) == 0
+
+
+def test_a_trial_whose_start_meets_the_full_disk_is_stored_interrupted(tmp_path: Path) -> None:
+    """The disk fills while a trial's first rows are being written: the failed transaction
+    takes the trial's row with it, yet the trial the operator was told of is stored,
+    ``interrupted``/``storage_error``, after the trial that ended before it."""
+    with small_disk(tmp_path / "disk", 4 * MIB) as disk:
+        path = disk / "s.db"
+        with Store.open(path, writer=True) as store:
+            session = store.create_session(synthetic.session_info())
+            first = store.start_trial(session, synthetic.trial_start())
+            store.add_frames(first, synthetic.batch(store, first, synthetic.frames(0, 40)))
+            store.end_trial(first, synthetic.trial_end(40))
+            store.commit()
+            fill(disk, leave_bytes=0)
+            with pytest.raises(StorageError, match="full"):
+                trial = store.start_trial(session, synthetic.trial_start(1))
+                for start in range(0, 2400, 100):  # more than the log has room for
+                    frames = synthetic.frames(start, 100, seed=1)
+                    store.add_frames(trial, synthetic.batch(store, trial, frames))
+                store.commit()
+            assert store.try_interrupt_session(session, "storage_error")
+        with Store.open(path, writer=False) as reader:
+            trials = reader.trials()
+            (event,) = [e for e in reader.events() if e.kind == "interruption"]
+            assert reader.sessions()[0].status == "interrupted"
+        assert [(t.outcome, t.interruption_reason) for t in trials] == [
+            ("success", None),
+            ("interrupted", "storage_error"),
+        ]
+        assert [t.trial_index for t in trials] == [0, 1]
+        assert trials[1].n_frames == 0 and event.trial_id == trials[1].trial_id
+        assert verify_store(path) == []
 
 
 @pytest.mark.parametrize("n_frames", [20, 2400])

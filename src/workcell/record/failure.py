@@ -3,7 +3,9 @@
 The failed transaction has been rolled back; what was committed before is intact. The
 store then closes the session's running trial as ``interrupted`` with the reason the
 caller gives (``storage_error``) and an ``interruption`` event naming the error, and the
-session as ``interrupted``, with their chain links, in one durable transaction. On a full
+session as ``interrupted``, with their chain links, in one durable transaction. A trial
+whose row went down with the failed transaction (the disk filled as its start was being
+written) is written again first, so that every trial the operator was told of is stored. On a full
 disk this write needs room the disk no longer has: the writer's headroom file
 (:mod:`workcell.record.reserve`) is deleted first to give it that room.
 """
@@ -13,8 +15,10 @@ from __future__ import annotations
 import contextlib
 import sqlite3
 import time
+from collections.abc import Mapping
 
-from workcell.record import lifecycle
+from workcell.record import lifecycle, rowio
+from workcell.record.batch import RowBatch
 from workcell.record.chain import ChainKey
 from workcell.record.errors import StoreError
 from workcell.record.ids import new_id
@@ -32,10 +36,12 @@ def close_after_failure(
     session_id: str,
     reason: str,
     key: ChainKey | None,
+    started: Mapping[str, RowBatch] | None = None,
 ) -> bool:
     """Close the session's running trials as interrupted (``reason``) and the session as
-    ``interrupted``; whether it was written. Never raises for storage trouble (the next
-    writer recovers what is left open)."""
+    ``interrupted``; whether it was written. ``started``: the rows of the trials, by id,
+    the writer started in the session and has not ended, written again when missing.
+    Never raises for storage trouble (the next writer recovers what is left open)."""
     failure = guard.failure
     detail = {"error": str(failure)} if failure else {}
     if failure is None:  # keep what was added; a failing commit rolls back instead
@@ -49,6 +55,8 @@ def close_after_failure(
             conn.execute("PRAGMA synchronous = FULL")  # the end is durable
             conn.execute("BEGIN IMMEDIATE")
             now = time.time()
+            for trial_id, row in (started or {}).items():
+                _restore_start(conn, trial_id, row)
             for trial_id in lifecycle.running_trials(conn, session_id):
                 lifecycle.interrupt_trial(
                     conn, trial_id, reason, event_id=new_id(), now=now, detail=detail, key=key
@@ -66,3 +74,9 @@ def close_after_failure(
                 if not conn.in_transaction:
                     conn.execute("PRAGMA synchronous = NORMAL")
     return False
+
+
+def _restore_start(conn: sqlite3.Connection, trial_id: str, row: RowBatch) -> None:
+    """Write a started trial's row again if the rolled-back transaction took it."""
+    if conn.execute("SELECT 1 FROM trials WHERE trial_id = ?", (trial_id,)).fetchone() is None:
+        rowio.insert(conn, row)

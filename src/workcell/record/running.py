@@ -29,6 +29,9 @@ class Running:
     trial_id: str | None = None
     metric_rows: list[NDArray[np.float64]] = field(default_factory=list)
     """trials: the metric columns of the frames added, in batches."""
+    start_row: RowBatch | None = None
+    """trials: the trial's row as started, written again when a failed transaction took it
+    with it (:func:`~workcell.record.failure.close_after_failure`)."""
 
     def metric_matrix(self) -> NDArray[np.float64]:
         """(next_index, len(REQUIRED_COLUMNS)): the metric columns of the trial's frames."""

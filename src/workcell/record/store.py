@@ -207,11 +207,12 @@ class Store(StoreReading, Closing):
             **start.task_columns(),
         }
         batch = RowBatch.from_mappings(TRIALS, [row])
-        with self._write() as conn:
-            rowio.insert(conn, batch)
+        # known before it is written: a failure writing it closes it as interrupted
         session.next_index += 1
         session.trial_id = trial_id
-        self._trials[trial_id] = Running(session_id)
+        self._trials[trial_id] = Running(session_id, start_row=batch)
+        with self._write() as conn:
+            rowio.insert(conn, batch)
         return trial_id
 
     def add_event(
@@ -337,11 +338,17 @@ class Store(StoreReading, Closing):
             raise RecordError(f"reason {reason!r}: must be one of {INTERRUPTION_REASONS}")
         if self._guard is None or session_id not in self._sessions:
             return False
+        started = {
+            trial_id: trial.start_row
+            for trial_id, trial in self._trials.items()
+            if trial.session_id == session_id and trial.start_row is not None
+        }
         if not close_after_failure(
             self._conn,
             guard=self._guard,
             reserve=self._reserve,
             session_id=session_id,
+            started=started,
             reason=reason,
             key=self._key,
         ):
