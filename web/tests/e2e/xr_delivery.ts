@@ -7,63 +7,14 @@
 
 import { writeFileSync } from "node:fs";
 import path from "node:path";
-import type { EmulatedDevice } from "../../src/xr/emulate";
 import { check, checkDrawn, imageStats, log, runScript, sleep, waitFor } from "./lib.js";
-import type { DebugSnapshot } from "./lib.js";
-import { ScriptedOperator, controllerCorrections } from "./operator.js";
-import type { Decision, Observation, Vec3 } from "./operator.js";
+import { ScriptedOperator } from "./operator.js";
 import { startSession } from "./flow.js";
 import { checkDelivered, deliver, deliveryResult } from "./delivery.js";
-import type { Seen } from "./delivery.js";
-
-type Quat = [number, number, number, number];
-type Side = "left" | "right";
-
-/** What to set on one emulated controller (left out: unchanged). */
-interface HandCommand {
-  pos?: Vec3;
-  quat?: Quat;
-  grip?: number;
-  trigger?: number;
-  stick?: [number, number];
-  buttons?: Record<string, number>;
-}
-
-interface DeviceCommand {
-  headset?: { pos: Vec3; quat: Quat };
-  hands?: Partial<Record<Side, HandCommand>>;
-}
-
+import { HEADSET, XrDriver, applyAndObserve, restingHands } from "./xr_device.js";
+import type { DeviceCommand } from "./xr_device.js";
 
 const TICK_MS = 20;
-const REST: Record<Side, Vec3> = { left: [-0.2, 1.0, -0.3], right: [0.2, 1.0, -0.3] };
-const S = Math.SQRT1_2;
-const PALM_IN: Record<Side, Quat> = { left: [0, 0, S, S], right: [0, 0, -S, S] }; // (x, y, z, w)
-const NEUTRAL: Quat = [0, 0, 0, 1];
-
-/** In the page: apply one set of device states to the emulated Quest, read the page. */
-function applyAndObserve(command: DeviceCommand | null): Seen {
-  const device: EmulatedDevice | undefined = window.__xrDevice;
-  const workcell = window.__workcell;
-  if (device === undefined || workcell === undefined) throw new Error("the page has no emulated Quest or no window.__workcell");
-  if (command !== null) {
-    if (command.headset) {
-      device.position.set(...command.headset.pos);
-      device.quaternion.set(...command.headset.quat);
-    }
-    for (const [side, hand] of Object.entries(command.hands ?? {})) {
-      const controller = device.controllers[side as Side];
-      if (controller === undefined) continue;
-      if (hand.pos) controller.position.set(...hand.pos);
-      if (hand.quat) controller.quaternion.set(...hand.quat);
-      if (hand.grip !== undefined) controller.updateButtonValue("squeeze", hand.grip);
-      if (hand.trigger !== undefined) controller.updateButtonValue("trigger", hand.trigger);
-      if (hand.stick) controller.updateAxes("thumbstick", hand.stick[0], hand.stick[1]);
-      for (const [button, value] of Object.entries(hand.buttons ?? {})) controller.updateButtonValue(button, value);
-    }
-  }
-  return { snap: workcell.snapshot(), bodies: workcell.bodies() };
-}
 
 await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   await startSession(page, url, { operatorId: "e2e-xr", query: { emulate: "quest3" }, artifacts });
@@ -75,12 +26,8 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   await page.click("#enter-vr");
   let s = await waitFor(page, (s) => s.teleop?.presenting === true && s.teleop.xr_frames > 5, { what: "the XR session" });
   log(`in immersive-vr, view ${s.teleop?.view}`);
-  const hands: Record<Side, HandCommand> = {
-    left: { pos: REST.left, quat: NEUTRAL, grip: 0, trigger: 0, stick: [0, 0] },
-    right: { pos: REST.right, quat: NEUTRAL, grip: 0, trigger: 0, stick: [0, 0] },
-  };
-  const headset: DeviceCommand["headset"] = { pos: [0, 1.6, 0], quat: [Math.sin(-0.2), 0, 0, Math.cos(-0.2)] };
-  await page.evaluate(applyAndObserve, { headset, hands });
+  const resting: DeviceCommand = { headset: HEADSET, hands: restingHands() };
+  await page.evaluate(applyAndObserve, resting);
 
   // B toggles first/third person; toggle twice and check both views are drawn.
   await sleep(600);
@@ -119,52 +66,14 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
   check(panelStats.variance > 100, "the XR HUD panel is blank");
   const start = s.state;
   const operator = new ScriptedOperator();
-  const ctrl: Record<Side, Vec3> = { left: [...REST.left], right: [...REST.right] };
-  let inputsWithPose = 0;
-  let command: DeviceCommand | null = null;
-  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<number> => {
-    const corrections = controllerCorrections(obs, decision.targets);
-    if (!decision.grip) {
-      ctrl.left = [...REST.left];
-      ctrl.right = [...REST.right];
-    }
-    (["left", "right"] as const).forEach((side, i) => {
-      const c = corrections[i];
-      if (c) ctrl[side] = [ctrl[side][0] + c[0], ctrl[side][1] + c[1], ctrl[side][2] + c[2]];
-    });
-    const grip = decision.grip ? 1 : 0;
-    const trigger = decision.trigger ? 1 : 0;
-    // Applied on the next look: one round trip per tick.
-    command = {
-      hands: {
-        left: {
-          pos: ctrl.left,
-          quat: decision.palmsIn ? PALM_IN.left : NEUTRAL,
-          grip,
-          trigger,
-          // xr-standard thumbstick: x right, y down
-          stick: [-decision.drive.left, -decision.drive.forward],
-        },
-        right: {
-          pos: ctrl.right,
-          quat: decision.palmsIn ? PALM_IN.right : NEUTRAL,
-          grip,
-          trigger,
-          stick: [decision.drive.turn, 0],
-        },
-      },
-    };
-    const sent = snap.teleop?.last_input;
-    if (sent?.source === "xr" && sent.left.pose !== null && sent.right.pose !== null) inputsWithPose += 1;
-    return 0;
-  };
+  const device = new XrDriver();
   const run = await deliver(page, artifacts, operator, {
     prefix: "xr",
     tickMs: TICK_MS,
     debugEveryMs: 1000,
     adaptLead: true,
-    look: () => page.evaluate(applyAndObserve, command),
-    act,
+    look: () => page.evaluate(applyAndObserve, device.command),
+    act: (decision, obs, snap) => Promise.resolve(device.act(decision, obs, snap)),
     debug: (decision, obs, snap) => {
       const box = obs.boxes.find((b) => b.name === operator.box);
       const sent = snap.teleop?.last_input;
@@ -187,7 +96,7 @@ await runScript("xr_delivery", async ({ url, page, artifacts }) => {
 
   const result = {
     ...deliveryResult(run),
-    xr_inputs_with_pose: inputsWithPose,
+    xr_inputs_with_pose: device.inputsWithPose,
     input_seq_applied: start?.input_seq ?? null,
     stale_states_dropped: run.end.stats.stale,
     hud_off_axis_deg: hudAngle,
