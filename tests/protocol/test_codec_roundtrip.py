@@ -100,6 +100,7 @@ def test_a_state_with_numpy_values_and_a_non_finite_float_is_written_as_converte
         "box_transfer",
         "lifted",
         40,
+        "Carry the box from the conveyor to the delivery table.",
     )
     state = m.State(
         seq=np.int64(3),  # type: ignore[arg-type]  # what a careless builder might pass

@@ -45,8 +45,9 @@ def _world(name: WorldName) -> WorldConfig:
     )
 
 
-def _expert_trial(sim: Simulation, seed: int) -> tuple[str, list[str]]:
-    """One trial of the session runner with the expert; its outcome and its stages."""
+def _expert_trial(sim: Simulation, seed: int) -> tuple[str, list[str], set[str]]:
+    """One trial of the session runner with the expert; its outcome, its stages and the
+    instructions its HUD showed."""
     task = load_task("shelve")
     config = dataclasses.replace(
         SessionConfig(world=sim.config),
@@ -55,14 +56,16 @@ def _expert_trial(sim: Simulation, seed: int) -> tuple[str, list[str]]:
     runner = SessionRunner(config, sim, task.expert(ExpertConfig()), max_trials=1)
     runner.start(TrialSpec(0, "practice", None, None, 1, 60.0), world_seed=seed)
     stages: list[str] = []
+    instructions: set[str] = set()
 
     def seen() -> None:
-        stage = runner.hud().stage
-        if not stages or stages[-1] != stage:
-            stages.append(stage)
+        hud = runner.hud()
+        instructions.add(hud.instruction)
+        if not stages or stages[-1] != hud.stage:
+            stages.append(hud.stage)
 
     (result,) = runner.run(after_step=seen)
-    return result.outcome, stages
+    return result.outcome, stages, instructions
 
 
 @pytest.mark.parametrize(("world", "seeds"), [("D0", (1, 2, 3)), ("D2", (1000, 1003, 1008))])
@@ -72,9 +75,13 @@ def test_the_expert_shelves_the_box_on_every_board(
     sim = Simulation(_world(world), Shelve().scene())
     asked = set()
     for seed in seeds:
-        outcome, stages = _expert_trial(sim, seed)
+        outcome, stages, instructions = _expert_trial(sim, seed)
         layout = ShelfLayout.from_recorded(sim.world.conditions.task_values)
         asked.add(layout.asked)
+        # the HUD says which shelf, the same sentence the exports carry
+        (instruction,) = instructions
+        assert SHELF_NAMES[layout.asked] in instruction
+        assert instruction == Shelve().trial_instruction(1, sim.world.conditions.as_dict())
         assert outcome == "success", (world, seed, stages)
         # the stages come in order and end settled, the box on the asked board
         order = [SHELVE_STAGES.index(s) for s in stages]

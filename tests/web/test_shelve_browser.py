@@ -21,6 +21,8 @@ from tests.web.test_browser import (
     scripts_compiled,
     serving,
 )
+from workcell.tasks.shelve.shelf import SHELF_NAMES
+from workcell.tasks.shelve.task import Shelve
 
 pytestmark = [pytest.mark.slow, pytest.mark.browser]
 __all__ = ["browser_available", "one_browser_at_a_time", "scripts_compiled"]
@@ -44,8 +46,12 @@ def test_desktop_keys_drive_shelve_to_its_first_stage(tmp_path: Path) -> None:
         "SELECT payload_json FROM events WHERE trial_id = ? AND kind = 'trial_started'",
         trial["trial_id"],
     )
-    asked = json.loads(started["payload_json"])["conditions"]["task"]["shelf"]
+    conditions = json.loads(started["payload_json"])["conditions"]
+    asked = conditions["task"]["shelf"]
     assert asked in (0, 1, 2)
+    # the HUD showed the shelf asked for, in the sentence the exports carry
+    assert SHELF_NAMES[asked] in result["hud_instruction"]
+    assert result["hud_instruction"] == Shelve().trial_instruction(1, conditions)
     touches = _rows(
         server.store,
         "SELECT frame_index FROM frames WHERE trial_id = ? AND (contact_l >= 0 OR contact_r >= 0)",

@@ -46,6 +46,12 @@ export interface Hud {
    * (:func:`workcell.task.scoring.time_bonus`); 0 outside a running trial.
    */
   readonly time_bonus: number;
+  /**
+   * What the trial asks, in one sentence: its task's
+   * :meth:`~workcell.tasks.task.Task.trial_instruction` (the shelf shelve asks for, say),
+   * the sentence every exported episode carries; empty before the first trial.
+   */
+  readonly instruction: string;
 }
 
 /** A trial's countdown began (``seconds`` long). */

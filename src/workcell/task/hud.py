@@ -45,3 +45,7 @@ class Hud:
     time_bonus: int
     """What a success now would add to ``score``: the seconds left, rounded up
     (:func:`workcell.task.scoring.time_bonus`); 0 outside a running trial."""
+    instruction: str
+    """What the trial asks, in one sentence: its task's
+    :meth:`~workcell.tasks.task.Task.trial_instruction` (the shelf shelve asks for, say),
+    the sentence every exported episode carries; empty before the first trial."""

@@ -91,6 +91,8 @@ class SessionRunner:
         self._spec: TrialSpec | None = None
         self._seed = 0
         self._conditions: dict[str, object] = {}
+        self._instruction = ""
+        """What the current trial asks (:attr:`Hud.instruction`)."""
         self._start_step = 0
         self._judge: TrialJudge = self.task.new_trial(1)
         self._stage = self.task.stages[0]
@@ -245,6 +247,7 @@ class SessionRunner:
             task=self.task.name,
             stage=self._stage,
             time_bonus=time_bonus(limit, max(t, 0.0)) if self.phase is HudPhase.RUNNING else 0,
+            instruction=self._instruction,
         )
 
     def _as_task_asks(self, spec: TrialSpec) -> TrialSpec:
@@ -269,6 +272,7 @@ class SessionRunner:
         self._stage = self.task.stages[0]
         self._progress = 0.0
         self._conditions = self.sim.reset(self._seed).as_dict()
+        self._instruction = self.task.trial_instruction(spec.required_boxes, self._conditions)
         self.operator.start_trial(self._seed)
         self._start_step = self._countdown_steps * self.sim.world.substeps
         if self._countdown_steps:

@@ -6,6 +6,33 @@ import type { HudLine } from "./hudText";
 
 const WIDTH = 512;
 const HEIGHT = 320;
+const NOTE_FONT = "20px system-ui, sans-serif";
+const NOTE_ROW = 24;
+/** The most rows the note (what the trial asks) takes; the rest of it is cut with "…". */
+const NOTE_ROWS = 2;
+
+/** `text` broken at spaces into rows no wider than `width` as `measure` measures them, at
+ * most `rows` of them (the last one cut with "…" when the text is longer). */
+export function wrapText(text: string, width: number, rows: number, measure: (s: string) => number): string[] {
+  const out: string[] = [];
+  let row = "";
+  for (const word of text.split(/\s+/).filter((w) => w !== "")) {
+    const wider = row === "" ? word : `${row} ${word}`;
+    if (measure(wider) <= width || row === "") {
+      row = wider;
+      continue;
+    }
+    out.push(row);
+    row = word;
+  }
+  if (row !== "") out.push(row);
+  if (out.length <= rows) return out;
+  const kept = out.slice(0, rows);
+  let last = `${kept[rows - 1] ?? ""}…`;
+  while (measure(last) > width && last.length > 1) last = `${last.slice(0, -2)}…`;
+  kept[rows - 1] = last;
+  return kept;
+}
 
 export class HudPanel {
   readonly mesh: THREE.Mesh;
@@ -33,9 +60,10 @@ export class HudPanel {
     this.mesh.renderOrder = 10;
   }
 
-  /** Redraw only when the text changed. */
-  show(title: string, lines: readonly HudLine[]): void {
-    const key = title + JSON.stringify(lines);
+  /** Redraw only when the text changed; `note` (what the trial asks) goes under the title,
+   * wrapped. */
+  show(title: string, lines: readonly HudLine[], note = ""): void {
+    const key = title + note + JSON.stringify(lines);
     if (key === this.drawn) return;
     this.drawn = key;
     const c = this.context;
@@ -49,9 +77,13 @@ export class HudPanel {
     c.textBaseline = "alphabetic";
     c.fillText(title, 28, 48);
     c.textBaseline = "middle";
-    const rowHeight = Math.min(38, (HEIGHT - 80) / Math.max(1, lines.length));
+    c.font = NOTE_FONT;
+    const noteRows = note === "" ? [] : wrapText(note, WIDTH - 56, NOTE_ROWS, (s) => c.measureText(s).width);
+    noteRows.forEach((row, i) => c.fillText(row, 28, 74 + i * NOTE_ROW));
+    const top = 86 + noteRows.length * NOTE_ROW;
+    const rowHeight = Math.min(38, (HEIGHT - top + 6) / Math.max(1, lines.length));
     lines.forEach((line, i) => {
-      const y = 86 + i * rowHeight;
+      const y = top + i * rowHeight;
       c.fillStyle = "#c9d4e0";
       c.font = "26px system-ui, sans-serif";
       c.fillText(line.label, 28, y);

@@ -175,6 +175,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     const h = app.ended === null ? app.hud : null; // after the end, the end screen says it
     hud.replaceChildren();
     if (h !== null) {
+      if (h.instruction !== "") hud.append(el("p", { className: "hud-instruction", textContent: h.instruction }));
       hud.append(linesToDom(hudLines(h), "hud-lines"));
       if (h.phase === "countdown") hud.append(el("div", { className: "countdown", textContent: String(Math.ceil(h.countdown_s)) }));
     }
@@ -200,7 +201,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       } else if (trialEnd !== null) {
         hudPanel.show("Trial over", trialEndSummary(trialEnd));
       } else {
-        hudPanel.show("Workcell", h !== null ? hudLines(h) : [{ label: "Status", value: info.status }]);
+        hudPanel.show("Workcell", h !== null ? hudLines(h) : [{ label: "Status", value: info.status }], h?.instruction ?? "");
       }
     }
   };

@@ -143,7 +143,11 @@ await runScript("shelve_desktop", async ({ url, page, artifacts }) => {
   await hold(keyboard, down, new Set(), used);
   check(last.hud?.stage === "touched", `the stage after the touch is ${last.hud?.stage}`);
   await checkDrawn(page, path.join(artifacts, "shelve-touched.png"));
+  // the HUD says what the trial asks (which shelf), above its lines
+  const shown = (await page.locator("#hud .hud-instruction").textContent()) ?? "";
+  check(shown === last.hud?.instruction, `the HUD shows "${shown}", the trial asks "${last.hud?.instruction}"`);
   const result = {
+    hud_instruction: shown,
     session_id: last.session_id,
     stage: last.hud?.stage ?? null,
     task: last.hud?.task ?? null,
