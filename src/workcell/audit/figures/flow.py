@@ -90,7 +90,8 @@ def draw_flow(counts: DispositionCounts) -> bytes:
             MAIN_X,
             0.66,
             f"Complete trials\nn = {c.complete}\n"
-            f"{c.complete_successes} successes, {c.complete_timeouts} timeouts",
+            f"{c.complete_successes} successes, {c.complete_timeouts} timeouts"
+            + (f", {c.complete_failures} failed" if c.complete_failures else ""),
             ACCENT,
         )
         valid = _box(ax, MAIN_X, 0.27, f"Valid trials\nn = {c.valid}", ACCENT)
@@ -124,14 +125,22 @@ def draw_flow(counts: DispositionCounts) -> bytes:
         _aside(ax, 0.38, review)
         flagged = f"\n{c.marked_successes} flagged, marked" if c.marked_successes else ""
         successes = _box(ax, 0.1, 0.07, f"Successes\nn = {c.valid_successes}{flagged}", SUCCESS)
-        timeouts = _box(
-            ax,
-            0.47,
-            0.07,
-            f"Timeouts, kept as valid failures\nn = {c.valid_timeouts}\n"
-            f"{c.marked_timeouts} flagged, kept and marked",
-            TIMEOUT,
-        )
+        timeouts = _box(ax, 0.47, 0.07, failures_text(c), TIMEOUT)
         _down(ax, valid, successes)
         _down(ax, valid, timeouts)
         return png(fig)
+
+
+def failures_text(c: DispositionCounts) -> str:
+    """The valid non-successes: timeouts, and the trials a task's judge ended ``failed``
+    when there are any."""
+    if not c.valid_failures:
+        return (
+            f"Timeouts, kept as valid failures\nn = {c.valid_timeouts}\n"
+            f"{c.marked_timeouts} flagged, kept and marked"
+        )
+    marked = c.marked_timeouts + c.marked_failures
+    return (
+        f"Timeouts and failures, kept as valid\nn = {c.valid_timeouts} timeouts, "
+        f"{c.valid_failures} failed\n{marked} flagged, kept and marked"
+    )

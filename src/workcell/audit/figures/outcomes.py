@@ -1,25 +1,36 @@
 """Figure 2 (paper Fig. 5A): outcome counts of the valid trials and the success rate
-with its Wilson 95 % interval."""
+with its Wilson 95 % interval. A task whose judge can end a trial as ``failed`` (a box
+dropped off the pallet, say) gets a bar of its own beside the timeouts."""
 
 from __future__ import annotations
 
 import math
 
-from workcell.audit.figures.canvas import SUCCESS, TIMEOUT, empty, figure, png
+from workcell.audit.figures.canvas import FAILED, SUCCESS, TIMEOUT, empty, figure, png
 from workcell.audit.stats import SuccessRate
 
 
-def draw_outcomes(rate: SuccessRate) -> bytes:
+def outcome_bars(rate: SuccessRate, failures: int = 0) -> list[tuple[str, int, str]]:
+    """The bars of the counts panel, (outcome, valid trials, colour): successes and
+    timeouts, and ``failures`` (how many of the valid trials their task's judge ended
+    ``failed``) when there are any."""
+    timeouts = rate.n - rate.successes - failures
+    shown = [("success", rate.successes, SUCCESS), ("timeout", timeouts, TIMEOUT)]
+    if failures:
+        shown.append(("failed", failures, FAILED))
+    return shown
+
+
+def draw_outcomes(rate: SuccessRate, failures: int = 0) -> bytes:
+    """The figure of :func:`outcome_bars` beside the success rate's interval."""
     with figure(7.2, 3.4) as fig:
         counts, share = fig.subplots(1, 2, width_ratios=(1.6, 1))
-        timeouts = rate.n - rate.successes
-        bars = counts.bar(
-            ["success", "timeout"], [rate.successes, timeouts], color=[SUCCESS, TIMEOUT]
-        )
+        names, values, colours = zip(*outcome_bars(rate, failures), strict=True)
+        bars = counts.bar(names, values, color=colours)
         counts.bar_label(bars, padding=2)
         counts.set_ylabel("valid trials")
         counts.set_title(f"Outcomes of {rate.n} valid trials")
-        counts.set_ylim(0, max(rate.successes, timeouts, 1) * 1.18)
+        counts.set_ylim(0, max(*values, 1) * 1.18)
         counts.grid(axis="x", visible=False)
         if rate.n == 0 or math.isnan(rate.rate):
             empty(share, "no valid trials")

@@ -68,8 +68,9 @@ def _common_figures(result: AuditResult) -> list[RenderedFigure]:
             "flow",
             "Trial disposition",
             "Raw trials to valid trials (paper Fig. 4): incomplete trials are excluded, "
-            "successes with a disqualifying flag are excluded as low quality, timeouts are "
-            "kept as valid failures (flagged ones marked); reviewer decisions are shown apart.",
+            "successes with a disqualifying flag are excluded as low quality, timeouts (and "
+            "trials a task's judge ended failed) are kept as valid failures (flagged ones "
+            "marked); reviewer decisions are shown apart.",
             draw_flow(DispositionCounts.of(trials)),
         ),
         RenderedFigure(
@@ -77,7 +78,7 @@ def _common_figures(result: AuditResult) -> list[RenderedFigure]:
             "Outcomes and success rate",
             "Outcome counts of the valid trials and the success rate with its Wilson 95 % "
             "confidence interval (paper Fig. 5A).",
-            draw_outcomes(SuccessRate.of(trials)),
+            draw_outcomes(SuccessRate.of(trials), DispositionCounts.of(trials).valid_failures),
         ),
         RenderedFigure(
             "distributions",
