@@ -53,8 +53,10 @@ run: setup web-setup
 
 # Static checks (Python and strict TypeScript), the web client's unit tests, then the
 # whole test suite including the browser tests in Debian's chromium and the learning tests (LeRobot); stops at the first
-# failing step. The two workers take whole files, longest first (tests/conftest.py orders
-# them), so each file's fixtures are built once and no worker idles beside a long file.
+# failing step. The two workers take whole files, longest first, and the browser files all
+# on one worker (tests/conftest.py orders them and schedules them together), so each
+# file's fixtures are built once, no worker waits on the browser lock and none idles
+# beside a long file.
 test: setup setup-learn web-setup browser-setup
 	$(BIN)/ruff check src tests bench examples
 	$(BIN)/ruff format --check src tests bench examples

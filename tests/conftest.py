@@ -9,6 +9,7 @@ import os
 os.environ.setdefault("MUJOCO_GL", "egl")
 
 from collections.abc import Callable
+from typing import Any
 
 import mujoco
 import numpy as np
@@ -47,18 +48,50 @@ def _rank(item: pytest.Item) -> int:
     return 1 if item.get_closest_marker("slow") is not None else 2
 
 
+BROWSER_FILES = "tests/web/"
+"""Where every test that drives a browser lives (and only such tests): the browser tests
+share one lock, so ``make test`` gives all these files to one worker."""
+
+
+def _file(nodeid: str) -> str:
+    return nodeid.split("::", maxsplit=1)[0]
+
+
 def pytest_collection_modifyitems(items: list[pytest.Item]) -> None:
     """The files with the longest tests first, each file's tests together and in their
     order. ``make test`` hands whole files to its two workers in this order (``--dist
-    loadfile``): the browser tests (one file, run one at a time, the longest) start at once
-    on one worker, the other files with slow tests next, and the many short files fill in
-    at the end, so that neither worker is left alone with a long file while the other
-    idles."""
+    loadfile``, with the browser files as one unit: :func:`pytest_xdist_make_scheduler`):
+    the browser tests (which run one at a time: they share one lock) start at once on one
+    worker, which takes them all, so the other never waits on the lock; the files with
+    slow tests come next and the many short files fill in at the end, so that neither
+    worker is left alone with a long file while the other idles."""
     file_rank: dict[str, int] = {}
     for item in items:
-        file = item.nodeid.split("::")[0]
-        file_rank[file] = min(file_rank.get(file, 2), _rank(item))
-    items.sort(key=lambda item: file_rank[item.nodeid.split("::")[0]])
+        file = _file(item.nodeid)
+        rank = _rank(item)
+        if (rank == 0) != file.startswith(BROWSER_FILES):
+            raise pytest.UsageError(
+                f"{item.nodeid}: a test that drives a browser (marked 'browser') belongs in "
+                f"{BROWSER_FILES}, and every test there is marked 'browser' "
+                "(make test runs those files on one worker)"
+            )
+        file_rank[file] = min(file_rank.get(file, 2), rank)
+    items.sort(key=lambda item: file_rank[_file(item.nodeid)])
+
+
+def pytest_xdist_make_scheduler(config: pytest.Config, log: Any) -> Any:
+    """With ``--dist loadfile``: whole files to each worker as usual, except that all the
+    browser files (:data:`BROWSER_FILES`) go to one worker together."""
+    if config.getvalue("dist") != "loadfile":
+        return None
+    from xdist.scheduler import LoadScopeScheduling  # type: ignore[import-untyped]
+
+    class BrowserFilesTogether(LoadScopeScheduling):  # type: ignore[misc]
+        def _split_scope(self, nodeid: str) -> str:
+            file = _file(nodeid)
+            return BROWSER_FILES if file.startswith(BROWSER_FILES) else file
+
+    return BrowserFilesTogether(config, log)
 
 
 @pytest.fixture(scope="session")
