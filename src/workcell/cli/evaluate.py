@@ -146,6 +146,7 @@ def _plan(args: argparse.Namespace) -> tuple[EvaluationPlan, PolicyCheckpoint | 
 
 
 def run(args: argparse.Namespace) -> int:
+    from workcell.audit.counts import counted  # noqa: PLC0415
     from workcell.evaluate.sessions import share_config  # noqa: PLC0415
     from workcell.evaluate.table import recorded_rungs, table_lines  # noqa: PLC0415
 
@@ -177,10 +178,10 @@ def run(args: argparse.Namespace) -> int:
 
         ran = run_shares(shares, driver, args.store, progress)
     rungs = recorded_rungs(args.store, ran.session_ids)
-    print(f"{operator} on {task}, seed {plan.seed}: {plan.rollouts} rollouts per world")
+    print(f"{operator} on {task}, seed {plan.seed}: {counted(plan.rollouts, 'rollout')} per world")
     for line in table_lines(rungs):
         print(line)
-    print(f"recorded {len(ran.session_ids)} sessions into {args.store}")
+    print(f"recorded {counted(len(ran.session_ids), 'session')} into {args.store}")
     return _status(ran)
 
 
