@@ -8,8 +8,12 @@ import contextlib
 import io
 import json
 import re
+import signal
 import sqlite3
 import statistics
+import subprocess
+import sys
+import time
 from pathlib import Path
 
 import pytest
@@ -181,3 +185,29 @@ def test_a_missing_policy_is_one_clear_error(
     assert status == 2 and out == ""
     assert err.startswith(f"workcell: error: --policy '{missing}': policy '{missing}': no LeRobot")
     assert err.count("\n") == 1 and not store.exists()
+
+
+def test_sigint_ends_the_running_rollout_and_prints_what_was_recorded(tmp_path: Path) -> None:
+    store = tmp_path / "stopped.sqlite"
+    process = subprocess.Popen(
+        [sys.executable, "-m", "workcell", "evaluate", "--policy", "expert", "--world", "D1",
+         "--rollouts", "5", "--seed", str(SEED), "--store", str(store)],
+        stdout=subprocess.PIPE,
+        stderr=subprocess.PIPE,
+        text=True,
+    )  # fmt: skip
+    assert process.stderr is not None
+    for line in process.stderr:  # the first rollout has ended: the second is under way
+        if " rollout " in line:
+            break
+    time.sleep(1.0)
+    process.send_signal(signal.SIGINT)
+    out, _ = process.communicate(timeout=120)
+    assert process.returncode == 130
+    assert verify_store(store) == []
+    outcomes = sorted(t[3] for t in _trials(store))  # the second in the table if it ran
+    assert outcomes in (["success"], ["interrupted", "success"])
+    lines = out.splitlines()
+    assert re.split(r"\s{2,}", lines[2])[:2] == ["D1", "1/1"]
+    assert lines[2].endswith("1 delivered" + " (1 interrupted, not counted)" * (len(outcomes) - 1))
+    assert lines[-1] == "stopped by SIGINT: the table counts the rollouts that ran"

@@ -182,6 +182,8 @@ def run(args: argparse.Namespace) -> int:
     for line in table_lines(rungs):
         print(line)
     print(f"recorded {counted(len(ran.session_ids), 'session')} into {args.store}")
+    if ran.signal_name is not None:
+        print(f"stopped by {ran.signal_name}: the table counts the rollouts that ran")
     return _status(ran)
 
 
