@@ -127,6 +127,12 @@ def test_the_audit_draws_the_same_ladder(
     figure = re.search(r'<figure id="ladder"><img src="data:image/png;base64,([^"]+)"', html)
     assert figure is not None and base64.b64decode(figure[1]).startswith(PNG)
     assert "<td>expert</td><td>box_transfer</td><td>D1</td><td>2/2</td>" in html
+    # the same ladder from the store's CSV export
+    exported, from_csv = tmp_path / "csv", tmp_path / "audit-csv"
+    assert main(["export", "--format", "csv", "--store", str(store), "--out", str(exported)]) == 0
+    assert main(["audit", "--csv", str(exported), "--out", str(from_csv)]) == 0
+    capsys.readouterr()
+    assert json.loads((from_csv / "summary.json").read_text())["ladder"] == summary["ladder"]
 
 
 def test_one_world_draws_no_ladder(
@@ -183,7 +189,8 @@ def test_a_missing_policy_is_one_clear_error(
     )  # fmt: skip
     out, err = capsys.readouterr()
     assert status == 2 and out == ""
-    assert err.startswith(f"workcell: error: --policy '{missing}': policy '{missing}': no LeRobot")
+    assert err.startswith(f"workcell: error: policy '{missing}': no LeRobot pretrained model")
+    assert err.endswith("; or --policy expert for the scripted expert\n")
     assert err.count("\n") == 1 and not store.exists()
 
 

@@ -139,7 +139,7 @@ def _plan(args: argparse.Namespace) -> tuple[EvaluationPlan, PolicyCheckpoint | 
     try:
         checkpoint = _checkpoint(args.policy)
     except WorkcellError as error:
-        problems.append(f"--policy {args.policy!r}: {error}")
+        problems.append(f"{error}; or --policy expert for the scripted expert")
     if problems:
         raise ConfigError(problems)
     return EvaluationPlan(worlds, args.rollouts, args.seed), checkpoint
