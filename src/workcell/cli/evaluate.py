@@ -32,7 +32,7 @@ def register(subparsers: Subparsers) -> None:
             "Run N rollouts of a learned policy (a LeRobot checkpoint; needs the learn extra) "
             "or of the scripted expert in each named world of the task, record them into "
             "--store like any collect session, and print one table: per world the successes, "
-            "the success rate with its Wilson 95 %% interval, the median completion time of "
+            "the success rate with its Wilson 95 % interval, the median completion time of "
             "the successes and the stages the rollouts reached. Rollout i of every world "
             "starts from the same trial seed of --seed, for every policy evaluated with it, "
             "so two policies compare on the same worlds; 'workcell audit' draws the ladder."
@@ -164,7 +164,7 @@ def run(args: argparse.Namespace) -> int:
     ]
     task = shares[0][1].task.kind
     _say(
-        f"evaluate {operator} on {task}: {plan.rollouts} rollouts in each of "
+        f"evaluate {operator} on {task}: {counted(plan.rollouts, 'rollout')} in each of "
         f"{', '.join(plan.worlds)} (seed {plan.seed}), recorded into {args.store}"
     )
     progress = _Progress(plan)
