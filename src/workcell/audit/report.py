@@ -11,7 +11,9 @@ from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.figures import RenderedFigure
 from workcell.audit.html_parts import CSS, esc, image, number
+from workcell.audit.ladder import audit_ladder
 from workcell.audit.report_comparison import comparison_section
+from workcell.audit.report_ladder import ladder_section
 from workcell.audit.report_paired import study_section
 from workcell.audit.report_sections import (
     counts_table,
@@ -86,6 +88,7 @@ change outcomes; stored rows were not changed.</p>
 Repeated trials of one operator are attempts, not independent people.</p>
 {fig["outcomes"]}
 {stages_section(trials, grouped(trials).get("operator", []))}
+{ladder_section(audit_ladder(trials), fig.get("ladder", ""))}
 <h2>3. Successful demonstrations (Table I)</h2>
 {table_one(trials)}
 {fig["distributions"]}

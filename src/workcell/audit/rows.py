@@ -119,11 +119,14 @@ class TrialRow:
     recorded_stage: str | None = None
     """The furthest stage its task's judge said the trial reached (schema version 5; None
     before it, and in a trial never closed)."""
+    world: str | None = None
+    """The named world (``D0``, ``D1``, ``D2``) the trial ran in (schema version 5; None
+    before it and for ranges of no named world)."""
 
     @classmethod
     def parse(cls, row: Mapping[str, Any]) -> TrialRow:
         stored = {name: row[name] for name in TRIAL_COLUMNS}
-        task, stage = row.get("task"), row.get("stage")
+        task, stage, world = row.get("task"), row.get("stage"), row.get("world")
         return cls(
             session_id=stored["session_id"],
             trial_id=stored["trial_id"],
@@ -135,6 +138,7 @@ class TrialRow:
             stored=stored,
             task=task if isinstance(task, str) and task else None,
             recorded_stage=stage if isinstance(stage, str) and stage else None,
+            world=world if isinstance(world, str) and world else None,
         )
 
     @property

@@ -17,6 +17,7 @@ from workcell.audit.comparison import CAVEAT, Comparison, compare_result, result
 from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.flags import FLAG_NAMES
+from workcell.audit.ladder import LADDER_VERSION, Rung, audit_ladder
 from workcell.audit.oscillation import OscillationCriteria
 from workcell.audit.paired import PairedComparison, WithinSubject
 from workcell.audit.run import AuditResult
@@ -70,6 +71,14 @@ def _group(group: GroupStats) -> dict[str, Any]:
 def _stages(counts: dict[str, int]) -> dict[str, Any]:
     """Trials per stage they got to and no further, and per stage they got to or beyond."""
     return {"ended_at": counts, "reached": at_least(counts)}
+
+
+def _ladder(rungs: list[Rung]) -> dict[str, Any]:
+    """``summary["ladder"]``: one entry per operator, task and named world."""
+    return {
+        "definition_version": LADDER_VERSION,
+        "rungs": [{**asdict(r), "confidence": 0.95, "interval": "wilson"} for r in rungs],
+    }
 
 
 def _comparison(comparison: Comparison) -> dict[str, Any]:
@@ -212,6 +221,9 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
         "groups": {key: [_group(g) for g in groups] for key, groups in grouped(trials).items()},
         "findings": [asdict(f) for f in result.findings],
     }
+    rungs = audit_ladder(trials)
+    if rungs:
+        summary["ladder"] = _ladder(rungs)
     comparison = compare_result(result)
     if comparison is not None:
         summary["comparison"] = _comparison(comparison)

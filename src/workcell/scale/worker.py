@@ -21,7 +21,7 @@ from pathlib import Path
 
 from workcell.errors import WorkcellError
 from workcell.expert.skill import ExpertConfig
-from workcell.recording.drivers import ExpertDriver
+from workcell.recording.drivers import Driver, ExpertDriver
 from workcell.recording.media import CameraOptions
 from workcell.recording.recorded_session import RecordedSessionConfig
 from workcell.session.config import SessionConfig
@@ -47,13 +47,17 @@ class WorkerJob:
     """Sign the shard's hash chain with the secret in this file."""
     cameras: CameraOptions | None = None
     """Cameras recorded as videos at the frame rate."""
+    driver: Driver | None = None
+    """Who drives (``workcell evaluate``: a policy); None: the expert at ``skill``."""
 
     def recorded_session(self) -> RecordedSessionConfig:
         """The session the worker runs: written in the worker's own process (the workers
         fill the cores already), as fast as possible."""
         return RecordedSessionConfig(
             session=self.config,
-            driver=ExpertDriver(ExpertConfig(skill=self.skill)),
+            driver=self.driver
+            if self.driver is not None
+            else ExpertDriver(ExpertConfig(self.skill)),
             store=self.shard,
             writer="inline",
             key_file=self.key_file,

@@ -8,17 +8,36 @@ from workcell.audit.figures.canvas import RenderedFigure
 from workcell.audit.figures.comparison import draw_comparison, draw_learning
 from workcell.audit.figures.distributions import draw_distributions
 from workcell.audit.figures.flow import draw_flow
+from workcell.audit.figures.ladder import draw_ladder
 from workcell.audit.figures.outcomes import draw_outcomes
 from workcell.audit.figures.paired import draw_paired
 from workcell.audit.figures.sampling import draw_sampling
 from workcell.audit.figures.trajectories import draw_trajectories
+from workcell.audit.ladder import audit_ladder
 from workcell.audit.run import AuditResult
 from workcell.audit.stats import SuccessRate
 
 
 def render_figures(result: AuditResult) -> list[RenderedFigure]:
-    """Every figure in report order; the comparison's when the audit compares groups."""
-    return [*_common_figures(result), *_comparison_figures(result)]
+    """Every figure in report order; the ladder's when an operator ran a task in several
+    named worlds, the comparison's when the audit compares groups."""
+    return [*_common_figures(result), *_ladder_figures(result), *_comparison_figures(result)]
+
+
+def _ladder_figures(result: AuditResult) -> list[RenderedFigure]:
+    rungs = audit_ladder(result.trials)
+    if not rungs:
+        return []
+    return [
+        RenderedFigure(
+            "ladder",
+            "Success across worlds",
+            "Per operator, the success rate of its rollouts (complete trials) in each named "
+            "world of its task, from narrow (D0) to broad (D2), with the Wilson 95 % "
+            "interval; successes/rollouts beside each point.",
+            draw_ladder(rungs),
+        )
+    ]
 
 
 def _comparison_figures(result: AuditResult) -> list[RenderedFigure]:
