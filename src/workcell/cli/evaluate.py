@@ -7,6 +7,7 @@ import sys
 from pathlib import Path
 from typing import TYPE_CHECKING
 
+from workcell.cli.task_options import add_task_argument
 from workcell.errors import ConfigError, WorkcellError
 
 if TYPE_CHECKING:
@@ -45,12 +46,7 @@ def register(subparsers: Subparsers) -> None:
         help="the LeRobot policy at PATH (a pretrained_model directory, or a 'workcell "
         "train' output), or 'expert' for the scripted expert (the baseline)",
     )
-    parser.add_argument(
-        "--task",
-        metavar="NAME",
-        help="the task (default: box_transfer; 'workcell tasks' lists them), or "
-        "module:Class for a task of your own",
-    )
+    add_task_argument(parser)
     parser.add_argument(
         "--world",
         default=DEFAULT_WORLDS,

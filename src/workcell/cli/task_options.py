@@ -18,13 +18,19 @@ from workcell.tasks.worlds import WORLDS
 RANDOMIZATION = "world.randomization."
 
 
-def add_task_arguments(parser: argparse.ArgumentParser) -> None:
+def add_task_argument(parser: argparse.ArgumentParser) -> None:
+    """``--task NAME``, as every command that runs or reads a task takes it."""
     parser.add_argument(
         "--task",
         metavar="NAME",
         help="the task (default: box_transfer; 'workcell tasks' lists them), or "
         "module:Class for a task of your own",
     )
+
+
+def add_task_arguments(parser: argparse.ArgumentParser) -> None:
+    """``--task`` and ``--world`` (one named world)."""
+    add_task_argument(parser)
     parser.add_argument(
         "--world",
         choices=WORLDS,
