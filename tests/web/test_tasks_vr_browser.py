@@ -1,10 +1,11 @@
-"""The new belt-fed tasks played in the emulated Meta Quest 3 (IWER in the real client in
-chromium): the setup page offers the task, the page enters immersive-vr, the controllers
-(thumbsticks, grips, palms in, triggers) drive the robot to the first box on the belt and
-take it until the HUD shows the stage asked for, and the store records the session's task,
-a trial stopped by the operator and the grasp events. The script is
-``web/tests/e2e/xr_task.ts``; the fixtures are the browser tests' own
-(:mod:`tests.web.test_browser`)."""
+"""The new tasks played in the emulated Meta Quest 3 (IWER in the real client in chromium):
+the setup page offers the task and the page enters immersive-vr. In palletize and sort the
+controllers (thumbsticks, grips, palms in, triggers) drive the robot to the first box on
+the belt and take it until the HUD shows it grasped (``web/tests/e2e/xr_task.ts``); in
+shelve the thumbsticks drive up to the box on the table and both controllers, gripped,
+come together and down until a gripper touches it (``web/tests/e2e/xr_shelve.ts``). The
+store records the session's task and a trial stopped by the operator. The fixtures are the
+browser tests' own (:mod:`tests.web.test_browser`)."""
 
 from __future__ import annotations
 
@@ -56,3 +57,21 @@ def test_the_emulated_headset_drives_a_task_to_a_grasped_box(
         trial["trial_id"],
     )
     assert any(json.loads(g["payload_json"])["engaged"] for g in grasps)
+
+
+def test_the_emulated_headset_drives_shelve_to_its_first_stage(server: Server) -> None:
+    result = run_script("xr_shelve", server)
+    assert result["stages"] == ["none", "touched"]
+    assert result["base_moved_m"] > 0.5 and result["max_grip"] == 1
+    assert result["xr_inputs_with_pose"] > 0
+    (trial,) = _rows(
+        server.store, "SELECT * FROM trials WHERE session_id = ?", result["session_id"]
+    )
+    assert trial["task"] == "shelve"
+    assert (trial["outcome"], trial["interruption_reason"]) == ("interrupted", "operator_stop")
+    touches = _rows(
+        server.store,
+        "SELECT frame_index FROM frames WHERE trial_id = ? AND (contact_l >= 0 OR contact_r >= 0)",
+        trial["trial_id"],
+    )
+    assert touches, "no recorded frame shows a pad touching the box"

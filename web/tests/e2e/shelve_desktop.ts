@@ -11,16 +11,13 @@ import type { Keyboard } from "playwright-core";
 import type { Pose } from "../../src/protocol";
 import { check, checkDrawn, log, runScript, sleep, waitFor } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
-import { toBase, wrap, yawOf } from "./observation.js";
+import { yawOf } from "./observation.js";
+import { HANDS_TOGETHER, TOLERANCE, YAW_TOLERANCE, approachLeft, handsApart } from "./table_approach.js";
 import { startSession } from "./flow.js";
 
 const TICK_MS = 40;
 const TAP_MS = 110; // a key tap near the goal...
 const SETTLE_MS = 300; // ...then let the base stop before looking again
-const HANDS_AHEAD = 0.665; // how far ahead of the base the hands rest (m, base frame)
-const HANDS_TOGETHER = 0.2; // how far apart to bring them: both over the box
-const YAW_TOLERANCE = 0.04;
-const TOLERANCE = 0.04;
 const STALL_MS = 60000;
 
 interface Look {
@@ -92,10 +89,7 @@ await runScript("shelve_desktop", async ({ url, page, artifacts }) => {
     const wanted = new Set<string>();
     let tap = false;
     if (step === "drive") {
-      // Face +y (the table's near side) with the hands' resting point over the box.
-      const goal: [number, number, number] = [boxPose[0], boxPose[1] - HANDS_AHEAD, Math.PI / 2];
-      const yawError = wrap(goal[2] - base[2]);
-      const [ex, ey] = toBase(base, [goal[0], goal[1], 0]);
+      const { yawError, ex, ey } = approachLeft(base, boxPose);
       if (Math.abs(yawError) > YAW_TOLERANCE) {
         wanted.add(yawError > 0 ? "q" : "e"); // Q turns left (counter-clockwise)
         tap = Math.abs(yawError) < 0.25;
@@ -118,8 +112,7 @@ await runScript("shelve_desktop", async ({ url, page, artifacts }) => {
       wanted.add("g").add("h");
       const [left, right] = snap.state?.tcp_targets ?? [null, null];
       check(left !== null && right !== null, "no arm targets in the state");
-      // (world-frame poses: the hands' distance, whichever way the robot faces)
-      if (Math.hypot(left[0] - right[0], left[1] - right[1]) > HANDS_TOGETHER) wanted.add("Comma");
+      if (handsApart(left, right) > HANDS_TOGETHER) wanted.add("Comma");
       else step = "lower";
     }
     if (step === "lower") {
