@@ -1,9 +1,10 @@
-"""Each new task's exports read by the libraries that learn from them, with their default
+"""Each new task's exports read by the libraries that use them, with their default
 settings: one expert trial of palletize, sort and shelve recorded by ``workcell collect``,
 exported by ``workcell export``, then loaded by the real LeRobot (``LeRobotDataset``,
-offline) and the real robomimic (``SequenceDataset``). The episode's language task is the
-trial's own instruction, and the environment state is as wide as the task's observation
-says (its objects and its goal)."""
+offline), the real robomimic (``SequenceDataset``) and rerun's own reader. The episode's
+language task is the trial's own instruction, the environment state holds the task's
+objects and its goal, and the Rerun recording draws each box as the trial drew it (sort's
+two kinds in their own sizes and colours)."""
 
 from __future__ import annotations
 
@@ -35,16 +36,17 @@ pytestmark = [
 
 @pytest.fixture(scope="module", params=TASKS)
 def exported(request: pytest.FixtureRequest, tmp_path_factory: pytest.TempPathFactory) -> Any:
-    """(task, store, LeRobot folder, HDF5 file) for one expert trial of the task."""
+    """(task, store, LeRobot folder, HDF5 file, Rerun folder) for one expert trial of the
+    task."""
     task: str = request.param
     folder = tmp_path_factory.mktemp(task)
     store = folder / "s.sqlite"
     args = ["--store", str(store), "--task", task, "--mode", "collection", "--trials", "1"]
     assert main(["collect", *args, "--seed", "5"]) == 0
-    lerobot, hdf5 = folder / "lerobot", folder / "hdf5"
-    for fmt, out in (("lerobot", lerobot), ("hdf5", hdf5)):
+    lerobot, hdf5, rerun = folder / "lerobot", folder / "hdf5", folder / "rerun"
+    for fmt, out in (("lerobot", lerobot), ("hdf5", hdf5), ("rerun", rerun)):
         assert main(["export", "--store", str(store), "--format", fmt, "--out", str(out)]) == 0
-    return task, store, lerobot, hdf5 / HDF5_NAME
+    return task, store, lerobot, hdf5 / HDF5_NAME, rerun
 
 
 def _instruction(task: str, store: Path) -> tuple[str, int]:
@@ -65,7 +67,7 @@ def test_lerobot_loads_each_task_with_its_instruction(exported: Any) -> None:
         LeRobotDataset,
     )
 
-    task, store, root, _ = exported
+    task, store, root, _, _ = exported
     instruction, n_frames = _instruction(task, store)
     dataset = LeRobotDataset(REPO_ID, root=root, video_backend="pyav")
     assert dataset.meta.total_episodes == 1 and len(dataset) == n_frames
@@ -84,7 +86,7 @@ def test_robomimic_loads_each_task(exported: Any) -> None:
     from robomimic.utils import obs_utils  # type: ignore[import-untyped, import-not-found, unused-ignore]
     from robomimic.utils.dataset import SequenceDataset  # type: ignore[import-untyped, import-not-found, unused-ignore]
 
-    task, store, _, path = exported
+    task, store, _, path, _ = exported
     _, n_frames = _instruction(task, store)
     keys = ("state", "environment_state")
     obs_utils.initialize_obs_modality_mapping_from_dict({"low_dim": list(keys)})
@@ -98,3 +100,37 @@ def test_robomimic_loads_each_task(exported: Any) -> None:
     np.testing.assert_array_equal(last["obs"]["environment_state"][0], environment[-1])
     goal = load_task(task).goal_names
     assert environment.shape[1] == len(names) and tuple(names[-len(goal) :]) == goal
+
+
+def test_rerun_draws_each_box_as_the_trial_drew_it(exported: Any) -> None:
+    import rerun as rr
+
+    from workcell.export.rerun_export import recording_name
+    from workcell.export.rerun_layout import BOXES_ENTITY, packed_rgba
+
+    task, store, _, _, folder = exported
+    with Store.open(store, writer=False) as reader:
+        (trial,) = reader.trials()
+        (started,) = [e for e in reader.events(trial.trial_id) if e.kind == "trial_started"]
+    conditions = started.payload["conditions"]
+    recording = rr.dataframe.load_recording(str(folder / recording_name(0, trial.trial_id)))
+    boxes = "/" + BOXES_ENTITY.strip("/")
+    static = recording.view(index="frame", contents=boxes).select_static().read_all()
+    half_sizes = np.asarray(static.column(f"{boxes}:Boxes3D:half_sizes").to_pylist()[0])
+    frames = recording.view(index="frame", contents=boxes).select().read_all()
+    colours = frames.column(f"{boxes}:Boxes3D:colors").to_pylist()
+    seen = {int(c) for row in colours for c in row}
+    if task == "sort":  # each box in its kind's size, the active ones in its kind's colour
+        layout = conditions["task"]
+        kinds = [int(k) for k in layout["box_kinds"]]
+        sizes = [layout[f"kind_{k}_size"] for k in kinds]
+        np.testing.assert_allclose(half_sizes, np.asarray(sizes) / 2, atol=1e-6)
+        assert len({tuple(h) for h in half_sizes.round(6)}) == 2
+        for k in (0, 1):
+            rgba = np.round(np.asarray(layout[f"kind_{k}_rgba"]) * 255)
+            assert int(packed_rgba(rgba)) in seen
+    else:  # every box the trial's one box
+        size = np.asarray(conditions["box_size"])
+        np.testing.assert_allclose(half_sizes, np.tile(size / 2, (len(half_sizes), 1)), atol=1e-6)
+        rgba = np.round(np.asarray(conditions["box_rgba"]) * 255)
+        assert int(packed_rgba(rgba)) in seen

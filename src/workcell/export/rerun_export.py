@@ -36,6 +36,8 @@ from workcell.export.selection import EpisodeSource
 from workcell.export.source import ExportSource, check_output, open_source
 from workcell.record.entries import EventRecord
 from workcell.record.store import Store
+from workcell.tasks.registry import recorded_task
+from workcell.tasks.task import ObjectLook
 
 PROVENANCE_NAME = "workcell_provenance.json"
 TRIAL_STARTED = "trial_started"
@@ -93,13 +95,17 @@ def read_trial(
     world = source.configs[trial.session_id].world
     size = conditions.get("box_size", world.box.size)
     rgba = conditions.get("box_rgba", world.box.rgba)
+    trial_box = ObjectLook(
+        (float(size[0]), float(size[1]), float(size[2])),
+        (float(rgba[0]), float(rgba[1]), float(rgba[2]), float(rgba[3])),
+    )
+    task = recorded_task(episode.session.parameters)
     return TrialRecording(
         provenance=provenance,
         document=_episode_document(source, options, provenance),
         frames=frames,
         boxes=parse_boxes(frames["boxes"], source.pool_size),
-        box_size=(float(size[0]), float(size[1]), float(size[2])),
-        box_rgba=(float(rgba[0]), float(rgba[1]), float(rgba[2]), float(rgba[3])),
+        box_looks=task.object_looks(conditions, source.pool_size, trial_box),
         events=events,
         started_wall=trial.started_wall,
     )

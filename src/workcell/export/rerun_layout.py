@@ -51,6 +51,7 @@ from workcell.export.provenance import Provenance
 from workcell.record.columns import HAND_COLUMNS
 from workcell.record.entries import EventRecord
 from workcell.sim.joints import JOINT_ORDER
+from workcell.tasks.task import ObjectLook
 
 APPLICATION_ID = "workcell"
 FRAME_TIMELINE = "frame"
@@ -109,8 +110,9 @@ class TrialRecording:
     frames: Mapping[str, NDArray[Any]]
     """The trial's frame columns (``Store.frames``)."""
     boxes: BoxTrack
-    box_size: tuple[float, float, float]
-    box_rgba: tuple[float, float, float, float]
+    box_looks: tuple[ObjectLook, ...]
+    """Each pooled box's size and colour in the trial (its task's
+    :meth:`~workcell.tasks.task.Task.object_looks`: sort's two kinds differ)."""
     events: Sequence[EventRecord]
     started_wall: float
 
@@ -295,7 +297,7 @@ def _log_box_shapes(stream: rr.RecordingStream, trial: TrialRecording) -> None:
     stream.log(
         BOXES_ENTITY,
         rr.Boxes3D.from_fields(
-            half_sizes=np.tile(np.asarray(trial.box_size, dtype=np.float64) / 2, (pool, 1)),
+            half_sizes=np.asarray([look.size for look in trial.box_looks], dtype=np.float64) / 2,
             labels=[f"box{i}" for i in range(pool)],
             fill_mode=rr.components.FillMode.Solid,
         ),
@@ -309,14 +311,18 @@ def _boxes(trial: TrialRecording) -> rr.ComponentColumnList:
     boxes = trial.boxes
     n, pool = boxes.states.shape
     poses = boxes.poses.reshape(n * pool, 7)
-    palette = np.zeros((len(BOX_STATE_CODES), 4), dtype=np.uint8)
-    palette[BOX_STATE_CODES["parked"]] = PARKED_COLOR
-    palette[BOX_STATE_CODES["active"]] = np.round(np.asarray(trial.box_rgba) * 255)
-    palette[BOX_STATE_CODES["delivered"]] = DELIVERED_COLOR
+    # (box, state) -> colour: parked and delivered alike for every box, active its own
+    palette = np.zeros((pool, len(BOX_STATE_CODES), 4), dtype=np.uint8)
+    palette[:, BOX_STATE_CODES["parked"]] = PARKED_COLOR
+    palette[:, BOX_STATE_CODES["active"]] = np.round(
+        np.asarray([look.rgba for look in trial.box_looks]) * 255
+    )
+    palette[:, BOX_STATE_CODES["delivered"]] = DELIVERED_COLOR
+    colors = packed_rgba(palette.reshape(-1, 4)).reshape(pool, len(BOX_STATE_CODES))
     return rr.Boxes3D.columns(
         centers=poses[:, :3],
         quaternions=poses[:, [4, 5, 6, 3]],  # recorded w, x, y, z → rerun's x, y, z, w
-        colors=packed_rgba(palette)[boxes.states.reshape(-1)],
+        colors=colors[np.arange(pool)[None, :], boxes.states].reshape(-1),
     ).partition(np.full(n, pool))
 
 

@@ -4,13 +4,14 @@
 Importing this package loads no simulation: the command line reads the names of the worlds
 from it before it knows whether it will simulate anything."""
 
-from workcell.tasks.task import Evaluation, Task, TrialJudge
+from workcell.tasks.task import Evaluation, ObjectLook, Task, TrialJudge
 from workcell.tasks.worlds import CUSTOM, WORLDS, WorldName, world_of, world_overrides
 
 __all__ = [
     "CUSTOM",
     "WORLDS",
     "Evaluation",
+    "ObjectLook",
     "Task",
     "TrialJudge",
     "WorldName",

@@ -38,6 +38,14 @@ class Evaluation:
     stage: str
 
 
+@dataclass(frozen=True)
+class ObjectLook:
+    """How one of a trial's objects looks: its sides (m) and its colour (RGBA, 0-1)."""
+
+    size: tuple[float, float, float]
+    rgba: tuple[float, float, float, float]
+
+
 class TrialJudge(Protocol):
     """One trial's progress, kept from the world's events and read from the world at each
     frame instant (so what it says can be checked against the recorded frames)."""
@@ -98,6 +106,15 @@ class Task(ABC):
         whose trials ask different things, such as which shelf, says it here; by default
         :meth:`instruction`). Every exported episode carries it."""
         return self.instruction(required)
+
+    def object_looks(
+        self, conditions: Mapping[str, Any], pool: int, trial_box: ObjectLook
+    ) -> tuple[ObjectLook, ...]:
+        """How each of the trial's ``pool`` objects looked, read from its recorded
+        ``conditions`` (what a replay or a Rerun recording draws); by default each is the
+        trial's one box, ``trial_box`` (its ``box_size`` and ``box_rgba``). A task whose
+        objects differ within a trial (sort's two kinds) says so here."""
+        return (trial_box,) * pool
 
     @abstractmethod
     def scene(self) -> TaskScene:

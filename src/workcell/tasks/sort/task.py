@@ -16,7 +16,7 @@ from workcell.tasks.sort.judge import SortJudge
 from workcell.tasks.sort.layout import SortLayout, sorting_table_center
 from workcell.tasks.sort.scene import SortScene
 from workcell.tasks.sort.stages import SORT_STAGES
-from workcell.tasks.task import Task
+from workcell.tasks.task import ObjectLook, Task
 from workcell.tasks.worlds import WorldName, WorldRanges
 
 ONE_BOX = "Sort the box from the conveyor onto the table whose zone has its colour."
@@ -77,6 +77,21 @@ class Sort(Task):
             kinds = []
         kinds = (kinds + [NO_BOX] * MAX_BOXES)[:MAX_BOXES]
         return (*tables[0], *tables[1], *kinds)
+
+    def object_looks(
+        self, conditions: Mapping[str, Any], pool: int, trial_box: ObjectLook
+    ) -> tuple[ObjectLook, ...]:
+        """Each pooled box in its kind's size and colour, as the trial drew them."""
+        values = conditions.get("task")
+        if not (isinstance(values, Mapping) and "box_kinds" in values):
+            return super().object_looks(conditions, pool, trial_box)
+        center = conditions.get("target_center", (0.0, 0.0))  # (the looks need no table)
+        layout = SortLayout.from_recorded(values, center)
+        looks = [ObjectLook(kind.size, kind.rgba) for kind in layout.kinds]
+        return tuple(
+            looks[layout.box_kinds[i]] if i < len(layout.box_kinds) else trial_box
+            for i in range(pool)
+        )
 
     objects_per_trial: ClassVar[int | None] = SORTED_BOXES
     """Two boxes of each kind in every trial (the expert takes 62-76 s, bench/expert_sort.py)."""
