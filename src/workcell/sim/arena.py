@@ -6,6 +6,8 @@ Built with MjSpec from a :class:`WorldConfig`. Boxes are free bodies kept in a p
 
 from __future__ import annotations
 
+from collections.abc import Sequence
+
 import mujoco
 
 from workcell.sim.config import WorldConfig, longest_box
@@ -192,9 +194,34 @@ def _add_conveyor(spec: mujoco.MjSpec, config: WorldConfig) -> None:
 
 def _add_target(spec: mujoco.MjSpec, config: WorldConfig) -> None:
     t = config.target
-    table = spec.worldbody.add_body(name="target", pos=[t.center[0], t.center[1], 0])
-    top = table.add_geom(
-        name="target_top",
+    add_zone_table(
+        spec,
+        config,
+        center=t.center,
+        body="target",
+        top="target_top",
+        zone="target_zone",
+        zone_rgba=(*ZONE_RGBA[:3], 0.6),
+    )
+
+
+def add_zone_table(
+    spec: mujoco.MjSpec,
+    config: WorldConfig,
+    *,
+    center: Sequence[float],
+    body: str,
+    top: str,
+    zone: str,
+    zone_rgba: Sequence[float],
+) -> mujoco.MjsBody:
+    """A table the size of the delivery table (``world.target``) at ``center`` (x, y), its
+    zone marked on its top: the delivery table, and sort's sorting table. ``body``, ``top``
+    and ``zone`` name the table's body and its two named geoms."""
+    t = config.target
+    table = spec.worldbody.add_body(name=body, pos=[center[0], center[1], 0])
+    top_geom = table.add_geom(
+        name=top,
         type=BOX,
         size=[t.zone[0] / 2 + 0.05, t.zone[1] / 2 + 0.05, 0.02],
         pos=[0, 0, t.table_height - 0.02],
@@ -202,15 +229,15 @@ def _add_target(spec: mujoco.MjSpec, config: WorldConfig) -> None:
         material="painted_steel",
         friction=[1.0, 0.005, 0.0001],
     )
-    set_env_collision(top)
-    zone = table.add_geom(
-        name="target_zone",
+    set_env_collision(top_geom)
+    zone_geom = table.add_geom(
+        name=zone,
         type=BOX,
         size=[t.zone[0] / 2, t.zone[1] / 2, 0.001],
         pos=[0, 0, t.table_height + 0.001],
-        rgba=[*ZONE_RGBA[:3], 0.6],
+        rgba=list(zone_rgba),
     )
-    set_visual_only(zone)
+    set_visual_only(zone_geom)
     for sx in (1.0, -1.0):
         for sy in (1.0, -1.0):
             leg = table.add_geom(
@@ -221,6 +248,7 @@ def _add_target(spec: mujoco.MjSpec, config: WorldConfig) -> None:
                 material="painted_steel",
             )
             set_env_collision(leg)
+    return table
 
 
 def _add_context(spec: mujoco.MjSpec) -> None:

@@ -15,13 +15,12 @@ import mujoco
 import numpy as np
 
 from workcell.errors import ConfigError, Problem
-from workcell.sim.arena import FRAME_RGBA, SAFETY_RGBA, TABLE_RGBA
+from workcell.sim.arena import SAFETY_RGBA, add_zone_table
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.conditions import shape_box
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import BoxDelivered, WorldEvent
 from workcell.sim.looks import add_decor
-from workcell.sim.spec_utils import set_env_collision, set_visual_only
 from workcell.sim.target import HEIGHT_TOLERANCE, REST_SPEED
 from workcell.sim.world import World
 from workcell.tasks.sort.layout import SortLayout, sorting_table_center
@@ -58,37 +57,15 @@ class SortScene:
     def build(self, spec: mujoco.MjSpec, config: WorldConfig) -> None:
         """The sorting table: the delivery table's twin across the conveyor."""
         _check_room(config)
-        t = config.target
-        x, y = sorting_table_center(config)
-        table = spec.worldbody.add_body(name=TABLE_BODY, pos=[x, y, 0])
-        top = table.add_geom(
-            name="sorting_table_top",
-            type=BOX,
-            size=[t.zone[0] / 2 + 0.05, t.zone[1] / 2 + 0.05, 0.02],
-            pos=[0, 0, t.table_height - 0.02],
-            rgba=list(TABLE_RGBA),
-            material="painted_steel",
-            friction=[1.0, 0.005, 0.0001],
+        table = add_zone_table(
+            spec,
+            config,
+            center=sorting_table_center(config),
+            body=TABLE_BODY,
+            top="sorting_table_top",
+            zone=ZONE_GEOM,
+            zone_rgba=(0.5, 0.5, 0.5, ZONE_ALPHA),
         )
-        set_env_collision(top)
-        zone = table.add_geom(
-            name=ZONE_GEOM,
-            type=BOX,
-            size=[t.zone[0] / 2, t.zone[1] / 2, 0.001],
-            pos=[0, 0, t.table_height + 0.001],
-            rgba=[0.5, 0.5, 0.5, ZONE_ALPHA],
-        )
-        set_visual_only(zone)
-        for sx in (1.0, -1.0):
-            for sy in (1.0, -1.0):
-                leg = table.add_geom(
-                    type=BOX,
-                    size=[0.03, 0.03, (t.table_height - 0.04) / 2],
-                    pos=[sx * t.zone[0] / 2, sy * t.zone[1] / 2, (t.table_height - 0.04) / 2],
-                    rgba=list(FRAME_RGBA),
-                    material="painted_steel",
-                )
-                set_env_collision(leg)
         _add_keep_clear_frame(table, config)
 
     def reset(self, world: World, rng: np.random.Generator) -> None:
