@@ -1,154 +1,25 @@
 // The shelve task on the desktop page, keyboard only: pick "shelve" on the setup page, then
-// drive the robot up to the box waiting on the table (Q/E turn, W/A/S/D drive, Shift
-// slow), hold both grips (G/H), bring the hands together (comma) and lower them (V) onto
-// the box until the HUD's stage says a gripper touched it: the task's first stage.
-// Prints "RESULT {json}" for the pytest wrapper (tests/web/test_shelve_browser.py).
+// drive the robot up to the box waiting on the table, take both grips, bring the hands
+// together and lower them onto the box until the HUD's stage says a gripper touched it:
+// the task's first stage (touch_by_keys.ts drives). The HUD names the shelf the trial
+// asks for. Prints "RESULT {json}" for the pytest wrapper (tests/web/test_shelve_browser.py).
 //
 //   npm run build:e2e && node build/e2e/tests/e2e/shelve_desktop.js http://127.0.0.1:8000   (in web/)
 
-import path from "node:path";
-import type { Keyboard } from "playwright-core";
-import type { Pose } from "../../src/protocol";
-import { check, checkDrawn, log, runScript, sleep, waitFor } from "./lib.js";
-import type { DebugSnapshot } from "./lib.js";
-import { yawOf } from "./observation.js";
-import { HANDS_TOGETHER, TOLERANCE, YAW_TOLERANCE, approachLeft, handsApart } from "./table_approach.js";
-import { startSession } from "./flow.js";
-
-const TICK_MS = 40;
-const TAP_MS = 110; // a key tap near the goal...
-const SETTLE_MS = 300; // ...then let the base stop before looking again
-const STALL_MS = 60000;
-
-interface Look {
-  snap: DebugSnapshot;
-  bodies: Record<string, Pose>;
-}
-
-function lookJs(): Look {
-  const workcell = window.__workcell;
-  if (workcell === undefined) throw new Error("no window.__workcell");
-  return { snap: workcell.snapshot(), bodies: workcell.bodies() };
-}
-
-/** Hold exactly the keys in `wanted`, pressing and releasing only what changed. */
-async function hold(keyboard: Keyboard, down: Set<string>, wanted: ReadonlySet<string>, used: Set<string>): Promise<void> {
-  for (const key of [...down]) {
-    if (!wanted.has(key)) {
-      await keyboard.up(key);
-      down.delete(key);
-    }
-  }
-  for (const key of wanted) {
-    if (!down.has(key)) {
-      await keyboard.down(key);
-      down.add(key);
-      used.add(key);
-    }
-  }
-}
+import { check, runScript } from "./lib.js";
+import { standAtTable } from "./approach.js";
+import { touchByKeys, touchedResult } from "./touch_by_keys.js";
 
 await runScript("shelve_desktop", async ({ url, page, artifacts }) => {
-  await startSession(page, url, { operatorId: "e2e-shelve", query: { quality: "low" }, artifacts, task: "shelve" });
-  const canvas = page.locator("canvas.viewer-canvas");
-  const area = await canvas.boundingBox();
-  check(area !== null, "no 3D view on the teleop page");
-  await page.mouse.click(area.x + area.width / 2, area.y + area.height / 2); // focus the view
-  const running = await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
-  check(running.hud?.task === "shelve", `the HUD names the task ${running.hud?.task}`);
-  check(running.hud?.stage === "none", `the trial starts at stage ${running.hud?.stage}`);
-  await checkDrawn(page, path.join(artifacts, "shelve-start.png"));
-
-  const keyboard = page.keyboard;
-  const down = new Set<string>();
-  const used = new Set<string>();
-  let step: "drive" | "grip" | "together" | "lower" = "drive";
-  let last = running;
-  let lastT = -1;
-  let lastProgress = Date.now();
-  const started = last.state?.t_sim ?? 0;
-  let startBase: [number, number] | null = null;
-  let movedM = 0;
-  let loggedAt = 0;
-  while (last.hud?.stage === "none") {
-    const { snap, bodies } = await page.evaluate(lookJs);
-    last = snap;
-    const t = snap.state?.t_sim ?? 0;
-    if (t !== lastT) {
-      lastT = t;
-      lastProgress = Date.now();
-    }
-    check(Date.now() - lastProgress < STALL_MS, "the simulation stopped advancing");
-    check(snap.hud?.phase === "running", `the trial ended (${snap.hud?.phase}) before the box was touched`);
-    const basePose = bodies["base"];
-    const boxPose = bodies["box_0"];
-    check(basePose !== undefined && boxPose !== undefined, "the page shows no base or no box_0");
-    const base: [number, number, number] = [basePose[0], basePose[1], yawOf(basePose)];
-    startBase ??= [base[0], base[1]];
-    movedM = Math.max(movedM, Math.hypot(base[0] - startBase[0], base[1] - startBase[1]));
-    const wanted = new Set<string>();
-    let tap = false;
-    if (step === "drive") {
-      const { yawError, ex, ey } = approachLeft(base, boxPose);
-      if (Math.abs(yawError) > YAW_TOLERANCE) {
-        wanted.add(yawError > 0 ? "q" : "e"); // Q turns left (counter-clockwise)
-        tap = Math.abs(yawError) < 0.25;
-        if (Math.abs(yawError) < 0.8) wanted.add("Shift");
-      } else if (Math.abs(ex) > TOLERANCE || Math.abs(ey) > TOLERANCE) {
-        if (Math.abs(ex) > TOLERANCE) wanted.add(ex > 0 ? "w" : "s");
-        if (Math.abs(ey) > TOLERANCE) wanted.add(ey > 0 ? "a" : "d");
-        tap = Math.max(Math.abs(ex), Math.abs(ey)) < 0.3;
-      } else {
-        log(`at the table after ${(t - started).toFixed(1)} s: base ${base.map((v) => v.toFixed(2)).join(", ")}`);
-        step = "grip";
-      }
-      if (tap || Math.hypot(ex, ey) < 0.6) wanted.add("Shift");
-    }
-    if (step === "grip") {
-      wanted.add("g").add("h");
-      if (snap.state?.following[0] === true && snap.state.following[1]) step = "together";
-    }
-    if (step === "together") {
-      wanted.add("g").add("h");
-      const [left, right] = snap.state?.tcp_targets ?? [null, null];
-      check(left !== null && right !== null, "no arm targets in the state");
-      if (handsApart(left, right) > HANDS_TOGETHER) wanted.add("Comma");
-      else step = "lower";
-    }
-    if (step === "lower") {
-      wanted.add("g").add("h").add("v"); // down until a pad meets the box's top
-    }
-    if (Date.now() - loggedAt > 2000) {
-      loggedAt = Date.now();
-      log(`t=${t.toFixed(2)} ${step} base ${base.map((v) => v.toFixed(2)).join(", ")} box ${boxPose.slice(0, 3).map((v) => v.toFixed(2)).join(", ")} keys ${[...wanted].join("")}`);
-    }
-    await hold(keyboard, down, wanted, used);
-    if (tap) {
-      await sleep(TAP_MS);
-      for (const key of ["w", "a", "s", "d", "q", "e"]) wanted.delete(key);
-      await hold(keyboard, down, wanted, used);
-      await sleep(SETTLE_MS);
-    } else {
-      await sleep(TICK_MS);
-    }
-    last = (await page.evaluate(lookJs)).snap;
-  }
-  await hold(keyboard, down, new Set(), used);
-  check(last.hud?.stage === "touched", `the stage after the touch is ${last.hud?.stage}`);
-  await checkDrawn(page, path.join(artifacts, "shelve-touched.png"));
+  const run = await touchByKeys(page, url, artifacts, {
+    task: "shelve",
+    operatorId: "e2e-shelve",
+    boxToReach: (bodies) => bodies["box_0"] ?? null, // it waits on the table from the start
+    standFor: standAtTable,
+  });
   // the HUD says what the trial asks (which shelf), above its lines
   const shown = (await page.locator("#hud .hud-instruction").textContent()) ?? "";
-  check(shown === last.hud?.instruction, `the HUD shows "${shown}", the trial asks "${last.hud?.instruction}"`);
-  const result = {
-    hud_instruction: shown,
-    session_id: last.session_id,
-    stage: last.hud?.stage ?? null,
-    task: last.hud?.task ?? null,
-    t_sim: last.state?.t_sim ?? null,
-    base_moved_m: Number(movedM.toFixed(3)),
-    keys_used: [...used].sort(),
-    source: last.teleop?.last_input?.source ?? null,
-  };
-  log(`touched after ${((last.state?.t_sim ?? 0) - started).toFixed(1)} s of the trial`);
-  console.log(`RESULT ${JSON.stringify(result)}`);
+  const asked = run.last.hud?.instruction;
+  check(shown === asked, `the HUD shows "${shown}", the trial asks "${asked}"`);
+  console.log(`RESULT ${JSON.stringify({ ...touchedResult(run), hud_instruction: shown })}`);
 });

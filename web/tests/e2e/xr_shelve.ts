@@ -3,7 +3,7 @@
 // with the thumbsticks (left: ahead and sideways, right: turn), squeeze both grips, bring
 // the controllers together and lower them until the HUD says a gripper touched the box;
 // then leave VR and stop the session from the page. Prints "RESULT {json}" for the pytest
-// wrapper (tests/web/test_tasks_vr_browser.py).
+// wrapper (tests/web/test_tasks_vr_browser.py); the drive to the table is approach.ts's.
 //
 //   npm run build:e2e && node build/e2e/tests/e2e/xr_shelve.js http://127.0.0.1:8000   (in web/)
 
@@ -13,7 +13,7 @@ import { yawOf } from "./observation.js";
 import type { Vec3 } from "./observation.js";
 import { HEADSET, NEUTRAL, REST, applyAndObserve, restingHands } from "./xr_device.js";
 import type { DeviceCommand } from "./xr_device.js";
-import { HANDS_TOGETHER, TOLERANCE, YAW_TOLERANCE, approachLeft, handsApart } from "./table_approach.js";
+import { HANDS_TOGETHER, TOLERANCE, YAW_TOLERANCE, approachLeft, handsApart, standAtTable } from "./approach.js";
 
 const TICK_MS = 40;
 const STALL_MS = 60000;
@@ -68,7 +68,7 @@ await runScript("xr_shelve", async ({ url, page, artifacts }) => {
     maxGrip = Math.max(maxGrip, sent?.left.grip ?? 0);
     let drive: [number, number, number] = [0, 0, 0]; // ahead, left, turn (counter-clockwise)
     if (step === "drive") {
-      const { yawError, ex, ey, done } = approachLeft(base, boxPose);
+      const { yawError, ex, ey, done } = approachLeft(base, standAtTable(boxPose));
       if (Math.abs(yawError) > YAW_TOLERANCE) drive = [0, 0, deflect(yawError, 2)];
       else if (!done) drive = [Math.abs(ex) > TOLERANCE ? deflect(ex, 1.5) : 0, Math.abs(ey) > TOLERANCE ? deflect(ey, 1.5) : 0, 0];
       else {

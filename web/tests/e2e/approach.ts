@@ -1,7 +1,7 @@
-// Driving up to a box waiting on a table (the shelve task), whatever the device: face +y
-// (the table's near side) with the hands' resting point over the box. Each look gives
-// what is left to do, in the base frame; shelve_desktop.ts turns it into keys and
-// xr_shelve.ts into thumbsticks.
+// Driving the base up to a box so that the hands' resting point is over it, whatever the
+// device: where to stand for a box on a table (shelve: facing +y, the table's near side)
+// or at the end of the belt (sort: facing -x), and what is left of the drive at each look,
+// in the base frame. touch_by_keys.ts turns it into keys and xr_shelve.ts into thumbsticks.
 
 import type { Pose } from "../../src/protocol";
 import { toBase, wrap } from "./observation.js";
@@ -11,6 +11,16 @@ export const HANDS_AHEAD = 0.665; // how far ahead of the base the hands rest (m
 export const HANDS_TOGETHER = 0.2; // how far apart to bring them: both over the box
 export const YAW_TOLERANCE = 0.04;
 export const TOLERANCE = 0.04;
+
+/** Where to stand for a box waiting on a table: facing +y, the hands over it. */
+export function standAtTable(box: Pose): Base {
+  return [box[0], box[1] - HANDS_AHEAD, Math.PI / 2];
+}
+
+/** Where to stand for a box at the end of the belt: facing -x, the hands over it. */
+export function standAtBeltEnd(box: Pose): Base {
+  return [box[0] + HANDS_AHEAD, box[1], Math.PI];
+}
 
 export interface ApproachLeft {
   /** Heading still to turn (rad, counter-clockwise positive). */
@@ -22,10 +32,8 @@ export interface ApproachLeft {
   done: boolean;
 }
 
-/** What is left of the drive from `base` to the table where `box` waits: the heading
- * first, then the position. */
-export function approachLeft(base: Base, box: Pose): ApproachLeft {
-  const goal: Base = [box[0], box[1] - HANDS_AHEAD, Math.PI / 2];
+/** What is left of the drive from `base` to `goal`: the heading first, then the position. */
+export function approachLeft(base: Base, goal: Base): ApproachLeft {
   const yawError = wrap(goal[2] - base[2]);
   const [ex, ey] = toBase(base, [goal[0], goal[1], 0]);
   const done = Math.abs(yawError) <= YAW_TOLERANCE && Math.abs(ex) <= TOLERANCE && Math.abs(ey) <= TOLERANCE;
