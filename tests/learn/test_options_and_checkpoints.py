@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import sys
 from pathlib import Path
 
 import pytest
@@ -16,6 +17,7 @@ from workcell.cli.train import _ProgressBar, evaluation_hint, evaluation_seed, p
 from workcell.errors import ConfigError
 from workcell.learn.checkpoint import LAST_CHECKPOINT, PolicyCheckpoint
 from workcell.learn.errors import LearnError
+from workcell.learn.policy_operator import library_output
 from workcell.learn.train import ProgressReader, TrainProgress, check_dataset, thread_environment
 from workcell.learn.train_options import TrainOptions, lerobot_arguments
 from workcell.session.config import SessionConfig
@@ -231,3 +233,20 @@ def test_the_closing_hint_evaluates_in_the_demonstrations_worlds(tmp_path: Path)
     assert (
         " policy:" + str(out) + " --mode collection" in evaluation_hint(tmp_path / "none", out)[1]
     )
+
+
+def test_what_libraries_print_while_a_policy_loads_is_dropped_unless_verbose(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    for verbose in (False, True):
+        with library_output(verbose):
+            print("Loading weights from local directory")
+            print("a library's warning", file=sys.stderr)
+        out, err = capsys.readouterr()
+        assert (out, err) == (
+            ("Loading weights from local directory\n", "a library's warning\n")
+            if verbose
+            else ("", "")
+        )
+    with pytest.raises(LearnError), library_output(verbose=False):
+        raise LearnError("errors still raise")
