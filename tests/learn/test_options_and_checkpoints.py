@@ -6,6 +6,7 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import sqlite3
 import sys
 from pathlib import Path
 
@@ -13,7 +14,13 @@ import pytest
 
 from workcell.cli.collect_operator import with_operator_id
 from workcell.cli.main import main
-from workcell.cli.train import _ProgressBar, evaluation_hint, evaluation_seed, parse_episodes
+from workcell.cli.train import (
+    _ProgressBar,
+    evaluation_hint,
+    evaluation_seed,
+    own_worlds,
+    parse_episodes,
+)
 from workcell.errors import ConfigError
 from workcell.learn.checkpoint import LAST_CHECKPOINT, PolicyCheckpoint
 from workcell.learn.errors import LearnError
@@ -250,3 +257,35 @@ def test_what_libraries_print_while_a_policy_loads_is_dropped_unless_verbose(
         )
     with pytest.raises(LearnError), library_output(verbose=False):
         raise LearnError("errors still raise")
+
+
+def test_the_closing_hint_replays_the_very_worlds_of_the_demonstrations(
+    lerobot_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Its own-worlds commands meet every exported episode's world (its trial seed), beside
+    the new worlds, as two conditions that the audit compares."""
+    provenance = json.loads((lerobot_dir / "meta" / "workcell_provenance.json").read_text())
+    episodes = provenance["episodes"]
+    own = own_worlds(lerobot_dir)
+    assert len(own) == len({e["session_id"] for e in episodes}) >= 2
+    hint = evaluation_hint(lerobot_dir, tmp_path / "act")
+    assert hint[0].startswith("evaluate it in the very worlds of its demonstrations")
+    commands = [line.split() for line in hint[1:-1]]
+    assert [c[c.index("--condition") + 1] for c in commands] == ["own-worlds"] * len(own) + [
+        "new-worlds"
+    ]
+    assert hint[-1] == "  workcell audit --store eval.sqlite --out report --by condition"
+    store = tmp_path / "eval.sqlite"
+    for flags, seed, trials in own:  # the expert in the policy's place, briefly
+        argv = [*flags, "--mode", "collection", "--trials", str(trials), "--seed", str(seed)]
+        argv += ["--set", "task.time_limit_s=0.2", "--store", str(store)]
+        assert main(["collect", *argv]) == 0
+    capsys.readouterr()
+    with sqlite3.connect(store) as db:
+        met = {
+            json.loads(payload)["trial_seed"]
+            for (payload,) in db.execute(
+                "SELECT payload_json FROM events WHERE kind = 'trial_started'"
+            )
+        }
+    assert {e["trial_seed"] for e in episodes} <= met

@@ -62,8 +62,12 @@ def trained(lerobot_dir: Path, tmp_path_factory: pytest.TempPathFactory) -> Path
     assert shown == [" step 1/3", " step 2/3", " step 3/3"]  # each step, not stdout a terminal
     assert (
         f"workcell collect --operator policy:{out} --world D0 --mode collection --trials 200 "
-        f"--seed {evaluation_seed(lerobot_dir)} --store eval.sqlite"
+        f"--seed {evaluation_seed(lerobot_dir)} --condition new-worlds --store eval.sqlite"
     ) in done.stdout  # the world its demonstrations came from
+    assert (
+        f"workcell collect --operator policy:{out} --world D0 --mode collection --trials 1 "
+        "--seed 0 --condition own-worlds --store eval.sqlite"
+    ) in done.stdout  # and the very worlds of its first session's demonstrations
     assert (out / "train.log").is_file() and sorted(p.name for p in out.parent.iterdir()) == [
         "tiny-act"
     ]
