@@ -33,6 +33,17 @@ def test_a_clean_collect_leaves_only_the_store(
         assert [s.status for s in reader.sessions()] == ["completed", "completed"]
 
 
+def test_a_clean_collect_by_workers_leaves_only_the_store(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Its shards merged and the result verified (by a reader), nothing else stays."""
+    store = tmp_path / "s.sqlite"
+    argv = ["collect", "--trials", "2", "--workers", "2", "--set", "task.time_limit_s=0.3"]
+    assert main([*argv, "--store", str(store)]) == 0
+    assert "verified" in capsys.readouterr().out
+    assert [p.name for p in tmp_path.iterdir()] == ["s.sqlite"]
+
+
 def test_a_reader_leaves_sqlites_empty_files_which_the_next_clean_writer_removes(
     tmp_path: Path, capsys: pytest.CaptureFixture[str]
 ) -> None:
