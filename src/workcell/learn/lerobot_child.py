@@ -3,14 +3,15 @@
 
 ``workcell train`` writes the training's whole output to ``OUT/train.log`` from the moment
 it starts the process. LeRobot refuses an output directory that exists
-(``TrainPipelineConfig.validate``), and it gets to that check only after importing torch,
-which takes 10-40 s on a 2-core machine (measured: the log appeared 43 s in on a busy one
-while LeRobot refused an earlier ``OUT``). So the process is ``python -m
-workcell.learn.lerobot_child ARGS``: LeRobot's own ``main`` with ``lerobot-train``'s
-arguments, but for one thing: an ``OUT`` that holds nothing but that log passes LeRobot's
-check of a new directory (``workcell train`` has refused any other ``OUT``). Any other
-existing directory is refused by LeRobot as before. The same training on a new directory
-is ``lerobot-train ARGS``, which is what ``workcell train`` prints.
+(``TrainPipelineConfig.validate``), and it gets to that check only after importing torch
+and its own modules: its first line came 43 s after the start on the busy 2-core machine,
+which is when the log could first be made while ``OUT`` had to be new. So the process
+is ``python -m workcell.learn.lerobot_child ARGS``: LeRobot's own ``main`` with
+``lerobot-train``'s arguments, but for one thing: an ``OUT`` that holds nothing but that
+log passes LeRobot's check of a new directory (``workcell train`` has refused any other
+``OUT``). Any other existing directory is refused by LeRobot as before. The same
+training on a new directory is ``lerobot-train ARGS``, which is what ``workcell train``
+prints.
 """
 
 from __future__ import annotations
