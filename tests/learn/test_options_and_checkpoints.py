@@ -6,16 +6,25 @@ from __future__ import annotations
 import argparse
 import itertools
 import json
+import sqlite3
+import sys
 from pathlib import Path
 
 import pytest
 
 from workcell.cli.collect_operator import with_operator_id
 from workcell.cli.main import main
-from workcell.cli.train import _ProgressBar, evaluation_hint, evaluation_seed, parse_episodes
+from workcell.cli.train import (
+    _ProgressBar,
+    evaluation_hint,
+    evaluation_seed,
+    own_worlds,
+    parse_episodes,
+)
 from workcell.errors import ConfigError
 from workcell.learn.checkpoint import LAST_CHECKPOINT, PolicyCheckpoint
 from workcell.learn.errors import LearnError
+from workcell.learn.policy_operator import library_output
 from workcell.learn.train import ProgressReader, TrainProgress, check_dataset, thread_environment
 from workcell.learn.train_options import TrainOptions, lerobot_arguments
 from workcell.session.config import SessionConfig
@@ -231,3 +240,52 @@ def test_the_closing_hint_evaluates_in_the_demonstrations_worlds(tmp_path: Path)
     assert (
         " policy:" + str(out) + " --mode collection" in evaluation_hint(tmp_path / "none", out)[1]
     )
+
+
+def test_what_libraries_print_while_a_policy_loads_is_dropped_unless_verbose(
+    capsys: pytest.CaptureFixture[str],
+) -> None:
+    for verbose in (False, True):
+        with library_output(verbose):
+            print("Loading weights from local directory")
+            print("a library's warning", file=sys.stderr)
+        out, err = capsys.readouterr()
+        assert (out, err) == (
+            ("Loading weights from local directory\n", "a library's warning\n")
+            if verbose
+            else ("", "")
+        )
+    with pytest.raises(LearnError), library_output(verbose=False):
+        raise LearnError("errors still raise")
+
+
+def test_the_closing_hint_replays_the_very_worlds_of_the_demonstrations(
+    lerobot_dir: Path, tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Its own-worlds commands meet every exported episode's world (its trial seed), beside
+    the new worlds, as two conditions that the audit compares."""
+    provenance = json.loads((lerobot_dir / "meta" / "workcell_provenance.json").read_text())
+    episodes = provenance["episodes"]
+    own = own_worlds(lerobot_dir)
+    assert len(own) == len({e["session_id"] for e in episodes}) >= 2
+    hint = evaluation_hint(lerobot_dir, tmp_path / "act")
+    assert hint[0].startswith("evaluate it in the very worlds of its demonstrations")
+    commands = [line.split() for line in hint[1:-1]]
+    assert [c[c.index("--condition") + 1] for c in commands] == ["own-worlds"] * len(own) + [
+        "new-worlds"
+    ]
+    assert hint[-1] == "  workcell audit --store eval.sqlite --out report --by condition"
+    store = tmp_path / "eval.sqlite"
+    for flags, seed, trials in own:  # the expert in the policy's place, briefly
+        argv = [*flags, "--mode", "collection", "--trials", str(trials), "--seed", str(seed)]
+        argv += ["--set", "task.time_limit_s=0.2", "--store", str(store)]
+        assert main(["collect", *argv]) == 0
+    capsys.readouterr()
+    with sqlite3.connect(store) as db:
+        met = {
+            json.loads(payload)["trial_seed"]
+            for (payload,) in db.execute(
+                "SELECT payload_json FROM events WHERE kind = 'trial_started'"
+            )
+        }
+    assert {e["trial_seed"] for e in episodes} <= met

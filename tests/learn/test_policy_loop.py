@@ -62,8 +62,12 @@ def trained(lerobot_dir: Path, tmp_path_factory: pytest.TempPathFactory) -> Path
     assert shown == [" step 1/3", " step 2/3", " step 3/3"]  # each step, not stdout a terminal
     assert (
         f"workcell collect --operator policy:{out} --world D0 --mode collection --trials 200 "
-        f"--seed {evaluation_seed(lerobot_dir)} --store eval.sqlite"
+        f"--seed {evaluation_seed(lerobot_dir)} --condition new-worlds --store eval.sqlite"
     ) in done.stdout  # the world its demonstrations came from
+    assert (
+        f"workcell collect --operator policy:{out} --world D0 --mode collection --trials 1 "
+        "--seed 0 --condition own-worlds --store eval.sqlite"
+    ) in done.stdout  # and the very worlds of its first session's demonstrations
     assert (out / "train.log").is_file() and sorted(p.name for p in out.parent.iterdir()) == [
         "tiny-act"
     ]
@@ -146,13 +150,15 @@ def test_the_policy_observes_what_the_env_and_the_export_hold(
     trained: Path, recorded: Stores, tmp_path: Path
 ) -> None:
     """The policy session's recorded frame 0 is the env's first observation of the same
-    trial seed, value for value."""
+    trial seed, value for value. (With --verbose, LeRobot's loading message is shown.)"""
     store = tmp_path / "policy.sqlite"
     done = _workcell(
         "collect", "--operator", f"policy:{trained}", "--trials", "1", "--seed", "11",
         "--mode", "collection", "--set", "task.time_limit_s=0.5", "--store", str(store),
+        "--verbose",
     )  # fmt: skip
     assert done.returncode == 0, done.stderr[-3000:]
+    assert done.stdout.startswith("Loading weights from local directory\nindex ")
     with sqlite3.connect(store) as db:
         seed = json.loads(
             db.execute("SELECT payload_json FROM events WHERE kind = 'trial_started'").fetchone()[0]
@@ -210,8 +216,9 @@ def test_a_policy_for_another_world_is_refused(trained: Path, tmp_path: Path) ->
 def test_a_training_cut_short_leaves_its_log_and_a_checkpoint_that_drives(
     lerobot_dir: Path, tmp_path: Path
 ) -> None:
-    """Killed while it trains, ``workcell train`` has already written OUT/train.log (no
-    file beside OUT) and a checkpoint of a tenth of the run, which a session drives with."""
+    """``workcell train`` writes OUT/train.log from its start (no file beside OUT); killed
+    while it trains, it has left a checkpoint of a tenth of the run, which a session drives
+    with."""
     require_learn_extra()
     out = tmp_path / "cut"
     process = subprocess.Popen(
@@ -220,7 +227,13 @@ def test_a_training_cut_short_leaves_its_log_and_a_checkpoint_that_drives(
         stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL, start_new_session=True,
     )  # fmt: skip
     last = out / "checkpoints" / "last"
+    log = out / "train.log"
     try:
+        while process.poll() is None and not log.exists():
+            time.sleep(0.05)
+        # there from the start: before LeRobot (importing torch) has logged a line
+        assert process.poll() is None and "INFO " not in log.read_text()
+        assert log.read_text().startswith("$ OMP_NUM_THREADS=1 ")
         while process.poll() is None and not last.exists():
             time.sleep(0.2)
         assert process.poll() is None, "the training ended before its first checkpoint"

@@ -33,6 +33,34 @@ def test_a_clean_collect_leaves_only_the_store(
         assert [s.status for s in reader.sessions()] == ["completed", "completed"]
 
 
+def test_a_clean_collect_by_workers_leaves_only_the_store(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """Its shards merged and the result verified (by a reader), nothing else stays."""
+    store = tmp_path / "s.sqlite"
+    argv = ["collect", "--trials", "2", "--workers", "2", "--set", "task.time_limit_s=0.3"]
+    assert main([*argv, "--store", str(store)]) == 0
+    assert "verified" in capsys.readouterr().out
+    assert [p.name for p in tmp_path.iterdir()] == ["s.sqlite"]
+
+
+def test_a_reader_leaves_sqlites_empty_files_which_the_next_clean_writer_removes(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str]
+) -> None:
+    """What the README says of ``<store>-wal`` and ``<store>-shm``."""
+    store = tmp_path / "s.sqlite"
+    argv = ["collect", "--trials", "1", "--set", "task.time_limit_s=0.5", "--store", str(store)]
+    assert main(argv) == 0
+    assert main(["verify", "--store", str(store)]) == 0
+    capsys.readouterr()
+    beside = {p.name: p.stat().st_size for p in tmp_path.iterdir()}
+    assert beside.keys() == {"s.sqlite", "s.sqlite-wal", "s.sqlite-shm"}
+    assert beside["s.sqlite-wal"] == 0
+    assert main([*argv, "--seed", "1"]) == 0
+    capsys.readouterr()
+    assert [p.name for p in tmp_path.iterdir()] == ["s.sqlite"]
+
+
 def test_the_files_are_there_while_writing_and_kept_for_what_is_left_open(
     tmp_path: Path,
 ) -> None:

@@ -122,6 +122,12 @@ def register(subparsers: Subparsers) -> None:
         help="run the --workers as Ray tasks on the cluster at ADDRESS ('local': start one here)",
     )
     parser.add_argument("--json", action="store_true", help="one JSON object per trial per line")
+    parser.add_argument(
+        "--verbose",
+        action="store_true",
+        help="show what torch and LeRobot print while a policy loads (dropped by default, "
+        "so that the table comes first)",
+    )
     parser.set_defaults(func=run)
 
 

@@ -53,4 +53,4 @@ def driver(args: argparse.Namespace, checkpoint: PolicyCheckpoint | None) -> Dri
         from workcell.expert.skill import ExpertConfig  # noqa: PLC0415
 
         return ExpertDriver(ExpertConfig(skill=args.skill))
-    return PolicyDriver(checkpoint)
+    return PolicyDriver(checkpoint, verbose=args.verbose)

@@ -18,6 +18,9 @@ if TYPE_CHECKING:
     from workcell.learn.train import TrainProgress
 
 MAX_EPISODE = 10_000_000
+MAX_OWN_WORLD_SESSIONS = 3
+"""Up to this many demonstration sessions, the closing hint also replays their very worlds
+(one command each)."""
 
 
 def register(subparsers: Subparsers) -> None:
@@ -27,8 +30,8 @@ def register(subparsers: Subparsers) -> None:
         description=(
             "Run LeRobot's own training (lerobot-train) on a dataset written by 'workcell "
             "export --format lerobot', offline, with defaults that train a state-only policy "
-            "on a CPU in well under an hour. Writes LeRobot's log to OUT/train.log as it "
-            "trains and LeRobot's standard checkpoint under "
+            "on a CPU in well under an hour. Writes LeRobot's log to OUT/train.log from the "
+            "start and LeRobot's standard checkpoint under "
             "OUT/checkpoints/last/pretrained_model, every tenth of the steps (so a run cut "
             "short leaves one); drive with it by 'workcell collect --operator policy:OUT'. "
             "Needs the learn extra (pip install 'workcell[learn]')."
@@ -60,8 +63,9 @@ def register(subparsers: Subparsers) -> None:
         default=DEFAULT_THREADS,
         help=f"torch threads (default: {DEFAULT_THREADS}, beside one data-loading worker, as "
         "the published timings ran; a thread per core crawls on a machine busy with other "
-        "work: 3-13 s a step against 1.2-2.3 s with one on a shared 2-core machine; more "
-        "pay only on idle cores; 0: torch's own default, a thread per core)",
+        "work: on a shared 2-core machine 2.9-13 s a step against 0.3-2.3 s with one, and "
+        "5 times the CPU time; more pay only on idle cores; 0: torch's own default, a "
+        "thread per core)",
     )
     parser.add_argument(
         "--save-every",
@@ -166,32 +170,81 @@ def world_flags(dataset: Path) -> list[list[str]]:
     return [list(flags) for flags in found]
 
 
+def own_worlds(dataset: Path) -> list[tuple[list[str], int, int]]:
+    """For each session the dataset's episodes came from, in order of first appearance: the
+    flags of its world, its seed, and how many trials reach its last exported trial. A
+    ``collect`` with them meets the very worlds of those demonstrations: a trial's world is
+    fixed by its session's seed and its index (``trial_seed`` in task/runner.py). None for
+    a session the provenance does not describe."""
+    provenance = _provenance(dataset)
+    last: dict[str, int] = {}
+    for episode in provenance.get("episodes", []):
+        with contextlib.suppress(KeyError, TypeError, ValueError):
+            session, index = str(episode["session_id"]), int(episode["trial_index"])
+            last[session] = max(last.get(session, 0), index + 1)
+    sessions = provenance.get("sessions", {})
+    found = []
+    for session_id, trials in last.items():
+        try:
+            session = sessions[session_id]
+            found.append((_world_flags_of(session["parameters"]), int(session["seed"]), trials))
+        except (KeyError, TypeError, AttributeError, ValueError, ConfigError):
+            continue
+    return found
+
+
 def evaluation_hint(dataset: Path, out: Path) -> list[str]:
-    """How to evaluate the trained policy in new worlds drawn as its demonstrations' were."""
+    """How to evaluate the trained policy: in the very worlds of its demonstrations (for a
+    dataset of up to :data:`MAX_OWN_WORLD_SESSIONS` sessions), then in new worlds drawn as
+    theirs were, as two conditions of one store that the audit compares."""
     seed = evaluation_seed(dataset)
     worlds = world_flags(dataset) or [[]]
-    named = [" ".join(flags) or "the default world" for flags in worlds]
-    lines = [
-        f"evaluate it in new worlds of its demonstrations' kind ({'; '.join(named)}; seeds "
-        "none of them used):"
+    own = own_worlds(dataset)
+    named = "; ".join(" ".join(flags) or "the default world" for flags in worlds)
+    policy = ["workcell", "collect", "--operator", f"policy:{out}"]
+    store = ["--store", "eval.sqlite"]
+    new_worlds = [
+        [*policy, *flags, "--mode", "collection", "--trials", "200", "--seed", str(seed)]
+        for flags in worlds
     ]
-    for flags in worlds:
-        command = ["workcell", "collect", "--operator", f"policy:{out}", *flags]
-        command += ["--mode", "collection", "--trials", "200", "--seed", str(seed)]
-        lines.append("  " + shlex.join([*command, "--store", "eval.sqlite"]))
-    lines.append("  workcell audit --store eval.sqlite --out report")
-    return lines
+    if not own or len(own) > MAX_OWN_WORLD_SESSIONS:
+        return [
+            f"evaluate it in new worlds of its demonstrations' kind ({named}; seeds none of "
+            "them used):",
+            *("  " + shlex.join([*command, *store]) for command in new_worlds),
+            "  workcell audit --store eval.sqlite --out report",
+        ]
+    own_commands = [
+        [*policy, *flags, "--mode", "collection", "--trials", str(trials), "--seed", str(first)]
+        for flags, first, trials in own
+    ]
+    return [
+        "evaluate it in the very worlds of its demonstrations (their sessions' seeds), then "
+        f"in new worlds of their kind ({named}; seeds none of them used), and compare:",
+        *("  " + shlex.join([*c, "--condition", "own-worlds", *store]) for c in own_commands),
+        *("  " + shlex.join([*c, "--condition", "new-worlds", *store]) for c in new_worlds),
+        "  workcell audit --store eval.sqlite --out report --by condition",
+    ]
 
 
 def _sessions(dataset: Path) -> list[dict[str, Any]]:
     """The sessions the export's provenance lists (none when it cannot be read)."""
+    sessions = _provenance(dataset).get("sessions", {})
+    try:
+        return [s for s in sessions.values() if isinstance(s, dict)]
+    except AttributeError:
+        return []
+
+
+def _provenance(dataset: Path) -> dict[str, Any]:
+    """The export's provenance (empty when it cannot be read)."""
     from workcell.export.lerobot_layout import PROVENANCE_JSON_PATH  # noqa: PLC0415
 
     try:
-        sessions = json.loads((dataset / PROVENANCE_JSON_PATH).read_text())["sessions"]
-        return [s for s in sessions.values() if isinstance(s, dict)]
-    except (OSError, ValueError, KeyError, TypeError, AttributeError):
-        return []
+        provenance = json.loads((dataset / PROVENANCE_JSON_PATH).read_text())
+    except (OSError, ValueError):
+        return {}
+    return provenance if isinstance(provenance, dict) else {}
 
 
 def _world_flags_of(parameters: dict[str, Any]) -> list[str]:

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import contextlib
 import io
+from collections.abc import Iterator
 from typing import Any
 
 import numpy as np
@@ -49,13 +50,18 @@ class PolicyOperator:
         sim: Simulation,
         device: str | None = None,
         threads: int = INFERENCE_THREADS,
+        *,
+        verbose: bool = False,
     ) -> None:
-        torch = _import("torch")
-        torch.set_num_threads(threads)
-        self.checkpoint = checkpoint
-        self.device = device or ("cuda" if torch.cuda.is_available() else "cpu")
-        self._torch = torch
-        self._policy, self._preprocessor, self._postprocessor = _load(checkpoint, self.device)
+        """``verbose``: let torch and LeRobot print what they print while the policy loads
+        (by default it is dropped: collect's table comes first)."""
+        with library_output(verbose):
+            torch = _import("torch")
+            torch.set_num_threads(threads)
+            self.checkpoint = checkpoint
+            self.device = device or ("cuda" if torch.cuda.is_available() else "cpu")
+            self._torch = torch
+            self._policy, self._preprocessor, self._postprocessor = _load(checkpoint, self.device)
         task = load_task(config.task.kind)
         environment_state = environment_names(config.world.feeder.pool_size, task.goal_names)
         self.inputs: PolicyInputs = policy_inputs(
@@ -112,6 +118,19 @@ class PolicyOperator:
         return command_from_action(np.clip(values, self._low, self._high))
 
 
+@contextlib.contextmanager
+def library_output(verbose: bool) -> Iterator[None]:
+    """Within: what libraries print to standard output and error (LeRobot's "Loading
+    weights from local directory", Python warnings, log records with no handler of their
+    own) is dropped, unless ``verbose``. Errors still raise."""
+    if verbose:
+        yield
+        return
+    dropped = io.StringIO()
+    with contextlib.redirect_stdout(dropped), contextlib.redirect_stderr(dropped):
+        yield
+
+
 def _import(name: str) -> Any:
     try:
         return __import__(name)
@@ -127,17 +146,14 @@ def _load(checkpoint: PolicyCheckpoint, device: str) -> tuple[Any, Any, Any]:
 
     path = str(checkpoint.path)
     try:
-        # LeRobot prints "Loading weights from local directory" on standard output, where
-        # collect prints its table
-        with contextlib.redirect_stdout(io.StringIO()):
-            config = PreTrainedConfig.from_pretrained(path)
-            config.device = device
-            policy = get_policy_class(config.type).from_pretrained(path, config=config)
-            preprocessor, postprocessor = make_pre_post_processors(
-                config,
-                pretrained_path=path,
-                preprocessor_overrides={"device_processor": {"device": device}},
-            )
+        config = PreTrainedConfig.from_pretrained(path)
+        config.device = device
+        policy = get_policy_class(config.type).from_pretrained(path, config=config)
+        preprocessor, postprocessor = make_pre_post_processors(
+            config,
+            pretrained_path=path,
+            preprocessor_overrides={"device_processor": {"device": device}},
+        )
     except (OSError, ValueError, KeyError, NotImplementedError) as error:
         raise LearnError(f"policy {path!r} cannot be loaded by LeRobot: {error}") from None
     policy.to(device)

@@ -1,9 +1,10 @@
 """``workcell train``: LeRobot's own training (``lerobot-train``) on a Workcell export.
 
-The training runs in a child process, ``python -m lerobot.scripts.lerobot_train`` with the
+The training runs in a child process, LeRobot's own ``lerobot-train`` (through
+:mod:`workcell.learn.lerobot_child`, so that its log is in ``OUT`` from the start) with the
 arguments of :mod:`workcell.learn.train_options`, offline (nothing is downloaded or
 uploaded), on :data:`~workcell.learn.train_options.DEFAULT_THREADS` torch thread unless
-told otherwise. Its whole output goes to ``OUT/train.log`` as it comes
+told otherwise. Its whole output goes to ``OUT/train.log`` from the moment it starts
 (:mod:`workcell.learn.training_output`); what it reports is turned into one progress line
 (step, loss, speed, time left). The result is LeRobot's standard checkpoint,
 ``OUT/checkpoints/last/pretrained_model``, which ``lerobot`` loads and ``workcell collect
@@ -27,14 +28,10 @@ from pathlib import Path
 from workcell.learn.checkpoint import LAST_CHECKPOINT, PolicyCheckpoint
 from workcell.learn.errors import LearnError, MissingLearnExtraError
 from workcell.learn.train_options import TrainOptions, lerobot_arguments
-from workcell.learn.training_output import (
-    LOG_FILE,
-    TrainingLog,
-    only_a_log,
-    remove_older_checkpoints,
-)
+from workcell.learn.training_output import TrainingLog, only_a_log, remove_older_checkpoints
 
-TRAIN_MODULE = "lerobot.scripts.lerobot_train"
+TRAIN_MODULE = "workcell.learn.lerobot_child"
+"""``lerobot-train`` whose log can be in OUT before LeRobot checks OUT."""
 OFFLINE_ENVIRONMENT = {
     "HF_HUB_OFFLINE": "1",
     "HF_DATASETS_OFFLINE": "1",
@@ -148,10 +145,7 @@ def run_training(
 ) -> TrainResult:
     """Train, reporting each of LeRobot's log lines; the checkpoint it wrote."""
     command, _ = train_command(options)
-    if options.out.exists():  # empty, or the log of a run that never started
-        (options.out / LOG_FILE).unlink(missing_ok=True)
-        options.out.rmdir()  # LeRobot refuses an existing output directory
-    log = TrainingLog(options.out)
+    log = TrainingLog(options.out)  # replaces the log of a run that never started
     started = time.monotonic()
     last: TrainProgress | None = None
     reader = ProgressReader(options.steps, options.log_every)

@@ -24,8 +24,10 @@ DEVICES: tuple[Device, ...] = ("auto", "cpu", "cuda")
 DEFAULT_THREADS = 1
 """One torch thread, beside one data-loading worker: what bench/learn.py and the published
 timings use. Torch's own default, a thread per core, crawls on a machine busy with other
-work (3-13 s per step on a shared 2-core machine against 1.2-2.3 s with one thread:
-threads that wait for each other on a shared core); more pay only on idle cores."""
+work (3-13 s per step on a shared 2-core machine against 1.2-2.3 s with one thread;
+measured again with the default ACT: 2.9 and 5.3 s a step at loads 3-8 and 7-12 against
+0.34 and 0.53 s at loads 1-3 and 7, with 5 times the CPU time: threads that spin waiting
+for each other on a shared core); more pay only on idle cores (README.md)."""
 CHECKPOINTS_PER_RUN = 10
 """Without --save-every: a checkpoint every tenth of the steps."""
 LOG_LINES_EVERY = 10

@@ -1,17 +1,16 @@
 """What ``workcell train`` leaves in its output directory ``OUT`` beside LeRobot's
 checkpoints: the log, ``OUT/train.log``, and only the newest of the periodic checkpoints.
 
-LeRobot refuses an output directory that exists when it starts, so ``OUT`` can be made
-only once LeRobot has checked it: its first log line (``INFO 2026-12-01 10:00:00 ...``)
-comes after that check. Until then the log is held in memory; from then on it is
-written to ``OUT/train.log`` as it comes. A run that ends before (a bad option) makes
-``OUT`` with the log alone, which the next run with the same ``--out`` replaces.
+``OUT`` and its log are made as the training process starts, and the process's whole
+output is written there as it comes (LeRobot runs through
+:mod:`workcell.learn.lerobot_child`, which lets it write into an ``OUT`` that holds only
+the log). A run that fails before training leaves ``OUT`` with the log alone, which the
+next run with the same ``--out`` replaces.
 """
 
 from __future__ import annotations
 
 import contextlib
-import re
 import shutil
 from pathlib import Path
 from typing import TextIO
@@ -19,46 +18,27 @@ from typing import TextIO
 LOG_FILE = "train.log"
 CHECKPOINTS = "checkpoints"
 LAST = "last"
-_LEROBOT_LOG_LINE = re.compile(r"^(DEBUG|INFO|WARNING|ERROR|CRITICAL) \d{4}-\d\d-\d\d ")
-"""LeRobot's own log format (``init_logging``), which it sets up after checking OUT."""
 
 
 def only_a_log(out: Path) -> bool:
     """Whether ``out`` holds nothing but a log that a run which never started training
-    left there."""
+    left there (or the log of the run starting now)."""
     return out.is_dir() and [p.name for p in out.iterdir()] == [LOG_FILE]
 
 
 class TrainingLog:
-    """``OUT/train.log``, opened as soon as LeRobot has checked ``OUT``."""
+    """``OUT/train.log``, made (with ``OUT``) at once, written line by line."""
 
     def __init__(self, out: Path) -> None:
         self.path = out / LOG_FILE
-        self._held: list[str] = []
-        self._file: TextIO | None = None
+        out.mkdir(parents=True, exist_ok=True)
+        self._file: TextIO = self.path.open("w")
 
     def write(self, line: str) -> None:
-        if self._file is None and _LEROBOT_LOG_LINE.match(line):
-            self.open()
-        if self._file is None:
-            self._held.append(line)
-            return
         self._file.write(line)
         self._file.flush()
 
-    def open(self) -> None:
-        """Make ``OUT`` and write what was held (at once, if not done yet)."""
-        if self._file is not None:
-            return
-        self.path.parent.mkdir(parents=True, exist_ok=True)
-        self._file = self.path.open("w")
-        self._file.writelines(self._held)
-        self._file.flush()
-        self._held = []
-
     def close(self) -> None:
-        self.open()
-        assert self._file is not None
         self._file.close()
 
 

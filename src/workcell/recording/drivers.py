@@ -49,11 +49,13 @@ class PolicyDriver:
     """The learned policy of ``checkpoint`` (needs the learn extra)."""
 
     checkpoint: PolicyCheckpoint
+    verbose: bool = False
+    """Show what torch and LeRobot print while the policy loads."""
 
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
         from workcell.learn.policy_operator import PolicyOperator  # noqa: PLC0415
 
-        return Driving(PolicyOperator(self.checkpoint, config, sim))
+        return Driving(PolicyOperator(self.checkpoint, config, sim, verbose=self.verbose))
 
 
 @dataclass(frozen=True)
