@@ -15,7 +15,6 @@ from __future__ import annotations
 
 import dataclasses
 import time
-from collections.abc import Callable
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -148,6 +147,3 @@ def _judge(
         reason=reason,
         cpu_s=time.process_time() - began,
     )
-
-
-AttemptCallback = Callable[[AttemptResult], None]
