@@ -168,7 +168,7 @@ class GeneratedOperator:
         feed = _to_base_twist(world.base_pose, feed_world)
         close = (last.close_left, last.close_right)
         command = self._command(
-            world, MotionSample(reference, feed, hands, (True, True), close, to.head)
+            world, MotionSample(reference, feed, hands, to.follow, close, to.head)
         )
         if s >= 1.0:
             self._phase = Phase.PLAY
@@ -283,7 +283,9 @@ class GeneratedOperator:
 
 
 def _arm(pose: NDArray[np.float64], follow: bool) -> ArmCommand:
-    if not follow:
+    """Follow ``pose`` (base frame); an arm the source did not have following (a person's
+    released clutch), or without a target, holds where it is."""
+    if not (follow and np.isfinite(pose).all()):
         return ArmCommand()
     q = pose[3:] / np.linalg.norm(pose[3:])
     return ArmCommand(
