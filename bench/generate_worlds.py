@@ -13,6 +13,7 @@ re-check (every success is re-checked; those that fail are rejected and counted 
     .venv/bin/python bench/generate_worlds.py                     # 10 sources, 100 per world
     .venv/bin/python bench/generate_worlds.py --attempts 20 --worlds D1
     .venv/bin/python bench/generate_worlds.py --source-store S.sqlite --worlds D2 --keep DIR
+    .venv/bin/python bench/generate_worlds.py --naive      # the ablation: no re-targeting
 """
 
 from __future__ import annotations
@@ -83,6 +84,11 @@ def main() -> None:
     parser.add_argument("--source-seed", type=int, default=1, help="source session seed")
     parser.add_argument("--keep", type=Path, help="keep the stores in this folder")
     parser.add_argument(
+        "--naive",
+        action="store_true",
+        help="ablation: replay each segment where it was recorded (no re-targeting)",
+    )
+    parser.add_argument(
         "--source-store", type=Path, help="use the source trials of this store (not recorded)"
     )
     args = parser.parse_args()
@@ -98,7 +104,8 @@ def main() -> None:
             record_sources(sources, args.sources, args.source_seed)
         task = load_task(TASK)
         plan = GenerationPlan.of(load_sources(sources, TASK), references_for(TASK, task.stages))
-        print(f"{len(plan.sources)} source trials (expert, D0) as {plan.operator_id}")
+        how = "replayed where recorded (--naive)" if args.naive else "re-targeted"
+        print(f"{len(plan.sources)} source trials (expert, D0) as {plan.operator_id}, {how}")
         for world in worlds:
             run_world(plan, world, args.attempts, args.seed, folder / f"generated-{world}.sqlite")
 

@@ -131,7 +131,7 @@ class GeneratedOperator:
             return
         previous = self._segments[self._index - 1] if self._index else None
         continues = previous is not None and previous.reference == seg.reference
-        if not continues:
+        if not continues and self.plan.retarget:
             self._motion = Planar.between(seg.pose, pose)
             self._size_change = self._size_delta(world)
         self.provenance.segments.append(

@@ -28,10 +28,16 @@ class GenerationPlan:
     sources: tuple[SourceTrial, ...]
     segments: tuple[tuple[Segment, ...], ...]
     """Each source trial's segments, in the order of :attr:`sources`."""
+    retarget: bool = True
+    """Move each segment with its object (False: replay the source motion where it was
+    recorded, the ablation ``bench/generate_worlds.py --naive`` measures)."""
 
     @staticmethod
-    def of(sources: Sequence[SourceTrial], references: Mapping[str, Reference]) -> GenerationPlan:
-        return GenerationPlan(tuple(sources), tuple(segment(s, references) for s in sources))
+    def of(
+        sources: Sequence[SourceTrial], references: Mapping[str, Reference], retarget: bool = True
+    ) -> GenerationPlan:
+        segments = tuple(segment(s, references) for s in sources)
+        return GenerationPlan(tuple(sources), segments, retarget)
 
     @property
     def operator_id(self) -> str:
