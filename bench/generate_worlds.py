@@ -14,6 +14,7 @@ re-check (every success is re-checked; those that fail are rejected and counted 
     .venv/bin/python bench/generate_worlds.py --attempts 20 --worlds D1
     .venv/bin/python bench/generate_worlds.py --source-store S.sqlite --worlds D2 --keep DIR
     .venv/bin/python bench/generate_worlds.py --naive      # the ablation: no re-targeting
+    .venv/bin/python bench/generate_worlds.py --set 'world.target.zone=[0.4,0.4]'  # narrower
 """
 
 from __future__ import annotations
@@ -44,11 +45,13 @@ def record_sources(store: Path, trials: int, seed: int) -> None:
         raise SystemExit("recording the source trials failed")
 
 
-def run_world(plan: GenerationPlan, world: str, attempts: int, seed: int, out: Path) -> Tally:
+def run_world(  # noqa: PLR0917 - a benchmark's knobs
+    plan: GenerationPlan, world: str, attempts: int, seed: int, out: Path, sets: list[str]
+) -> Tally:
     task = load_task(TASK)
     flags: dict[str, object] = {"task.kind": TASK, "task.mode": "collection", "task.trials": 1}
     flags.update(world_overrides(task.worlds[world]))  # type: ignore[index]
-    config = resolve_session_config(None, [], {**flags, "seed": seed})
+    config = resolve_session_config(None, sets, {**flags, "seed": seed})
     longest = max(float(s.t[-1]) for s in plan.sources)
     limit = min(config.task.time_limit_s, float(int(longest + 21)))
     config = dataclasses.replace(config, task=dataclasses.replace(config.task, time_limit_s=limit))
@@ -84,6 +87,13 @@ def main() -> None:
     parser.add_argument("--source-seed", type=int, default=1, help="source session seed")
     parser.add_argument("--keep", type=Path, help="keep the stores in this folder")
     parser.add_argument(
+        "--set",
+        action="append",
+        default=[],
+        metavar="KEY=VALUE",
+        help="a setting of the attempts' sessions, e.g. --set world.target.zone=[0.4,0.4]",
+    )
+    parser.add_argument(
         "--naive",
         action="store_true",
         help="ablation: replay each segment where it was recorded (no re-targeting)",
@@ -107,7 +117,8 @@ def main() -> None:
         how = "replayed where recorded (--naive)" if args.naive else "re-targeted"
         print(f"{len(plan.sources)} source trials (expert, D0) as {plan.operator_id}, {how}")
         for world in worlds:
-            run_world(plan, world, args.attempts, args.seed, folder / f"generated-{world}.sqlite")
+            out = folder / f"generated-{world}.sqlite"
+            run_world(plan, world, args.attempts, args.seed, out, args.set)
 
 
 if __name__ == "__main__":
