@@ -21,10 +21,14 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import json
 import sys
 import tempfile
 import time
+from collections.abc import Sequence
 from pathlib import Path
+
+import numpy as np
 
 from workcell.cli.main import main as workcell
 from workcell.generate.attempts import run_attempt
@@ -32,6 +36,7 @@ from workcell.generate.plan import GenerationPlan
 from workcell.generate.references import references_for
 from workcell.generate.source import load_sources
 from workcell.generate.tally import Tally
+from workcell.record import Store
 from workcell.session.load import resolve_session_config
 from workcell.tasks import WORLDS, world_overrides
 from workcell.tasks.registry import load_task
@@ -77,6 +82,50 @@ def run_world(  # noqa: PLR0917 - a benchmark's knobs
     return tally
 
 
+def placement_errors(plan: GenerationPlan, store: Path) -> list[float]:
+    """For each attempt that delivered: how far (m) its box came to rest from where its
+    source trial's box rested, both relative to their own trial's goal (the zone's
+    centre): 0 when the segments were moved with the zone exactly. Box transfer's zone
+    (0.7 m) forgives much, so acceptance alone hides how well segments are re-targeted."""
+    sources = {s.trial_id: s for s in plan.sources}
+    errors = []
+    with Store.open(store, writer=False) as reader:
+        trials = {t.trial_id: t for t in reader.trials()}
+        for event in reader.events():
+            if event.kind != "generation" or event.payload["stage"] != "delivered":
+                continue
+            source = sources[str(event.payload["source_trial_id"])]
+            trial = trials[str(event.payload["trial_id"])]
+            frames = reader.frames(trial.trial_id)
+            rest = _box_rest([str(text) for text in frames["boxes"]], source.box)
+            goal = trial.goal or {}
+            offset = np.array([rest[0] - goal["goal_x"], rest[1] - goal["goal_y"]])
+            last = source.box_pose[np.isfinite(source.box_pose[:, 0])][-1]
+            source_offset = np.array([last[0] - source.goal[0], last[1] - source.goal[1]])
+            errors.append(float(np.linalg.norm(offset - source_offset)))
+    return errors
+
+
+def _box_rest(boxes: Sequence[str], box: int) -> tuple[float, float]:
+    """The box's x, y at the last frame it was not parked."""
+    for text in reversed(boxes):
+        for entry in json.loads(text):
+            if int(entry[0]) == box and entry[1] != "parked":
+                return float(entry[2]), float(entry[3])
+    raise ValueError(f"box {box} is parked in every frame")
+
+
+def print_placement(plan: GenerationPlan, world: str, store: Path) -> None:
+    errors = placement_errors(plan, store)
+    if errors:
+        cm = 100 * np.array(errors)
+        print(
+            f"{world}: box at rest vs its source's, relative to the goal, over {len(cm)} "
+            f"deliveries: median {np.median(cm):.1f} cm, 90th percentile "
+            f"{np.percentile(cm, 90):.1f} cm, max {cm.max():.1f} cm"
+        )
+
+
 def main() -> None:
     sys.stdout.reconfigure(line_buffering=True)  # type: ignore[union-attr]
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
@@ -113,12 +162,14 @@ def main() -> None:
         if args.source_store is None:
             record_sources(sources, args.sources, args.source_seed)
         task = load_task(TASK)
-        plan = GenerationPlan.of(load_sources(sources, TASK), references_for(TASK, task.stages))
+        references = references_for(TASK, task.stages)
+        plan = GenerationPlan.of(load_sources(sources, TASK), references, not args.naive)
         how = "replayed where recorded (--naive)" if args.naive else "re-targeted"
         print(f"{len(plan.sources)} source trials (expert, D0) as {plan.operator_id}, {how}")
         for world in worlds:
             out = folder / f"generated-{world}.sqlite"
             run_world(plan, world, args.attempts, args.seed, out, args.set)
+            print_placement(plan, world, out)
 
 
 if __name__ == "__main__":
