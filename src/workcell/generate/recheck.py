@@ -50,8 +50,13 @@ def recheck(sim: Simulation, operator: Operator) -> Recheck:
         delivered = [slot for slot in delivered if slot.state is BoxState.DELIVERED]
         for slot in delivered:
             if not world.zone.delivered(world.data, boxes, slot, held):
-                where = "held again" if slot is held else "no longer at rest in the zone"
+                if slot is held:
+                    what = "held again"
+                elif not world.zone.contains(boxes.position(world.data, slot)):
+                    what = "out of the zone"
+                else:
+                    what = f"moving ({boxes.speed(world.data, slot):.2f} m/s) in the zone"
                 return Recheck(
-                    False, f"box {slot.index} {where} {step * sim.control_dt:.2f} s after success"
+                    False, f"box {slot.index} {what} {step * sim.control_dt:.2f} s after success"
                 )
     return Recheck(True)
