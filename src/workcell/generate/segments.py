@@ -65,6 +65,12 @@ def segment(source: SourceTrial, references: Mapping[str, Reference]) -> tuple[S
     """``source`` cut at each frame where its stage changes (the last frame ends the last
     segment)."""
     stages = source.stage
+    unknown = sorted({stage for stage in stages if stage not in references})
+    if unknown:
+        raise GenerateError(
+            f"source trial {source.trial_id}: its frames' stages {unknown} are not its "
+            f"task's {tuple(references)} (a trial recorded before schema version 5 has none)"
+        )
     bounds = [i for i in range(1, len(stages)) if stages[i] != stages[i - 1]]
     if not bounds or bounds[-1] != len(stages) - 1:
         bounds.append(len(stages) - 1)
