@@ -208,3 +208,14 @@ def test_workers_take_attempts_from_one_queue_into_one_verified_store(
     with Store.open(out, writer=False) as reader:
         assert len(reader.sessions()) == 3
     assert not (tmp_path / "workers.sqlite.shards").exists()
+
+
+@pytest.mark.slow
+def test_ray_tasks_run_attempts_into_one_verified_store(sources: Path, tmp_path: Path) -> None:
+    out = tmp_path / "ray.sqlite"
+    argv = ["generate", "--source", str(sources), "--attempts", "6", "--seed", "7"]
+    assert main([*argv, "--world", "D1", "--store", str(out), "--ray", "local"]) == 0
+    assert verify_store(out) == []
+    events = generation_events(out)
+    assert sorted(int(str(p["attempt"])) for p in events.values()) == list(range(6))
+    assert not (tmp_path / "ray.sqlite.shards").exists()

@@ -76,6 +76,12 @@ def register(subparsers: Subparsers) -> None:
         help="W worker processes taking attempts from one queue, each into a shard, "
         "merged into --store at the end (default: 1, in this process)",
     )
+    parser.add_argument(
+        "--ray",
+        metavar="local|ADDRESS",
+        help="run the attempts as Ray tasks (5 attempts each, --workers at a time) on the "
+        "cluster at ADDRESS ('local': start Ray here); shards merged into --store",
+    )
     parser.set_defaults(func=run)
 
 
@@ -157,7 +163,7 @@ def _generate(args: argparse.Namespace, plan: GenerationPlan, config: SessionCon
         )
 
     with ShutdownSignals() as shutdown:
-        if args.workers > 1:
+        if args.workers > 1 or args.ray:
             _in_workers(args, plan, config, on_attempt, lambda: shutdown.requested is not None)
         else:
             from workcell.generate.attempts import run_attempt  # noqa: PLC0415
@@ -194,15 +200,30 @@ def _in_workers(
     store = Path(args.store)
     shard_dir = store.with_name(f"{store.name}.shards") / time.strftime("run-%Y%m%d-%H%M%S")
     shard_dir.mkdir(parents=True, exist_ok=False)
-    shards = run_pool(
-        plan,
-        config,
-        range(args.attempts),
-        args.workers,
-        shard_dir,
-        on_attempt=on_attempt,
-        should_stop=should_stop,
-    )
+    attempts = range(args.attempts)
+    if args.ray:
+        from workcell.generate.ray_pool import run_ray  # noqa: PLC0415
+
+        shards = run_ray(
+            args.ray,
+            plan,
+            config,
+            attempts,
+            args.workers,
+            shard_dir=shard_dir,
+            on_attempt=on_attempt,
+            should_stop=should_stop,
+        )
+    else:
+        shards = run_pool(
+            plan,
+            config,
+            attempts,
+            args.workers,
+            shard_dir,
+            on_attempt=on_attempt,
+            should_stop=should_stop,
+        )
     if shards:
         merge_stores(shards, store, progress=lambda m: print(m, file=sys.stderr))
     shutil.rmtree(shard_dir)
