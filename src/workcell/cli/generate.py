@@ -48,7 +48,13 @@ def register(subparsers: Subparsers) -> None:
         metavar="ID",
         help="replay only the trials of this operator id (repeatable; default: all)",
     )
-    parser.add_argument("--attempts", type=int, required=True, metavar="N", help="attempts")
+    parser.add_argument(
+        "--attempts",
+        type=int,
+        required=True,
+        metavar="N",
+        help="how many attempts: each a new world, a recorded trial and a session",
+    )
     parser.add_argument("--seed", type=int, default=0, help="generation seed (default: 0)")
     parser.add_argument(
         "--store",
