@@ -1,8 +1,9 @@
 """Who drives a recorded session, as frozen, picklable values.
 
 A :class:`~workcell.recording.recorded_session.RecordedSessionConfig` names its driver:
-the scripted expert (:class:`ExpertDriver`), a learned policy (:class:`PolicyDriver`) or
-a human at a browser (:class:`TeleopDriver`). The session builds the operator from it in
+the scripted expert (:class:`ExpertDriver`), a learned policy (:class:`PolicyDriver`),
+a human at a browser (:class:`TeleopDriver`) or recorded trials replayed in new worlds
+(:class:`GeneratedDriver`). The session builds the operator from it in
 whichever process runs the simulation, together with the source of the raw device input
 the recorder stores beside each frame (None for an operator that only gives commands).
 """
@@ -16,6 +17,7 @@ from workcell.expert.skill import ExpertConfig
 
 if TYPE_CHECKING:
     from workcell.control.simulation import Simulation
+    from workcell.generate.plan import GenerationPlan
     from workcell.learn.checkpoint import PolicyCheckpoint
     from workcell.recording.recorder import InputSource
     from workcell.session.config import SessionConfig
@@ -89,4 +91,17 @@ class TeleopDriver:
         return Driving(operator, operator.operator_input)
 
 
-Driver = ExpertDriver | PolicyDriver | TeleopDriver
+@dataclass(frozen=True)
+class GeneratedDriver:
+    """Source trials replayed into each trial's world (``workcell generate``,
+    :class:`~workcell.generate.operator.GeneratedOperator`); never the task's expert."""
+
+    plan: GenerationPlan
+
+    def build(self, config: SessionConfig, sim: Simulation) -> Driving:
+        from workcell.generate.operator import GeneratedOperator  # noqa: PLC0415
+
+        return Driving(GeneratedOperator(self.plan))
+
+
+Driver = ExpertDriver | PolicyDriver | TeleopDriver | GeneratedDriver

@@ -1,0 +1,321 @@
+"""The generator's operator: a source trial's segments replayed in a new world.
+
+For each attempt (:meth:`GeneratedOperator.start_trial`) it picks one source trial from the
+attempt's seed; then, segment by segment, it takes the segment's object's pose in the new
+world (waiting for a box still riding the conveyor to rest), moves the segment with it
+(:class:`~workcell.generate.planar.Planar`), joins the robot to the moved segment's first
+pose by a smooth blend (:data:`JOIN_SPEED`), and plays the moved segment: the base tracks
+the moved path (the source's twist fed forward, its pose error fed back), the arms the moved
+targets, grippers and head as recorded. A segment acting on the same object as the one
+before it carries on with its motion, unjoined (a held box's pose says nothing new). It
+reads the world (the boxes, the zone, the base) and returns
+:class:`~workcell.control.command.Command` values, like every operator; it never asks the
+task's expert. What it did (each segment's motion and when it began) is
+:attr:`GeneratedOperator.provenance`.
+"""
+
+from __future__ import annotations
+
+import enum
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from numpy.typing import NDArray
+
+from workcell.control.command import ArmCommand, BaseTwist, Command
+from workcell.generate.motion import (
+    MotionSample,
+    blend,
+    hands_in_base,
+    sample,
+    widen,
+)
+from workcell.generate.plan import GenerationPlan
+from workcell.generate.planar import Planar, wrap, yaw_of
+from workcell.generate.segments import REST_S, REST_SPEED, Segment
+from workcell.generate.source import SourceTrial
+from workcell.sim.boxes import BoxState
+from workcell.sim.world import World
+
+JOIN_SPEED = (0.3, 0.5, 0.25)
+"""How fast a join moves the base (m/s, rad/s) and the hands (m/s) at most."""
+MIN_JOIN_S = 0.5
+"""The shortest join."""
+GAIN = (2.0, 2.5)
+"""Base pose feedback: per second of linear and of yaw error."""
+BOX_SYMMETRY = math.pi / 2
+"""A box looks the same turned a quarter turn: a segment turns with it by the least angle."""
+
+
+class Phase(enum.Enum):
+    WAIT = "wait"
+    JOIN = "join"
+    PLAY = "play"
+    HOLD = "hold"
+
+
+@dataclass
+class SegmentRun:
+    """One segment as an attempt ran it: its motion and when it began (trial time)."""
+
+    segment: Segment
+    motion: Planar
+    object_pose: Planar
+    began_s: float
+
+    def as_dict(self) -> dict[str, object]:
+        return {
+            **self.segment.as_dict(),
+            "transform": self.motion.as_dict(),
+            "object_pose": self.object_pose.as_dict(),
+            "began_s": round(self.began_s, 4),
+        }
+
+
+@dataclass
+class Provenance:
+    """Where an attempt's motion came from."""
+
+    source_trial_id: str = ""
+    segments: list[SegmentRun] = field(default_factory=list)
+
+
+class GeneratedOperator:
+    """Replays the plan's source trials, one per attempt, moved into the attempt's world."""
+
+    def __init__(self, plan: GenerationPlan) -> None:
+        self.plan = plan
+        self.provenance = Provenance()
+        self.start_trial(0)
+
+    def start_trial(self, trial_seed: int) -> None:
+        rng = np.random.default_rng(trial_seed)
+        pick = int(rng.integers(len(self.plan.sources)))
+        self._source: SourceTrial = self.plan.sources[pick]
+        self._segments: tuple[Segment, ...] = self.plan.segments[pick]
+        self.provenance = Provenance(self._source.trial_id)
+        self._index = 0
+        self._phase = Phase.WAIT
+        self._t0: float | None = None
+        self._rest_since: float | None = None
+        self._motion = Planar()
+        self._size_change = (0.0, 0.0)
+        self._join_from: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
+        self._join_to: MotionSample | None = None
+        self._join_began = 0.0
+        self._join_s = MIN_JOIN_S
+        self._play_began = 0.0
+        self._last = Command()
+        self._last_hands: NDArray[np.float64] | None = None
+
+    # --- the operator interface -------------------------------------------------------------
+
+    def act(self, world: World) -> Command:
+        if self._t0 is None:
+            self._t0 = world.time
+        if self._phase is Phase.WAIT:
+            self._wait(world)
+        if self._phase is Phase.JOIN:
+            return self._join(world)
+        if self._phase is Phase.PLAY:
+            return self._play(world)
+        return self._hold(world)
+
+    # --- phases ------------------------------------------------------------------------------
+
+    def _wait(self, world: World) -> None:
+        seg = self._segments[self._index]
+        pose = self._object_pose(world, seg)
+        if pose is None:
+            return
+        previous = self._segments[self._index - 1] if self._index else None
+        continues = previous is not None and previous.reference == seg.reference
+        if not continues and self.plan.retarget:
+            self._motion = Planar.between(seg.pose, pose)
+            self._size_change = self._size_delta(world)
+        self.provenance.segments.append(
+            SegmentRun(seg, self._motion, pose, world.time - (self._t0 or 0.0))
+        )
+        if continues:
+            # the same object on: the motion goes on as it was (a held box moves with
+            # the hands, so its pose now says nothing new)
+            self._phase = Phase.PLAY
+            self._play_began = world.time
+            return
+        target = self._moved(seg.anchor_time(self._source))
+        current_base = world.base_pose
+        hands = self._current_hands(world)
+        self._join_from = (current_base, hands)
+        self._join_to = target
+        self._join_began = world.time
+        self._join_s = _join_duration(current_base, hands, target)
+        self._phase = Phase.JOIN
+
+    def _join(self, world: World) -> Command:
+        assert self._join_from is not None and self._join_to is not None
+        s = min(1.0, (world.time - self._join_began) / self._join_s)
+        smooth = s * s * (3 - 2 * s)
+        rate = 6 * s * (1 - s) / self._join_s
+        base_from, hands_from = self._join_from
+        to = self._join_to
+        delta = to.base - base_from
+        delta[2] = wrap(float(delta[2]))
+        reference = base_from + smooth * delta
+        feed_world = rate * delta
+        hands = blend(hands_from, to.hands, smooth)
+        last = self._last
+        feed = _to_base_twist(world.base_pose, feed_world)
+        close = (last.close_left, last.close_right)
+        command = self._command(
+            world, MotionSample(reference, feed, hands, to.follow, close, to.head)
+        )
+        if s >= 1.0:
+            self._phase = Phase.PLAY
+            self._play_began = world.time
+        return command
+
+    def _play(self, world: World) -> Command:
+        seg = self._segments[self._index]
+        t = seg.anchor_time(self._source) + (world.time - self._play_began)
+        end = float(self._source.t[seg.end])
+        at = self._moved(min(t, end))
+        command = self._command(world, at)
+        if t >= end:
+            self._index += 1
+            self._phase = Phase.WAIT if self._index < len(self._segments) else Phase.HOLD
+        return command
+
+    def _hold(self, world: World) -> Command:
+        last = self._last
+        hands = self._last_hands
+        if hands is None:
+            return Command(head=last.head)
+        local = hands_in_base(world.base_pose, hands)
+        return Command(
+            left=_arm(local[0], last.left.follow),
+            right=_arm(local[1], last.right.follow),
+            close_left=last.close_left,
+            close_right=last.close_right,
+            head=last.head,
+        )
+
+    # --- helpers -----------------------------------------------------------------------------
+
+    def _object_pose(self, world: World, seg: Segment) -> Planar | None:
+        """The segment's object's pose now, or None while a box it waits for still moves."""
+        if seg.reference == "goal":
+            center = world.zone.center
+            return Planar(float(center[0]), float(center[1]), 0.0)
+        boxes = world.boxes
+        slot = boxes.slots[self._source.box]
+        if slot.state is not BoxState.ACTIVE:
+            self._rest_since = None
+            return None
+        if seg.waits_for_rest:
+            speed = float(np.linalg.norm(world.data.qvel[slot.qvel : slot.qvel + 2]))
+            if speed >= REST_SPEED:
+                self._rest_since = None
+                return None
+            if self._rest_since is None:
+                self._rest_since = world.time
+            if world.time - self._rest_since < REST_S - 1e-9:
+                return None
+        x, y, _ = (float(v) for v in boxes.position(world.data, slot))
+        yaw = yaw_of(boxes.quaternion(world.data, slot))
+        turn = (yaw - seg.pose.yaw + BOX_SYMMETRY / 2) % BOX_SYMMETRY - BOX_SYMMETRY / 2
+        return Planar(x, y, seg.pose.yaw + turn)
+
+    def _size_delta(self, world: World) -> tuple[float, float]:
+        """How much wider (per hand) and taller (half) this attempt's box is than the
+        source's: the hands move apart and up by as much."""
+        source = self._source.box_size
+        if not all(math.isfinite(v) for v in source):
+            return (0.0, 0.0)
+        size = world.boxes.size_of(world.boxes.slots[self._source.box])
+        return ((size[1] - source[1]) / 2, (size[2] - source[2]) / 2)
+
+    def _moved(self, t: float) -> MotionSample:
+        at = sample(self._source, t, self._motion)
+        half, lift = self._size_change
+        return MotionSample(
+            at.base, at.twist, widen(at.hands, half, lift), at.follow, at.close, at.head
+        )
+
+    def _current_hands(self, world: World) -> NDArray[np.float64]:
+        """Where the hands are asked to be now, in the world: the last command's targets,
+        or the TCPs themselves where an arm was not following one."""
+        last = self._last
+        hands = np.empty((2, 7))
+        for i, (side, arm) in enumerate((("l", last.left), ("r", last.right))):
+            if arm.follow and self._last_hands is not None:
+                hands[i] = self._last_hands[i]
+            else:
+                position, quaternion = world.tcp_pose(side)
+                hands[i, :3], hands[i, 3:] = position, quaternion
+        return hands
+
+    def _command(self, world: World, at: MotionSample) -> Command:
+        """Track ``at``: its base pose (its twist fed forward, the pose error fed back),
+        its hands in the world, its grippers and head."""
+        reference, feed, hands = at.base, at.twist, at.hands
+        pose = world.base_pose
+        error = _to_base_twist(pose, reference[:2] - pose[:2])
+        yaw_error = wrap(float(reference[2] - pose[2]))
+        robot = world.config.robot
+        linear = feed[:2] + GAIN[0] * error[:2]
+        speed = float(np.linalg.norm(linear))
+        if speed > robot.max_linear_speed:
+            linear *= robot.max_linear_speed / speed
+        wz = float(np.clip(feed[2] + GAIN[1] * yaw_error, -robot.max_yaw_rate, robot.max_yaw_rate))
+        local = hands_in_base(pose, hands)
+        command = Command(
+            base=BaseTwist(float(linear[0]), float(linear[1]), wz),
+            left=_arm(local[0], at.follow[0]),
+            right=_arm(local[1], at.follow[1]),
+            close_left=float(np.clip(at.close[0], 0.0, 1.0)),
+            close_right=float(np.clip(at.close[1], 0.0, 1.0)),
+            head=at.head,
+        )
+        self._last = command
+        self._last_hands = hands
+        return command
+
+
+def _arm(pose: NDArray[np.float64], follow: bool) -> ArmCommand:
+    """Follow ``pose`` (base frame); an arm the source did not have following (a person's
+    released clutch), or without a target, holds where it is."""
+    if not (follow and np.isfinite(pose).all()):
+        return ArmCommand()
+    q = pose[3:] / np.linalg.norm(pose[3:])
+    return ArmCommand(
+        (float(pose[0]), float(pose[1]), float(pose[2])),
+        (float(q[0]), float(q[1]), float(q[2]), float(q[3])),
+        True,
+    )
+
+
+def _to_base_twist(pose: NDArray[np.float64], world_xy: NDArray[np.float64]) -> NDArray[np.float64]:
+    """A world vector (x, y[, yaw]) in the frame of a base at ``pose``."""
+    c, s = math.cos(float(pose[2])), math.sin(float(pose[2]))
+    out = np.zeros(3)
+    out[0] = c * world_xy[0] + s * world_xy[1]
+    out[1] = -s * world_xy[0] + c * world_xy[1]
+    if len(world_xy) > 2:
+        out[2] = world_xy[2]
+    return out
+
+
+def _join_duration(
+    base: NDArray[np.float64], hands: NDArray[np.float64], target: MotionSample
+) -> float:
+    distance = float(np.linalg.norm(target.base[:2] - base[:2]))
+    turn = abs(wrap(float(target.base[2] - base[2])))
+    reach = float(np.max(np.linalg.norm(target.hands[:, :3] - hands[:, :3], axis=1)))
+    # the smooth blend's top speed is 1.5 times its mean
+    return max(
+        MIN_JOIN_S,
+        1.5 * distance / JOIN_SPEED[0],
+        1.5 * turn / JOIN_SPEED[1],
+        1.5 * reach / JOIN_SPEED[2],
+    )

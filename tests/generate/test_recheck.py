@@ -1,0 +1,77 @@
+"""The settled re-check, on a real box at rest in the real delivery zone: a success that
+holds for a second passes, a box shoved off its rest within the second is caught."""
+
+from __future__ import annotations
+
+import numpy as np
+
+from workcell.control.command import Command
+from workcell.control.simulation import Simulation
+from workcell.generate.recheck import recheck
+from workcell.sim.boxes import BoxState
+from workcell.sim.config import FeederConfig, WorldConfig
+from workcell.sim.events import BoxDelivered
+from workcell.sim.world import World
+from workcell.tasks.box_transfer.task import BoxTransfer
+
+
+class StandStill:
+    """Asks nothing of the robot."""
+
+    def start_trial(self, trial_seed: int) -> None:
+        """Nothing to prepare."""
+
+    def act(self, world: World) -> Command:
+        return Command()
+
+
+class Shove(StandStill):
+    """Shoves every delivered box sideways once, half a second in."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def act(self, world: World) -> Command:
+        self.calls += 1
+        if self.calls == 20:
+            for slot in world.boxes.slots:
+                if slot.state is BoxState.DELIVERED:
+                    world.data.qvel[slot.qvel] = 0.6
+        return Command()
+
+
+def delivered_sim() -> Simulation:
+    """A world whose only box was set down at rest in the zone and delivered."""
+    sim = Simulation(WorldConfig(feeder=FeederConfig(pool_size=1)), BoxTransfer().scene())
+    sim.reset(0)
+    world = sim.world
+    slot = world.boxes.slots[0]
+    if slot.state is BoxState.PARKED:
+        released = world.boxes.release(world.data, world.time)
+        assert released is slot
+    center = world.zone.center
+    world.data.qpos[slot.qpos : slot.qpos + 3] = (center[0], center[1], world.zone.rest_z + 0.002)
+    world.data.qpos[slot.qpos + 3 : slot.qpos + 7] = (1.0, 0.0, 0.0, 0.0)
+    world.data.qvel[slot.qvel : slot.qvel + 6] = 0.0
+    for _ in range(100):
+        if any(isinstance(e, BoxDelivered) for e in sim.step(Command())):
+            return sim
+    raise AssertionError("the box set down in the zone was never delivered")
+
+
+def test_a_settled_delivery_holds() -> None:
+    sim = delivered_sim()
+    check = recheck(sim, StandStill())
+    assert check.held and check.reason is None
+    assert check.as_dict() == {"seconds": 1.0, "held": True, "reason": None}
+
+
+def test_a_box_shoved_off_its_rest_within_the_second_is_a_false_success() -> None:
+    sim = delivered_sim()
+    check = recheck(sim, Shove())
+    assert not check.held
+    assert check.reason is not None
+    assert check.reason.startswith("box 0 moving (0.")
+    assert check.reason.endswith("m/s) in the zone 0.50 s after success")
+    speed = np.linalg.norm(sim.world.data.qvel[sim.world.boxes.slots[0].qvel :][:2])
+    assert speed > 0.06

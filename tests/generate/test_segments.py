@@ -1,0 +1,68 @@
+"""Cutting a source trial at its recorded stage changes, each segment anchored on its
+object: a box still riding the belt is waited for until it has rested."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from workcell.generate.errors import GenerateError
+from workcell.generate.references import BOX_TRANSFER_REFERENCES, references_for
+from workcell.generate.segments import segment
+from workcell.generate.source import SourceTrial
+
+RATE_HZ = 20
+
+
+def source(stages: list[str]) -> SourceTrial:
+    """A trial of ``len(stages)`` frames at 20 Hz whose box rides the belt at 0.2 m/s for
+    its first 40 frames and rests after."""
+    n = len(stages)
+    t = np.arange(n) / RATE_HZ
+    box = np.zeros((n, 4))
+    box[:, 0] = -1.0 + 0.2 * np.minimum(t, 2.0)
+    box[:, 1] = -0.02
+    box[:, 2] = 0.05
+    box[:, 3] = np.where(t <= 2.0, 0.2, 0.0)
+    return SourceTrial(
+        trial_id="t",
+        operator_id="expert",
+        t=t,
+        base=np.zeros((n, 3)),
+        twist=np.zeros((n, 3)),
+        targets=np.zeros((n, 2, 7)),
+        follow=np.ones((n, 2), dtype=bool),
+        close=np.zeros((n, 2)),
+        head=np.zeros((n, 2)),
+        stage=tuple(stages),
+        box=0,
+        box_pose=box,
+        goal=(1.6, 1.9),
+        box_size=(0.3, 0.3, 0.3),
+    )
+
+
+def test_segments_end_where_the_stage_changes_and_act_on_their_object() -> None:
+    stages = ["none"] * 80 + ["grasped"] * 5 + ["lifted"] * 30 + ["over_zone"] * 20
+    stages.append("delivered")
+    segments = segment(source(stages), BOX_TRANSFER_REFERENCES)
+    assert [(s.start, s.end, s.end_stage) for s in segments] == [
+        (0, 80, "grasped"),
+        (80, 85, "lifted"),
+        (85, 115, "over_zone"),
+        (115, 135, "delivered"),
+    ]
+    assert [s.reference for s in segments] == ["box", "box", "goal", "goal"]
+    first = segments[0]
+    # the box rests from frame 41 (t = 2.05 s); anchored once it has rested 0.5 s
+    assert first.waits_for_rest and first.anchor == 51
+    assert first.pose.x == pytest.approx(-0.6) and first.pose.yaw == pytest.approx(0.05)
+    assert not segments[1].waits_for_rest and segments[1].anchor == 80
+    assert (segments[2].pose.x, segments[2].pose.y) == (1.6, 1.9)
+
+
+def test_a_trial_without_its_tasks_stages_is_refused() -> None:
+    with pytest.raises(GenerateError, match="recorded before schema version 5"):
+        segment(source(["None"] * 10), BOX_TRANSFER_REFERENCES)
+    with pytest.raises(GenerateError, match="knows the stages of box transfer"):
+        references_for("palletize", ("none", "touched", "grasped", "placed_1"))
