@@ -69,6 +69,7 @@ def main() -> None:
         "box_transfer",
         "lifted",
         40,
+        "Carry the box from the conveyor to the delivery table.",
     )
 
     def build() -> State:
