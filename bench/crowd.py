@@ -259,11 +259,17 @@ def measure(
     ray: str | None,
     *,
     compression: bool = False,
+    launch: str = LAUNCH,
+    env: dict[str, str] | None = None,
 ) -> Figures:
+    """One N measured on a fresh server started by ``launch`` (a ``python -c`` script that
+    runs ``workcell serve`` with the arguments it is given), ``env`` added to its
+    environment."""
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "crowd.sqlite"
         port = free_port()
-        env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+        environment = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+        environment.update(env or {})
         seats = n if ray is None else max(n, 2)  # --ray needs two seats or more
         arguments = ["--port", str(port), "--store", str(store), "--sessions", str(seats)]
         arguments += ["--no-admission"]  # every session at once: the load is what is measured
@@ -272,10 +278,10 @@ def measure(
         if compression:
             arguments.append("--ws-compression")
         process = subprocess.Popen(
-            [sys.executable, "-c", LAUNCH, *arguments],
+            [sys.executable, "-c", launch, *arguments],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.PIPE,
-            env=env,
+            env=environment,
         )
         try:
             deadline = time.monotonic() + 120  # Ray takes a while to start
