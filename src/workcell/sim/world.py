@@ -212,16 +212,16 @@ class World:
     @property
     def base_pose(self) -> NDArray[np.float64]:
         """(x, y, yaw) of the base in the world."""
-        return np.array(self.data.qpos[self._base_qpos])
+        return self.data.qpos[self._base_qpos]  # indexed by an array: a copy
 
     @property
     def base_velocity(self) -> NDArray[np.float64]:
         """(vx, vy, wz) of the base in the world frame."""
-        return np.array(self.data.qvel[self._base_dof])
+        return self.data.qvel[self._base_dof]  # a copy
 
     @property
     def joint_positions(self) -> NDArray[np.float64]:
-        return np.array(self.data.qpos[self._joint_qpos])
+        return self.data.qpos[self._joint_qpos]  # a copy
 
     @property
     def joint_velocities(self) -> NDArray[np.float64]:
