@@ -18,8 +18,9 @@ is gripped and moves along a 10 cm circle. Per N, measured together:
 - frames lost: gaps in each recorded trial's sim clock, read back from the store after
   the sessions were stopped and merged (target 0), and the recorded frames per session;
 - successes: trials the store records as delivered, of the trials that ended;
-- server CPU: the server process and its store writer processes, cores in use and per
-  session.
+- server CPU: the server process and its session and store writer processes, cores in
+  use and per session, and CPU seconds per simulated second of one session (what a
+  session's real-time second costs, also when a busy machine keeps it from real time).
 
 The baseline, measured in the same run, is N = 1.
 
@@ -74,6 +75,9 @@ class Figures:
     trials: int
     successes: int
     cores: float
+    cpu_per_sim_s: float
+    """Server CPU seconds per simulated second of one session: the cost of a session's
+    real-time second, whether or not the machine let it keep real time."""
     load: float
 
 
@@ -212,7 +216,9 @@ async def crowd(
     wall = t1 - t0
     first, last = sim_clock(before["sims"]), sim_clock(after["sims"])
     rtf = [(last[s] - first[s]) / wall for s in last if s in first]
+    simulated = sum(last[s] - first[s] for s in last if s in first)
     return {
+        "cpu_per_sim_s": (cpu1 - cpu0) / simulated if simulated > 0 else math.nan,
         "rtf": rtf,
         "late": sum(s["late_steps"] for s in after["sims"]),
         "dropped": sum(s["dropped_s"] for s in after["sims"]),
@@ -259,11 +265,17 @@ def measure(
     ray: str | None,
     *,
     compression: bool = False,
+    launch: str = LAUNCH,
+    env: dict[str, str] | None = None,
 ) -> Figures:
+    """One N measured on a fresh server started by ``launch`` (a ``python -c`` script that
+    runs ``workcell serve`` with the arguments it is given), ``env`` added to its
+    environment."""
     with tempfile.TemporaryDirectory() as tmp:
         store = Path(tmp) / "crowd.sqlite"
         port = free_port()
-        env = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+        environment = {**os.environ, "MUJOCO_GL": os.environ.get("MUJOCO_GL", "egl")}
+        environment.update(env or {})
         seats = n if ray is None else max(n, 2)  # --ray needs two seats or more
         arguments = ["--port", str(port), "--store", str(store), "--sessions", str(seats)]
         arguments += ["--no-admission"]  # every session at once: the load is what is measured
@@ -272,10 +284,10 @@ def measure(
         if compression:
             arguments.append("--ws-compression")
         process = subprocess.Popen(
-            [sys.executable, "-c", LAUNCH, *arguments],
+            [sys.executable, "-c", launch, *arguments],
             stdout=subprocess.DEVNULL,
             stderr=subprocess.PIPE,
-            env=env,
+            env=environment,
         )
         try:
             deadline = time.monotonic() + 120  # Ray takes a while to start
@@ -311,6 +323,7 @@ def measure(
         trials=record.trials,
         successes=record.successes,
         cores=result["cores"],
+        cpu_per_sim_s=result["cpu_per_sim_s"],
         load=os.getloadavg()[0],
     )
 
@@ -319,7 +332,8 @@ def report(rows: list[Figures], seconds: float) -> None:
     print(f"\n{seconds:g} s per N, operators at {INPUT_HZ:g} Hz; ratios against N = 1")
     print(
         "sessions  held at RT  min RTF  late steps  dropped s   input->state p50 (ratio)"
-        "   p99 (ratio)   frames/session  lost   delivered/trials   cores (per session)  load"
+        "   p99 (ratio)   frames/session  lost   delivered/trials   cores (per session)"
+        "  CPU s per session's sim s  load"
     )
     base = rows[0]
     for r in rows:
@@ -329,7 +343,8 @@ def report(rows: list[Figures], seconds: float) -> None:
             f"   {r.p99_ms:6.1f} ms ({r.p99_ms / base.p99_ms:4.2f})   {r.frames:14d}"
             f"  {r.frames_lost:4d}   {r.successes:7d}/{r.trials:<8d}"
             f"   {r.cores:5.2f} ({r.cores / r.sessions:5.3f})"
-            f"    {r.load:4.1f}"
+            f"         {r.cpu_per_sim_s:5.3f}"
+            f"              {r.load:4.1f}"
         )
     held = [
         r.sessions for r in rows if r.held == r.sessions and r.p99_ms <= 100 and not r.frames_lost

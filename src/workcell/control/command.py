@@ -25,7 +25,7 @@ class CommandError(WorkcellError):
 
 
 def _require_finite(name: str, values: tuple[float, ...]) -> None:
-    if not all(math.isfinite(v) for v in values):
+    if not all(map(math.isfinite, values)):
         raise CommandError(f"{name} = {values}: every component must be a finite number")
 
 

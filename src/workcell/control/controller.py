@@ -22,6 +22,16 @@ _HEAD = [JOINT_ORDER.index(n) for n in HEAD_JOINTS]
 class RobotController:
     def __init__(self, world: World) -> None:
         self.world = world
+        self.solve_held_arms = True
+        """Solve the IK also while neither arm follows its target (both held). A person's
+        session (:class:`~workcell.recording.drivers.TeleopDriver`) turns it off: a held
+        arm's target is where the IK configuration already is, so the solve would only
+        drift the arms toward the posture task; skipped, the configuration stays as it
+        is and the first period an arm follows again solves at once. The expert and the
+        policies keep it on (their record is what it was)."""
+        self._skipped = False
+        """The IK has not solved since the configuration was last brought up to date
+        (periods skipped while both arms were held)."""
         self.base = BaseMotion(world.config.robot)
         self.ik = BimanualIK(world.config, home_spine=world.config.robot.start_spine)
         self._following = dict.fromkeys(SIDES, False)
@@ -45,6 +55,7 @@ class RobotController:
         self.ik.reset(joints)
         self._following = dict.fromkeys(SIDES, False)
         self._ik_phase = 0
+        self._skipped = False
 
     def apply(self, command: Command) -> None:
         """Write the controls for one control period."""
@@ -63,11 +74,25 @@ class RobotController:
             elif self._following[side]:
                 self.ik.hold(side)
             self._following[side] = arm.follow
-        if self._ik_phase == 0:  # solve for the periods until the next solve
-            self._ik_velocity = self.ik.solve(self._ik_every * dt)
-        self._ik_phase = (self._ik_phase + 1) % self._ik_every
-        joints = self.ik.advance(self._ik_velocity, dt)
+        if not (self.solve_held_arms or command.left.follow or command.right.follow):
+            joints = self._hold_still()
+        else:
+            if self._skipped:  # the conveyor proxy moved meanwhile: the kinematics first
+                self.ik.configuration.update()
+                self._skipped = False
+            if self._ik_phase == 0:  # solve for the periods until the next solve
+                self._ik_velocity = self.ik.solve(self._ik_every * dt)
+            self._ik_phase = (self._ik_phase + 1) % self._ik_every
+            joints = self.ik.advance(self._ik_velocity, dt)
         joints[_HEAD] = np.clip(command.head, self._head_range[:, 0], self._head_range[:, 1])
         world.data.ctrl[world.joint_ctrl] = joints
         world.set_gripper("l", command.close_left)
         world.set_gripper("r", command.close_right)
+
+    def _hold_still(self) -> NDArray[np.float64]:
+        """Both arms held and :attr:`solve_held_arms` off: no solve, the IK configuration
+        stays where it is, and the next period an arm follows solves first."""
+        self._skipped = True
+        self._ik_phase = 0
+        self._ik_velocity[:] = 0.0
+        return self.ik.joints

@@ -71,6 +71,7 @@ class TeleopDriver:
         from workcell.teleop.soft_stop import SoftStop  # noqa: PLC0415
 
         ik = sim.controller.ik
+        sim.controller.solve_held_arms = False  # a released clutch: no solve (issue 38)
 
         def tcp_target(world: World, side: str) -> Pose:
             """The TCP pose the IK configuration is at (base frame): the arm's current

@@ -6,8 +6,9 @@ The pipe carries tuples. From the server: ``("input", Input)``, ``("new_link",)`
 ``("act", action, source)``, ``("frames", FrameStats)``, ``("pause", paused)``,
 ``("stop", reason, note)``. From the
 child: first ``("ready", session_id, scene)`` or ``("failed", message)``, then
-``("state", text, pacing)``, ``("scene", scene)``, ``("message", text)``,
-``("log", level, logger, text)`` and last ``("ended", SessionEnded)``.
+``("state", text, pacing)`` (the pacing counters as a tuple: ``pacing_values``),
+``("scene", scene)``, ``("message", text)``, ``("log", level, logger, text)`` and last
+``("ended", SessionEnded)``.
 """
 
 from __future__ import annotations
@@ -22,7 +23,7 @@ from typing import Any
 from workcell.errors import WorkcellError
 from workcell.protocol.messages import Scene, SessionEnded
 from workcell.server.live import LiveSession
-from workcell.server.session_relay import SessionArgs
+from workcell.server.session_relay import SessionArgs, pacing_values
 from workcell.task.pacing import PacingStats
 
 
@@ -53,7 +54,8 @@ class _PipeListener:
 
     def state(self, text: str) -> None:
         live = self.live
-        self.send(("state", text, live.pacing if live is not None else PacingStats()))
+        pacing = live.pacing if live is not None else PacingStats()
+        self.send(("state", text, pacing_values(pacing)))
 
     def message(self, text: str) -> None:
         live = self.live

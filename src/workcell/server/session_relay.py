@@ -12,8 +12,10 @@ session ``error`` for its clients, naming what happened, and nothing else.
 from __future__ import annotations
 
 import contextlib
+import dataclasses
 import json
 import logging
+import operator
 import threading
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -41,6 +43,11 @@ KEPT_TO_THE_LAST_FRAMES = (
     "its trial is recorded up to the last frames written, and closed as interrupted "
     "(crash_recovered)"
 )
+
+
+pacing_values = operator.attrgetter(*(f.name for f in dataclasses.fields(PacingStats)))
+"""A session's pacing counters as the plain tuple that goes down the pipe with each State
+(a tuple of numbers pickles in a tenth of the time of the dataclass)."""
 
 
 @dataclass(frozen=True)
@@ -237,7 +244,7 @@ class RelayedSession(ABC):
             except (EOFError, OSError):
                 break
             if kind == "state":
-                self._pacing = body[1]
+                self._pacing = PacingStats(*body[1])
                 self.listener.state(body[0])
             elif kind == "message":
                 self._tally(body[0])

@@ -5,16 +5,18 @@ from __future__ import annotations
 import dataclasses
 import math
 
+import mujoco
 import numpy as np
 
 from workcell.control.command import ArmCommand
 from workcell.protocol.messages import Pose, State
 from workcell.server.scene import DIGITS, PoseReader
+from workcell.sim.joints import SIDES
 from workcell.sim.world import World
 from workcell.task import events as ev
 from workcell.task.hud import Hud
 from workcell.task.runner import SessionRunner
-from workcell.teleop.operator import TeleopOperator, measured_tcp
+from workcell.teleop.operator import TeleopOperator
 from workcell.teleop.rotation import multiply
 
 
@@ -45,13 +47,23 @@ class StateBuilder:
     def __init__(self, runner: SessionRunner, operator: TeleopOperator) -> None:
         self.runner = runner
         self.operator = operator
-        self.reader = PoseReader(runner.sim.world.model)
+        model = runner.sim.world.model
+        self.reader = PoseReader(model)
         self.seq = 0
+        self._tcp_sites = {side: model.site(f"tcp_{side}").id for side in SIDES}
+        self._quat = np.zeros(4)
 
     def _target(self, side: str, arm: ArmCommand) -> Pose:
+        """The arm's TCP target in the world: the one it follows, else where it is (the
+        measured TCP, read in the world frame at once)."""
         world = self.runner.sim.world
-        base = (*arm.position, *arm.quaternion) if arm.follow else measured_tcp(world, side)
-        return _world_pose(world, base)
+        if arm.follow:
+            return _world_pose(world, (*arm.position, *arm.quaternion))
+        site = self._tcp_sites[side]
+        mujoco.mju_mat2Quat(self._quat, world.data.site_xmat[site])
+        x, y, z = (round(v, DIGITS) for v in world.data.site_xpos[site].tolist())
+        w, qx, qy, qz = (round(v, DIGITS) for v in self._quat.tolist())
+        return (x, y, z, w, qx, qy, qz)
 
     def build(self) -> State:
         runner = self.runner

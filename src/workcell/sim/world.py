@@ -212,16 +212,19 @@ class World:
     @property
     def base_pose(self) -> NDArray[np.float64]:
         """(x, y, yaw) of the base in the world."""
-        return np.array(self.data.qpos[self._base_qpos])
+        pose: NDArray[np.float64] = self.data.qpos[self._base_qpos]  # an array index copies
+        return pose
 
     @property
     def base_velocity(self) -> NDArray[np.float64]:
         """(vx, vy, wz) of the base in the world frame."""
-        return np.array(self.data.qvel[self._base_dof])
+        velocity: NDArray[np.float64] = self.data.qvel[self._base_dof]  # a copy
+        return velocity
 
     @property
     def joint_positions(self) -> NDArray[np.float64]:
-        return np.array(self.data.qpos[self._joint_qpos])
+        joints: NDArray[np.float64] = self.data.qpos[self._joint_qpos]  # a copy
+        return joints
 
     @property
     def joint_velocities(self) -> NDArray[np.float64]:

@@ -25,6 +25,8 @@ from workcell.teleop.rotation import (
 )
 
 Pose = tuple[float, float, float, float, float, float, float]
+RELEASED = ArmCommand()
+"""An arm that never had a target: not followed."""
 
 
 @dataclass(frozen=True)
@@ -49,6 +51,9 @@ class ArmClutch:
         self.anchor: Anchor | None = None
         self.target: Pose | None = None
         """The latest target (base frame): followed while engaged, frozen after."""
+        self._released: tuple[Pose | None, ArmCommand] = (None, RELEASED)
+        """The command of a released arm and the target it was made for: a released arm
+        sends the same command every period, made (and checked) once."""
 
     def reset(self) -> None:
         self.anchor = None
@@ -99,6 +104,10 @@ class ArmClutch:
     def release(self) -> ArmCommand:
         """Let go (or stay let go): the target stays where it is and is not followed."""
         self.anchor = None
-        if self.target is None:
-            return ArmCommand()
-        return ArmCommand(position=self.target[:3], quaternion=self.target[3:], follow=False)
+        target, command = self._released
+        if target is not self.target:
+            command = RELEASED
+            if self.target is not None:
+                command = ArmCommand(self.target[:3], self.target[3:], follow=False)
+            self._released = (self.target, command)
+        return command

@@ -38,7 +38,8 @@ class SoftStop:
         self._fromto = np.zeros(6)
         self.nearest = math.inf
         """The chassis' distance to the nearest obstacle at the last :meth:`limit` (m;
-        inf when none is within reach)."""
+        inf when none is within reach, or when that twist did not move the base along the
+        floor: then nothing is measured)."""
 
     @property
     def enabled(self) -> bool:
@@ -49,8 +50,8 @@ class SoftStop:
     ) -> BaseTwist:
         """``twist`` (base frame) with its approach to every near obstacle limited."""
         self.nearest = math.inf
-        if not self.enabled:
-            return twist
+        if not self.enabled or (twist.vx == 0.0 and twist.vy == 0.0):
+            return twist  # turning on the spot, or standing: no approach to limit
         cos, sin = math.cos(yaw), math.sin(yaw)
         velocity = np.array([cos * twist.vx - sin * twist.vy, sin * twist.vx + cos * twist.vy])
         for geom in self._obstacles:
