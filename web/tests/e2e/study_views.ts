@@ -22,10 +22,46 @@ async function downloaded(page: Page, click: () => Promise<void>): Promise<{ nam
   return { name: download.suggestedFilename(), body: readFileSync(file) };
 }
 
+// RFC 4180 records: a quoted cell may hold commas, doubled quotes and line breaks (the
+// audit's flag_details does on a loaded machine, e.g. "sampling_gap: ..., ...").
+function csvRecords(text: string): string[][] {
+  const records: string[][] = [];
+  let record: string[] = [];
+  let cell = "";
+  let quoted = false;
+  for (let i = 0; i < text.length; i += 1) {
+    const c = text[i];
+    if (quoted) {
+      if (c === '"' && text[i + 1] === '"') {
+        cell += '"';
+        i += 1;
+      } else if (c === '"') {
+        quoted = false;
+      } else {
+        cell += c;
+      }
+    } else if (c === '"') {
+      quoted = true;
+    } else if (c === ",") {
+      record.push(cell);
+      cell = "";
+    } else if (c === "\n" || c === "\r") {
+      if (c === "\r" && text[i + 1] === "\n") i += 1;
+      record.push(cell);
+      records.push(record);
+      record = [];
+      cell = "";
+    } else {
+      cell += c;
+    }
+  }
+  if (cell !== "" || record.length > 0) records.push([...record, cell]);
+  return records;
+}
+
 function csvRows(text: string): Record<string, string>[] {
-  const [head, ...lines] = text.trim().split(/\r?\n/);
-  const names = (head ?? "").split(",");
-  return lines.map((line) => Object.fromEntries(line.split(",").map((cell, i) => [names[i] ?? `${i}`, cell])));
+  const [names = [], ...records] = csvRecords(text);
+  return records.map((cells) => Object.fromEntries(cells.map((cell, i) => [names[i] ?? `${i}`, cell])));
 }
 
 await runScript("study_views", async ({ url, page, context, artifacts }) => {
@@ -87,7 +123,7 @@ await runScript("study_views", async ({ url, page, context, artifacts }) => {
   const audit = await downloaded(admin, () => admin.click("a.download-audit"));
   const auditRows = csvRows(audit.body.toString());
   check(audit.name === "trials.csv" && auditRows.length === 1, `the audit's download is ${audit.name} with ${auditRows.length} rows`);
-  check(auditRows[0]?.["operator_id"] === "p01" && auditRows[0]?.["condition"] === condition && auditRows[0]?.["outcome"] === "timeout", "the audit's trials.csv misses the study tags");
+  check(auditRows[0]?.["operator_id"] === "p01" && auditRows[0]?.["condition"] === condition && auditRows[0]?.["outcome"] === "timeout", `the audit's trials.csv misses the study tags or the timeout: ${JSON.stringify(auditRows[0])}`);
   const store = await downloaded(admin, () => admin.click("a.download-store"));
   check(store.name === "workcell-csv-export.zip" && store.body.subarray(0, 2).toString() === "PK", `the store download is ${store.name}`);
   const dataset = await downloaded(admin, () => admin.click("a.download-lerobot"));
