@@ -88,7 +88,7 @@ def trial_stages_reached(trials: Sequence[TrialAudit]) -> dict[str, int]:
     """How many ``trials`` reached each stage of :func:`trial_stage_counts` or went further
     in their own task's order: for trials of several tasks, each task's
     :func:`~workcell.audit.task_stages.at_least` summed (a palletize trial that placed a
-    box reached ``grasped``; a box transfer trial that delivered never reached
+    box reached ``grasped``; a box transfer trial that finished never reached
     ``placed_1``)."""
     reached = dict.fromkeys(trial_stage_counts(trials), 0)
     for kind, mine in _by_task(trials).items():
