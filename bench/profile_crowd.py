@@ -12,7 +12,7 @@ pacer):
 - physics: MuJoCo's ``mj_step``;
 - IK: ``BimanualIK.solve`` (mink's problem and the QP);
 - controller: ``RobotController.apply`` less the IK solve (base motion, the IK's
-  integration, the conveyor proxy, grippers);
+  integration, the arms' obstacle proxy, grippers);
 - world checks: ``World.step`` less physics and the recorder's sampling (grasp, feeder,
   events);
 - operator: ``TeleopOperator.act`` (the clutch, the sticks, the head);

@@ -44,7 +44,6 @@ import numpy as np
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
-from workcell.expert import ExpertOperator
 from workcell.record.entries import TrialEnd, TrialStart
 from workcell.recording.frame_capture import FrameCapture
 from workcell.recording.in_process import InProcessStore
@@ -53,6 +52,7 @@ from workcell.recording.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 VARIANTS = ("none", "none again", "process", "inline")
 LABELS = {

@@ -27,10 +27,11 @@ import mujoco
 import numpy as np
 
 from workcell.control.simulation import Simulation
-from workcell.expert import ExpertConfig, ExpertOperator
+from workcell.expert import ExpertConfig
 from workcell.sim.config import RobotConfig, WorldConfig
 from workcell.sim.events import BoxDelivered
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 from workcell.teleop.operator import measured_tcp
 
 TRIAL_LIMIT_S = 120.0

@@ -6,7 +6,6 @@ from __future__ import annotations
 from collections.abc import Mapping
 from typing import Any, ClassVar
 
-from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import WorldEvent
@@ -15,6 +14,7 @@ from workcell.task.operator import Operator
 from workcell.tasks import Evaluation, Task, WorldName
 from workcell.tasks.box_transfer.scene import BoxTransferScene
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 LIFT_M = 0.05
 """How far above its height when the hold began a box must be held."""

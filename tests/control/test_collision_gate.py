@@ -20,7 +20,7 @@ DT = 0.025
 def _own_limits(ik: BimanualIK) -> list[mink.CollisionAvoidanceLimit]:
     """mink's limits over the pairs and distances the IK uses, ungated."""
     arms = [*arm_geoms("l"), *arm_geoms("r")]
-    pairs = ([(arms, ["conveyor_proxy_geom"])], [(arm_geoms("l"), arm_geoms("r"))])
+    pairs = ([(arms, ["obstacle_proxy_geom"])], [(arm_geoms("l"), arm_geoms("r"))])
     return [
         mink.CollisionAvoidanceLimit(
             ik.model,
@@ -52,7 +52,7 @@ def test_the_gate_leaves_out_only_limits_that_bound_nothing() -> None:
             if model.jnt_limited[joint]:
                 q[model.jnt_qposadr[joint]] = rng.uniform(low[joint], high[joint])
         proxy = rng.uniform((0.1, -0.8, 0.0), (1.0, 0.8, 1.0))  # base frame, around the arms
-        ik.place_conveyor(proxy, (1.0, 0.0, 0.0, 0.0))
+        ik.place_obstacle(proxy, (1.0, 0.0, 0.0, 0.0))
         ik.configuration.update(q)
         for limit, plain in zip(limits, plains, strict=True):
             constraint = limit.compute_qp_inequalities(ik.configuration, DT)
@@ -75,12 +75,12 @@ def test_a_hand_at_the_conveyor_makes_its_limit_active() -> None:
     ik = BimanualIK(WorldConfig(), home_spine=0.1)
     conveyor_limit = ik.limits[2]
     assert isinstance(conveyor_limit, StepCollisionLimit)
-    ik.place_conveyor((3.0, 0.0, 0.5), (1.0, 0.0, 0.0, 0.0))  # far away
+    ik.place_obstacle((3.0, 0.0, 0.5), (1.0, 0.0, 0.0, 0.0))  # far away
     ik.configuration.update()
     assert not conveyor_limit.near(ik.configuration.data)
     assert conveyor_limit.compute_qp_inequalities(ik.configuration, DT).inactive
     hand = ik.tcp_pose("l").translation()
-    ik.place_conveyor(hand + np.array([0.0, 0.0, -0.3]), (1.0, 0.0, 0.0, 0.0))
+    ik.place_obstacle(hand + np.array([0.0, 0.0, -0.3]), (1.0, 0.0, 0.0, 0.0))
     ik.configuration.update()
     assert conveyor_limit.near(ik.configuration.data)
     constraint = conveyor_limit.compute_qp_inequalities(ik.configuration, DT)

@@ -59,7 +59,7 @@ def test_the_solve_without_unbounding_rows_is_qpsolvers_answer() -> None:
     left_out = 0
     for q in _random_configurations(ik, 60, seed=4):
         ik.configuration.update(q)
-        ik.place_conveyor(rng.uniform((0.1, -0.8, 0.0), (1.0, 0.8, 1.0)), (1.0, 0.0, 0.0, 0.0))
+        ik.place_obstacle(rng.uniform((0.1, -0.8, 0.0), (1.0, 0.8, 1.0)), (1.0, 0.0, 0.0, 0.0))
         for side in ("l", "r"):
             target = [float(x) for x in rng.uniform((0.2, -0.5, 0.6), (0.8, 0.5, 1.3))]
             ik.set_target(side, target, (1.0, 0.0, 0.0, 0.0))

@@ -11,12 +11,13 @@ import pytest
 from workcell.control.command import ArmCommand, Command
 from workcell.control.simulation import Simulation
 from workcell.errors import ConfigError
-from workcell.expert import ExpertConfig, ExpertOperator
-from workcell.expert.episode import deliver_one_box
+from workcell.expert import ExpertConfig
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.sim.config import RobotConfig, WorldConfig
+from workcell.tasks.box_transfer.episode import deliver_one_box
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 from workcell.teleop.rate import at_teleop_rate
 
 

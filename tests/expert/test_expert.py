@@ -8,11 +8,12 @@ import pytest
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.errors import ConfigError
-from workcell.expert import ExpertConfig, ExpertOperator
-from workcell.expert.episode import OneBoxResult, deliver_one_box
+from workcell.expert import ExpertConfig
 from workcell.sim.config import GraspMode, WorldConfig
 from workcell.sim.events import BoxDelivered
+from workcell.tasks.box_transfer.episode import OneBoxResult, deliver_one_box
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 SEEDS = range(20)
 REQUIRED = {"assisted": 19, "physical": 16}

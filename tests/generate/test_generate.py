@@ -27,7 +27,7 @@ GUARD = textwrap.dedent(
     """
     import sys
     from pathlib import Path
-    from workcell.expert.operator import ExpertOperator
+    from workcell.tasks.elements.expert import ExpertOperator
 
     marker = Path(sys.argv[1])
 

@@ -11,7 +11,6 @@ import pytest
 
 from workcell.control.command import ArmCommand, Command
 from workcell.control.simulation import Simulation
-from workcell.expert import ExpertOperator
 from workcell.recording.frame_capture import (
     FrameCapture,
     OperatorInput,
@@ -27,6 +26,7 @@ from workcell.recording.frame_format import (
 )
 from workcell.session.config import SessionConfig
 from workcell.sim.joints import JOINT_ORDER
+from workcell.tasks.elements.expert import ExpertOperator
 
 VR_INPUT = OperatorInput(
     grip=(0.25, 0.75),

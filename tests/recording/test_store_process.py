@@ -20,7 +20,6 @@ from tests.record import synthetic
 from tests.record.processes import wait_until_dead
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
-from workcell.expert import ExpertOperator
 from workcell.record import RecordError, StorageError, Store, StoreError
 from workcell.record.verify import verify_store
 from workcell.recording.frame_capture import CapturedFrames, FrameCapture, input_from_command
@@ -30,6 +29,7 @@ from workcell.recording.store_process import StoreProcess
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 REPO = Path(__file__).resolve().parents[2]
 WALL_CLOCK_COLUMNS = ("t_wall", "step_wall_ms")

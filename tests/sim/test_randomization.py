@@ -12,13 +12,13 @@ from workcell.cli.main import main
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.errors import ConfigError
-from workcell.expert import ExpertOperator
-from workcell.expert.episode import deliver_one_box
 from workcell.record import Store
 from workcell.sim.config import TargetConfig, WorldConfig
 from workcell.sim.randomization import RandomizationConfig
 from workcell.sim.trial_conditions import TrialConditions
+from workcell.tasks.box_transfer.episode import deliver_one_box
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 WIDE = RandomizationConfig(
     box_size=0.15,

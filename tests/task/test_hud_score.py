@@ -5,9 +5,9 @@ nothing delivered, then the end screen said 0)."""
 from __future__ import annotations
 
 from tests.task.test_runner import make_runner
-from workcell.expert import ExpertOperator
 from workcell.session.config import TaskConfig
 from workcell.task.hud import Hud, HudPhase
+from workcell.tasks.elements.expert import ExpertOperator
 
 
 def test_with_nothing_delivered_the_hud_scores_zero_and_the_timeout_ends_with_zero() -> None:

@@ -9,7 +9,7 @@ import pytest
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
-from workcell.expert import ExpertConfig, ExpertOperator
+from workcell.expert import ExpertConfig
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
@@ -18,6 +18,7 @@ from workcell.task.hud import HudPhase
 from workcell.task.operator import Operator
 from workcell.task.runner import SessionRunner, trial_seed
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 
 class IdleOperator:

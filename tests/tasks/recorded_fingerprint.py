@@ -23,8 +23,8 @@ import numpy as np
 from workcell.cli.main import main as workcell
 from workcell.envs.actions import action_from_command
 from workcell.envs.box_transfer import BoxTransferEnv
-from workcell.expert.operator import ExpertOperator
 from workcell.export.boxes import box_feature_names
+from workcell.tasks.elements.expert import ExpertOperator
 
 GOLDEN = Path(__file__).with_name("golden_trials.json")
 

@@ -18,7 +18,6 @@ from workcell.envs.actions import action_from_command
 from workcell.envs.box_transfer import BoxTransferEnv
 from workcell.envs.config import BoxTransferConfig
 from workcell.errors import ConfigError
-from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
 from workcell.recording.drivers import ExpertDriver
 from workcell.recording.headless import run_headless
@@ -28,6 +27,7 @@ from workcell.sim.randomization import RandomizationConfig
 from workcell.task.runner import TrialResult
 from workcell.tasks import CUSTOM, world_of
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.elements.expert import ExpertOperator
 
 
 def test_the_worlds_widen_from_d0_to_d2() -> None:

@@ -8,14 +8,9 @@ from collections.abc import Sequence
 from workcell.audit.html_parts import esc, table
 from workcell.audit.stats import GroupStats
 from workcell.audit.task_funnel import TaskFunnel, task_funnels
-from workcell.audit.task_stages import FRAMES_TASK, LIFT_M, TASK_STAGES_VERSION, at_least
+from workcell.audit.task_stages import FRAMES_TASK, at_least
 from workcell.audit.trial_audit import TrialAudit
-
-BOX_TRANSFER_STAGES = (
-    f"(definition v{TASK_STAGES_VERSION}): a gripper touched a box, both pads closed on it, "
-    f"it was lifted {LIFT_M * 100:.0f} cm, carried over the delivery zone, delivered. A "
-    "timeout that carried its box over the zone is not one that never moved"
-)
+from workcell.tasks.box_transfer.stages import FRAME_STAGES_TEXT
 
 
 def _row(label: str, counts: dict[str, int], stages: tuple[str, ...]) -> tuple[object, ...]:
@@ -34,7 +29,7 @@ def _funnel(funnel: TaskFunnel, titled: bool) -> str:
     rows += [_row(f"operator {op}", counts, stages) for op, counts in funnel.by_operator]
     header = ("trials", "n", *(s.replace("_", " ") for s in stages[1:]))
     what = (
-        BOX_TRANSFER_STAGES
+        FRAME_STAGES_TEXT
         if funnel.task == FRAMES_TASK
         else "as the task's judge said (its stages: "
         + ", ".join(esc(s) for s in stages)

@@ -55,7 +55,7 @@ class SessionRow:
     """The ``task.kind`` the session's parameters name (box transfer before tasks had
     names)."""
     zone: Zone = field(default_factory=lambda: session_zone({}))
-    """The delivery zone the session's world configures (trials may move its centre)."""
+    """The target zone the session's world configures (trials may move its centre)."""
     seed: int | None = None
     """The session seed (None: not read)."""
     status: str = ""

@@ -17,7 +17,7 @@ current state, like the right action.
 Version 2 lowered the default ``factor`` from 2 to 1.5: in ``bench/learn.py``'s filtering
 experiment the keep of version 1 held 2 low-skill successes at 1.7x the median (4 % of its
 episodes), and an ACT policy trained on it never released the box, while the same keep
-without them delivered (bench/README.md). A study whose people are expected to vary more
+without them succeeded (bench/README.md). A study whose people are expected to vary more
 can raise it (``slowness.factor``).
 """
 

@@ -5,8 +5,8 @@ reached (the ``stage`` column): that is its stage. A box-transfer trial recorded
 has its stage read from its frames (:mod:`workcell.audit.task_stages`, box transfer's
 definitions); a trial of another task recorded before says none. For a box-transfer trial
 with a recorded stage, the frames are read too, as a cross-check (only where cheap: a
-trial that delivered a box is ``delivered`` by definition, so only the others' frames are
-read); a disagreement is a finding (:mod:`workcell.audit.findings`).
+trial that finished a box is at the last stage by definition, so only the others' frames
+are read); a disagreement is a finding (:mod:`workcell.audit.findings`).
 """
 
 from __future__ import annotations
@@ -23,6 +23,7 @@ from workcell.audit.task_stages import (
     trial_zone,
 )
 from workcell.audit.trial_audit import TrialAudit
+from workcell.tasks.box_transfer.stages import COMPLETED_COLUMN
 
 FRAMES_DEFINE = FRAMES_TASK
 """The task whose stages the frames define (:mod:`workcell.audit.task_stages`)."""
@@ -35,7 +36,7 @@ def with_stages(source: AuditSource, trials: Sequence[TrialAudit]) -> list[Trial
         t.trial_id
         for t in trials
         if t.task == FRAMES_DEFINE
-        and not delivered(t)
+        and not finished(t)
         and (t.task_stage is None or t.row.recorded_stage is not None)
         and t.recomputed_stage is None
     ]
@@ -46,14 +47,14 @@ def with_stages(source: AuditSource, trials: Sequence[TrialAudit]) -> list[Trial
         return stage_reached(
             frames.get(trial.trial_id, NO_STAGE_FRAMES),
             trial_zone(trial.session.zone, conditions.get(trial.trial_id)),
-            trial.row.stored.get("boxes_delivered"),
+            trial.row.stored.get(COMPLETED_COLUMN),
         )
 
     out: list[TrialAudit] = []
     for trial in trials:
         recomputed = trial.recomputed_stage
         if trial.task == FRAMES_DEFINE and recomputed is None:
-            recomputed = from_frames(trial)  # delivered: without reading frames
+            recomputed = from_frames(trial)  # finished: without reading frames
         stage = trial.task_stage or trial.row.recorded_stage
         if stage is None and trial.task == FRAMES_DEFINE:
             stage = recomputed
@@ -72,7 +73,8 @@ def stage_disagrees(trial: TrialAudit) -> bool:
     )
 
 
-def delivered(trial: TrialAudit) -> bool:
-    """Whether the trial's row says it delivered at least one box."""
-    count = trial.row.stored.get("boxes_delivered")
+def finished(trial: TrialAudit) -> bool:
+    """Whether the trial's row says it finished at least one box (box transfer's
+    :data:`~workcell.tasks.box_transfer.stages.COMPLETED_COLUMN`)."""
+    count = trial.row.stored.get(COMPLETED_COLUMN)
     return count is not None and count >= 1

@@ -15,7 +15,7 @@ from collections.abc import Callable, Sequence
 from dataclasses import dataclass
 
 from workcell.audit.counts import DispositionCounts
-from workcell.audit.task_funnel import trial_stage_counts
+from workcell.audit.task_funnel import trial_stage_counts, trial_stages_reached
 from workcell.audit.trial_audit import TrialAudit
 from workcell.metrics import Descriptive, describe, wilson_interval
 
@@ -78,6 +78,8 @@ class GroupStats:
     metrics: dict[str, Descriptive]
     task_stages: dict[str, int]
     """How many of the group's trials got to each stage and no further (all trials)."""
+    task_stages_reached: dict[str, int]
+    """How many of them reached each stage or went further in their own task."""
 
     @classmethod
     def of(cls, value: str, members: Sequence[TrialAudit]) -> GroupStats:
@@ -87,6 +89,7 @@ class GroupStats:
             SuccessRate.of(members),
             success_metrics(members),
             task_stages_of(members),
+            trial_stages_reached(members),
         )
 
 

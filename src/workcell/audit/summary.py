@@ -32,7 +32,7 @@ from workcell.audit.stats import (
     task_stages_of,
 )
 from workcell.audit.study_progress import StudyProgress
-from workcell.audit.task_funnel import task_funnels
+from workcell.audit.task_funnel import task_funnels, trial_stages_reached
 from workcell.audit.task_stages import TASK_STAGES_VERSION, at_least
 from workcell.metrics import METRIC_DEFINITIONS, METRICS_VERSION, Descriptive
 
@@ -64,13 +64,14 @@ def _group(group: GroupStats) -> dict[str, Any]:
         "counts": asdict(group.counts),
         "success_rate": _rate(group.rate),
         **_described(group.metrics, SUCCESS_METRICS),
-        "task_stages": _stages(group.task_stages),
+        "task_stages": _stages(group.task_stages, group.task_stages_reached),
     }
 
 
-def _stages(counts: dict[str, int]) -> dict[str, Any]:
-    """Trials per stage they got to and no further, and per stage they got to or beyond."""
-    return {"ended_at": counts, "reached": at_least(counts)}
+def _stages(counts: dict[str, int], reached: dict[str, int] | None = None) -> dict[str, Any]:
+    """Trials per stage they got to and no further, and per stage they got to or beyond
+    (``reached``: in each trial's own task, when the trials are of several tasks)."""
+    return {"ended_at": counts, "reached": at_least(counts) if reached is None else reached}
 
 
 def _ladder(rungs: list[Rung]) -> dict[str, Any]:
@@ -204,7 +205,7 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
         },
         "task_stages": {
             "definition_version": TASK_STAGES_VERSION,
-            **_stages(task_stages_of(trials)),
+            **_stages(task_stages_of(trials), trial_stages_reached(trials)),
             "by_task": {
                 f.task: {"stages": list(f.stages), "unknown": f.unknown, **_stages(f.ended_at)}
                 for f in task_funnels(trials)

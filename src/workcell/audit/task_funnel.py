@@ -15,7 +15,7 @@ from collections.abc import Sequence
 from dataclasses import dataclass
 from functools import cache
 
-from workcell.audit.task_stages import FRAMES_TASK, TASK_STAGES, stage_counts
+from workcell.audit.task_stages import FRAMES_TASK, TASK_STAGES, at_least, stage_counts
 from workcell.audit.trial_audit import TrialAudit
 from workcell.errors import ConfigError
 
@@ -61,14 +61,40 @@ def _stages_of(kind: str, trials: Sequence[TrialAudit]) -> tuple[tuple[str, ...]
     return tuple(s for s in seen if s is not None), False
 
 
+def _by_task(trials: Sequence[TrialAudit]) -> dict[str, list[TrialAudit]]:
+    """The trials of each task, the tasks in order of first appearance."""
+    out: dict[str, list[TrialAudit]] = {}
+    for trial in trials:
+        out.setdefault(trial.task, []).append(trial)
+    return out
+
+
+def _ended(trials: Sequence[TrialAudit], order: Sequence[str]) -> dict[str, int]:
+    return stage_counts((t.task_stage for t in trials if t.task_stage is not None), order)
+
+
 def trial_stage_counts(trials: Sequence[TrialAudit]) -> dict[str, int]:
-    """How many ``trials`` ended at each stage, in their task's order when they share one
-    task (box transfer's otherwise); trials without a stage count nowhere."""
-    kinds = {t.task for t in trials}
-    stages = [t.task_stage for t in trials if t.task_stage is not None]
-    if len(kinds) == 1:
-        return stage_counts(stages, _stages_of(kinds.pop(), trials)[0])
-    return stage_counts(stages)
+    """How many ``trials`` ended at each stage; trials without a stage count nowhere. The
+    stages are their task's in order; for trials of several tasks, each task's in turn (a
+    stage an earlier task named keeps its place: ``none``, ``touched``...); box transfer's
+    for no trials."""
+    order: dict[str, None] = {}
+    for kind, mine in _by_task(trials).items():
+        order.update(dict.fromkeys(_stages_of(kind, mine)[0]))
+    return _ended(trials, tuple(order) or TASK_STAGES)
+
+
+def trial_stages_reached(trials: Sequence[TrialAudit]) -> dict[str, int]:
+    """How many ``trials`` reached each stage of :func:`trial_stage_counts` or went further
+    in their own task's order: for trials of several tasks, each task's
+    :func:`~workcell.audit.task_stages.at_least` summed (a palletize trial that placed a
+    box reached ``grasped``; a box transfer trial that finished never reached
+    ``placed_1``)."""
+    reached = dict.fromkeys(trial_stage_counts(trials), 0)
+    for kind, mine in _by_task(trials).items():
+        for stage, n in at_least(_ended(mine, _stages_of(kind, mine)[0])).items():
+            reached[stage] += n
+    return reached
 
 
 def task_funnels(trials: Sequence[TrialAudit]) -> list[TaskFunnel]:

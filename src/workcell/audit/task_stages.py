@@ -5,7 +5,7 @@ of its boxes reached (the stages are the task's:
 A trial that times out may have done everything but the last step, or nothing at all; its
 outcome alone cannot tell a policy that never moved from one that carried the box to the
 table and never let go. The stage can: it is read from the frames the record already holds
-(the grippers' contacts, the grasp, every box's pose) and from the trial's delivery zone.
+(the grippers' contacts, the grasp, every box's pose) and from the trial's target zone.
 """
 
 from __future__ import annotations
@@ -88,7 +88,7 @@ NO_STAGE_FRAMES = StageFrames(touched=False, grasped=False, holds=())
 
 
 def session_zone(parameters: Mapping[str, Any]) -> Zone:
-    """The delivery zone a session's ``parameters`` configure (the declared default where
+    """The target zone a session's ``parameters`` configure (the declared default where
     they hold none)."""
     world = parameters.get("world")
     target = world.get("target") if isinstance(world, Mapping) else None
@@ -204,8 +204,9 @@ def _box_position(boxes: str, box: int) -> tuple[float, float, float] | None:
     return None
 
 
-def stage_reached(frames: StageFrames, zone: Zone, boxes_delivered: int | None) -> TaskStage:
-    """The furthest stage of :data:`TASK_STAGES` the trial reached."""
+def stage_reached(frames: StageFrames, zone: Zone, completed: int | None) -> TaskStage:
+    """The furthest stage of :data:`TASK_STAGES` the trial reached (``completed``: the
+    boxes it finished, :data:`~workcell.tasks.box_transfer.stages.COMPLETED_COLUMN`)."""
     tracker = StageTracker(zone)
     if frames.touched:
         tracker.touch()
@@ -213,7 +214,7 @@ def stage_reached(frames: StageFrames, zone: Zone, boxes_delivered: int | None) 
         tracker.grasp()
     for hold in frames.holds:
         tracker.hold(hold)
-    return tracker.stage(boxes_delivered)
+    return tracker.stage(completed)
 
 
 def stage_counts(stages: Iterable[str], order: Sequence[str] = TASK_STAGES) -> dict[str, int]:
@@ -227,15 +228,15 @@ def stage_counts(stages: Iterable[str], order: Sequence[str] = TASK_STAGES) -> d
 
 def counts_text(counts: Mapping[str, int]) -> str:
     """The stages trials ended at, furthest first, none left out but zeros:
-    ``18 delivered, 2 over_zone``."""
+    ``18 settled, 2 placed_3``."""
     parts = [f"{n} {stage}" for stage, n in reversed(list(counts.items())) if n]
     return ", ".join(parts) or "no trials"
 
 
 def at_least(counts: Mapping[str, int]) -> dict[str, int]:
     """How many trials reached each stage or a later one, the stages in ``counts``'s
-    order (:func:`stage_counts`: a trial that delivered also touched, grasped, lifted and
-    was over the zone)."""
+    order (:func:`stage_counts`: a trial at a task's last stage also reached each
+    stage before it)."""
     total = 0
     out: dict[str, int] = {}
     for stage in reversed(list(counts)):

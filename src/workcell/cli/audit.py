@@ -32,10 +32,10 @@ def register(subparsers: Subparsers) -> None:
             "non-finite data and slow successes (beyond 1.5x the median completion time of "
             "the set's valid successes of their task), decide which trials are valid "
             "(incomplete and low-quality successes are excluded, timeouts kept; reviewer "
-            "annotations override), read how far each trial got (its task stage: none, "
-            "touched, grasped, lifted, over_zone, delivered), print a summary with one line "
-            "per operator and write report.html, summary.json and trials.csv into a new or "
-            "empty folder. Reads a store or a CSV export; needs no simulator."
+            "annotations override), read how far each trial got (the furthest task stage "
+            "it reached, as `workcell tasks` lists its task's stages), print a summary with "
+            "one line per operator and write report.html, summary.json and trials.csv into a "
+            "new or empty folder. Reads a store or a CSV export; needs no simulator."
         ),
     )
     what = parser.add_mutually_exclusive_group(required=True)

@@ -105,9 +105,10 @@ def run(args: argparse.Namespace) -> int:
     _check(args)
     size = _video_size(args.video_size) if args.video is not None else None
     from workcell.control.simulation import Simulation  # noqa: PLC0415
-    from workcell.expert import ExpertConfig, ExpertOperator  # noqa: PLC0415
-    from workcell.expert.episode import deliver_one_box  # noqa: PLC0415
+    from workcell.expert import ExpertConfig  # noqa: PLC0415
+    from workcell.tasks.box_transfer.episode import deliver_one_box  # noqa: PLC0415
     from workcell.tasks.box_transfer.task import BoxTransfer  # noqa: PLC0415
+    from workcell.tasks.elements.expert import ExpertOperator  # noqa: PLC0415
 
     sim = Simulation(WorldConfig(grasp=args.grasp), BoxTransfer().scene())
     expert = ExpertOperator(ExpertConfig(skill=args.skill), seed=args.seed)

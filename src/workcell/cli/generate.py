@@ -72,7 +72,7 @@ def register(subparsers: Subparsers) -> None:
         action="append",
         default=[],
         metavar="KEY=VALUE",
-        help="override one setting, e.g. --set world.conveyor.speed=0.3 (repeatable)",
+        help="override one setting, e.g. --set world.box.mass=0.5 (repeatable)",
     )
     parser.add_argument(
         "--workers",

@@ -8,7 +8,7 @@ through each other in one 25 ms step. :class:`StepCollisionLimit` scales that bo
 ``dt``, so in one step a pair closes at most ``gain`` of its gap above ``d_min``: the
 velocity damper the limit is meant to be.
 
-Most of the time no pair is near: the arms work apart and above the conveyor. mink then
+Most of the time no pair is near: the arms work apart and above the fixtures. mink then
 still runs its broadphase, builds a zero row per pair with an infinite bound and hands
 them to the QP, where they constrain nothing. :class:`StepCollisionLimit` first asks, in
 one vectorised test, whether any pair's bounding spheres come within the detection

@@ -39,10 +39,7 @@ class RobotController:
         self._ik_phase = 0
         """Control periods since the last IK solve (0: solve in this one)."""
         self._ik_velocity = np.zeros(self.ik.model.nv)
-        c = world.config.conveyor
-        self._conveyor_center = np.array(
-            [(c.start_x + c.end_x) / 2, c.center_y, (0.15 + c.height) / 2]
-        )
+        self._obstacle_center = np.array(world.config.arm_obstacle[0])
         model = world.model
         self._head_range = np.array([model.jnt_range[model.joint(n).id] for n in HEAD_JOINTS])
 
@@ -64,8 +61,8 @@ class RobotController:
         self.base.limit_lead(pose, MAX_BASE_LEAD)
         world.data.ctrl[world.base_ctrl] = self.base.step(command.base, dt)
         yaw = float(pose[2])
-        self.ik.place_conveyor(
-            world.to_base_frame(self._conveyor_center),
+        self.ik.place_obstacle(
+            world.to_base_frame(self._obstacle_center),
             (math.cos(-yaw / 2), 0.0, 0.0, math.sin(-yaw / 2)),
         )
         for side, arm in (("l", command.left), ("r", command.right)):
@@ -77,7 +74,7 @@ class RobotController:
         if not (self.solve_held_arms or command.left.follow or command.right.follow):
             joints = self._hold_still()
         else:
-            if self._skipped:  # the conveyor proxy moved meanwhile: the kinematics first
+            if self._skipped:  # the obstacle proxy moved meanwhile: the kinematics first
                 self.ik.configuration.update()
                 self._skipped = False
             if self._ik_phase == 0:  # solve for the periods until the next solve

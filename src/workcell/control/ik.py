@@ -2,8 +2,8 @@
 
 The solver runs on the robot-only model (fixed base at the origin), so targets are base-frame
 TCP poses. Two frame tasks (one per TCP), a posture task, joint position and velocity limits,
-and collision avoidance between the arms and between each arm and a proxy of the conveyor
-(a mocap box placed where the conveyor is, seen from the base).
+and collision avoidance between the arms and between each arm and a proxy of the fixture
+they keep clear of (a mocap box placed where that fixture is, seen from the base).
 """
 
 from __future__ import annotations
@@ -22,7 +22,7 @@ from workcell.control.ik_residual import residuals
 from workcell.sim import panda
 from workcell.sim.config import WorldConfig
 from workcell.sim.joints import JOINT_ORDER, SIDES, SPINE_JOINT, arm_joint_names
-from workcell.sim.scene import CONVEYOR_PROXY, build_ik_model
+from workcell.sim.scene import OBSTACLE_PROXY, OBSTACLE_PROXY_GEOM, build_ik_model
 
 HOME_ARM: tuple[float, ...] = (0.0, 0.2, 0.0, -1.9, 0.0, 2.1, 0.785)
 """A relaxed arm posture with the hand in front of the shoulder."""
@@ -58,7 +58,7 @@ class BimanualIK:
         for side in SIDES:
             for name, vmax in zip(arm_joint_names(side), panda.VELOCITY_LIMITS, strict=True):
                 velocities[name] = vmax
-        proxy_geom = "conveyor_proxy_geom"
+        proxy_geom = OBSTACLE_PROXY_GEOM
         self.limits: list[mink.Limit] = [
             FixedRowsConfigurationLimit(self.model),
             FixedVelocityLimit(self.model, velocities),
@@ -82,7 +82,7 @@ class BimanualIK:
         self._qadr = np.array(
             [self.model.jnt_qposadr[self.model.joint(name).id] for name in JOINT_ORDER]
         )
-        self._proxy = self.model.body(CONVEYOR_PROXY).mocapid[0]
+        self._proxy = self.model.body(OBSTACLE_PROXY).mocapid[0]
         self.tcp_sites = {side: self.model.site(f"tcp_{side}").id for side in SIDES}
         """Each TCP's site id in the IK model (``configuration.data.site_xpos`` rows)."""
         self.target_positions = np.zeros((len(SIDES), 3))
@@ -118,10 +118,10 @@ class BimanualIK:
         """The IK solution in JOINT_ORDER."""
         return np.array(self.configuration.q[self._qadr])
 
-    def place_conveyor(
+    def place_obstacle(
         self, position: NDArray[np.float64] | Sequence[float], quaternion: Sequence[float]
     ) -> None:
-        """Put the conveyor proxy at its pose in the base frame."""
+        """Put the obstacle proxy at its pose in the base frame."""
         self.configuration.data.mocap_pos[self._proxy] = position
         self.configuration.data.mocap_quat[self._proxy] = quaternion
 

@@ -2,13 +2,12 @@
 
 from __future__ import annotations
 
-import numpy as np
-
 from workcell.control.command import Command
 from workcell.control.controller import RobotController
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import WorldEvent
 from workcell.sim.trial_conditions import TrialConditions
+from workcell.sim.trial_start import start_trial
 from workcell.sim.world import TaskScene, World
 
 
@@ -26,14 +25,10 @@ class Simulation:
         """Back to the start state; the same ``seed`` gives the same trial conditions, start
         and feed. Returns the trial's conditions (drawn when randomization is on), with
         what the task's scene drew for the trial (:meth:`TrialConditions.with_task`)."""
-        draw_stream, feed_stream, task_stream = np.random.SeedSequence(seed).spawn(3)
-        conditions = TrialConditions.draw(self.config, np.random.default_rng(draw_stream))
         joints = self.controller.home_joints
-        feed_seed = int(feed_stream.generate_state(1)[0])
-        task_rng = np.random.default_rng(task_stream)
-        self.world.reset(joints, feed_seed, conditions, task_rng)
+        conditions = start_trial(self.world, joints, seed)
         self.controller.reset(conditions.start_pose, joints)
-        return self.world.conditions  # with what the task's scene drew, if anything
+        return conditions
 
     @property
     def time(self) -> float:

@@ -5,7 +5,7 @@ An observation is a dict, as gym-aloha's and gym-pusht's are:
 - ``agent_pos`` (float32, 39): the robot, the export's ``observation.state``
   (:data:`workcell.export.features.STATE_NAMES`);
 - ``environment_state`` (float32, 8 per box and the task's goal): every box, then what the
-  trial asks (box transfer: the delivery zone's centre), the export's
+  trial asks (box transfer: its target zone's centre), the export's
   ``observation.environment_state`` (:func:`workcell.export.boxes.environment_names`);
 - ``pixels`` (only with cameras): ``{camera: uint8 (height, width, 3)}``, channel last,
   the export's ``observation.images.<camera>`` before LeRobot scales it to [0, 1] CHW.

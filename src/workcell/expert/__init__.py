@@ -1,6 +1,7 @@
-"""The autonomous expert operator: a scripted demonstrator that emits Commands."""
+"""The scripted demonstrators' shared parts: their skill (:class:`ExpertConfig`), phases and
+grasp geometry. The carrying expert the tasks build from is
+:class:`workcell.tasks.elements.expert.ExpertOperator`; each task names its own."""
 
-from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
 
-__all__ = ["ExpertConfig", "ExpertOperator"]
+__all__ = ["ExpertConfig"]

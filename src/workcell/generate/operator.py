@@ -2,7 +2,7 @@
 
 For each attempt (:meth:`GeneratedOperator.start_trial`) it picks one source trial from the
 attempt's seed; then, segment by segment, it takes the segment's object's pose in the new
-world (waiting for a box still riding the conveyor to rest), moves the segment with it
+world (waiting for an object still on the move to rest), moves the segment with it
 (:class:`~workcell.generate.planar.Planar`), joins the robot to the moved segment's first
 pose by a smooth blend (:data:`JOIN_SPEED`), and plays the moved segment: the base tracks
 the moved path (the source's twist fed forward, its pose error fed back), the arms the moved

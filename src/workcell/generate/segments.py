@@ -3,7 +3,7 @@
 The judge's stage is recorded with every frame (schema 5); wherever it changes, a segment
 ends, with no annotation by hand. Each segment acts on one object
 (:mod:`workcell.generate.references`) and is expressed relative to that object's pose at
-its *anchor*: the segment's first frame, or, for a box still riding the conveyor there,
+its *anchor*: the segment's first frame, or, for an object still on the move there,
 the frame it had rested for :data:`REST_S` (the motion before it is the operator waiting,
 which is not replayed). Box transfer's two arms act on the same box at the same stages, so
 both arms share one set of boundaries.

@@ -3,7 +3,7 @@
 Only what replay needs is kept, per frame: the trial clock, the base's pose and commanded
 twist, both arms' TCP targets (base frame), follow flags and gripper commands, the head
 command, the task's stage, and the pose of the box the trial grasped; with the trial's goal
-(box transfer: the delivery zone's centre). A source trial is a successful trial of the
+(box transfer: its target zone's centre). A source trial is a successful trial of the
 task; failed, timed-out and interrupted trials are not replayed.
 """
 
@@ -53,7 +53,7 @@ class SourceTrial:
     box_pose: NDArray[np.float64]
     """(n, 4): that box's x, y, yaw and speed (m/s) at each frame (NaN where not active)."""
     goal: tuple[float, float]
-    """Where the trial's boxes went (the delivery zone's centre, x and y)."""
+    """Where the trial's boxes went (the target zone's centre, x and y)."""
     box_size: tuple[float, float, float]
     """The sides of the trial's boxes (m), as its conditions recorded them."""
 

@@ -88,7 +88,7 @@ LEGACY_THRESHOLD_NAMES: dict[str, str] = {
 
 METRIC_DEFINITIONS: dict[str, str] = {
     "completion_time_s": (
-        "Seconds: t_sim of the last frame of a successful trial (the delivery frame); "
+        "Seconds: t_sim of the last frame of a successful trial (the frame its task was done); "
         "empty for a trial that did not succeed or has no frames."
     ),
     "path_length_m": (

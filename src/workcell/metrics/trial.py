@@ -118,7 +118,7 @@ def compute_trial_metrics(
 ) -> TrialMetrics:
     """Every trial-level metric of one trial, as docs/architecture.md defines them.
 
-    ``success`` says whether the trial ended in delivery: only then is
+    ``success`` says whether the trial ended in success: only then is
     ``completion_time_s`` the ``t_sim`` (s) of the last frame (None without frames).
     """
     n = len(frames)

@@ -37,10 +37,10 @@ def camera_names(model: mujoco.MjModel) -> tuple[str, ...]:
 
 
 def overview_camera(model: mujoco.MjModel) -> mujoco.MjvCamera:
-    """A free camera showing the conveyor, the robot at its start and the delivery table.
+    """A free camera showing the factory's belt, the robot at its start and the table behind.
 
-    Looks across the belt from its right-hand side (y < 0): the conveyor with the feeder
-    gantry on the left, the robot on the right with the delivery table behind it, storage
+    Looks across the belt from its right-hand side (y < 0): the belt with the feeder
+    gantry on the left, the robot on the right with the goal table behind it, storage
     racks against the far wall. The walls stand at x = -5 and y = +-5 only and there is no
     sky, so views towards +x show black beyond x = 5; this one stays clear of that and of
     the yellow pillar at (3.2, 3.2).

@@ -4,7 +4,7 @@ uvicorn closes a connection that stays idle after a response (``timeout_keep_ali
 that timer is cancelled by any byte that arrives and is never armed before the first
 request: a client that connects and sends half a request line, or one header byte every
 few seconds, holds its connection (and a file descriptor) for ever. Here every connection
-must deliver a complete request head within :attr:`ServerOptions.header_timeout_s
+must send a complete request head within :attr:`ServerOptions.header_timeout_s
 <workcell.server.options.ServerOptions.header_timeout_s>` of connecting or of the end of
 the previous response, however it trickles; then it is closed. Request heads are also
 limited to :data:`MAX_HEADER_BYTES`, however they arrive (larger is a 400): h11's own

@@ -1,7 +1,9 @@
 """``GET /api/trials/{id}/frames``: a recorded trial as the poses of the scene's bodies.
 
 The recorded base pose, 17 joints, gripper openings and boxes are put into a world built
-with the session's own parameters, and forward kinematics gives every dynamic body's
+with the session's own parameters and set to the trial's own start from its recorded seed
+(a D1/D2 trial's pallet, shelf or tables where that trial had them, its box size and
+target), and forward kinematics gives every dynamic body's
 world pose, so the client replays with the same code that draws a live State. Beside
 them go the trial's facts and event timeline (:mod:`workcell.server.replay_facts`).
 """
@@ -25,6 +27,7 @@ from workcell.server.scene import PoseReader, describe
 from workcell.session.config import SessionConfig
 from workcell.session.toml_io import from_mapping
 from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
+from workcell.sim.trial_start import start_trial
 from workcell.sim.world import World
 from workcell.tasks.registry import load_task
 
@@ -56,6 +59,8 @@ def trial_replay(store: Store, trial_id: str, every: int) -> TrialReplay:
     config = _config(session.parameters)
     world = World(config.world, load_task(config.task.kind).scene())
     model, data = world.model, world.data
+    if trial.trial_seed is not None:  # the trial's own world: where its scene put things
+        start_trial(world, np.zeros(len(JOINT_ORDER)), trial.trial_seed)
     mujoco.mj_kinematics(model, data)
     frames = store.frames(trial_id)
     count = len(frames["t_sim"])

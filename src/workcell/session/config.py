@@ -69,7 +69,7 @@ class TaskConfig:
         high=100_000,
     )
     rounds: int = setting(5, "challenge: rounds in the campaign", unit="rounds", low=1, high=100)
-    box_score: int = setting(100, "points per delivered box", unit="points", low=0, high=100_000)
+    box_score: int = setting(100, "points per completed object", unit="points", low=0, high=100_000)
     level_boxes: tuple[int, ...] = setting(
         (1, 2, 3),
         "challenge: boxes required at each level of a round",

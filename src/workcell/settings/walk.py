@@ -1,5 +1,5 @@
 """Every setting and section of a configuration dataclass, in declaration order, with its
-dotted key as the TOML file spells it (``world.conveyor.speed``)."""
+dotted key as the TOML file spells it (``world.box.mass``)."""
 
 from __future__ import annotations
 

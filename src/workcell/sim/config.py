@@ -52,6 +52,13 @@ class ConveyorConfig:
         """Heading of the belt's motion in the world (the belt runs along +x)."""
         return 0.0
 
+    @property
+    def obstacle(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """The box the arms keep clear of (the IK's proxy of the belt and its frame): its
+        centre in the world and its half sizes."""
+        center = ((self.start_x + self.end_x) / 2, self.center_y, (0.15 + self.height) / 2)
+        return center, (self.length / 2, self.width / 2 + 0.03, (self.height - 0.15) / 2)
+
 
 @dataclass(frozen=True)
 class FeederConfig:
@@ -302,6 +309,11 @@ class WorldConfig:
         steps = steps_per(self.physics_hz, self.robot.control_hz)
         assert steps is not None, "validated in __post_init__"
         return steps
+
+    @property
+    def arm_obstacle(self) -> tuple[tuple[float, float, float], tuple[float, float, float]]:
+        """The fixed box the arms keep clear of: its centre in the world, its half sizes."""
+        return self.conveyor.obstacle
 
 
 def _target_overlaps_conveyor(

@@ -11,8 +11,10 @@ from workcell.sim.config import WorldConfig
 from workcell.sim.robot import build_robot
 from workcell.sim.spec_utils import ROBOT_CONAFFINITY, ROBOT_CONTYPE, set_env_collision
 
-CONVEYOR_PROXY = "conveyor_proxy"
-"""Mocap body of the IK model standing in for the conveyor, in the base frame."""
+OBSTACLE_PROXY = "obstacle_proxy"
+"""Mocap body of the IK model standing in for the fixture the arms keep clear of
+(:attr:`WorldConfig.arm_obstacle`), in the base frame."""
+OBSTACLE_PROXY_GEOM = "obstacle_proxy_geom"
 
 
 class SceneBuilder(Protocol):
@@ -48,7 +50,8 @@ def build_world_model(config: WorldConfig, task: SceneBuilder | None = None) -> 
 
 
 def build_ik_model(config: WorldConfig) -> mujoco.MjModel:
-    """The robot on a fixed base at the origin, plus a mocap proxy of the conveyor."""
+    """The robot on a fixed base at the origin, plus a mocap proxy of the fixture the arms
+    keep clear of."""
     spec = mujoco.MjSpec()
     spec.modelname = "workcell_ik"
     spec.compiler.degree = False
@@ -59,12 +62,10 @@ def build_ik_model(config: WorldConfig) -> mujoco.MjModel:
     for geom in spec.geoms:
         if geom.contype == ROBOT_CONTYPE:
             geom.conaffinity = ROBOT_CONAFFINITY | ROBOT_CONTYPE
-    c = config.conveyor
-    proxy = spec.worldbody.add_body(name=CONVEYOR_PROXY, mocap=True, pos=[0, 0, -10])
+    _center, half_size = config.arm_obstacle
+    proxy = spec.worldbody.add_body(name=OBSTACLE_PROXY, mocap=True, pos=[0, 0, -10])
     geom = proxy.add_geom(
-        name="conveyor_proxy_geom",
-        type=mujoco.mjtGeom.mjGEOM_BOX,
-        size=[c.length / 2, c.width / 2 + 0.03, (c.height - 0.15) / 2],
+        name=OBSTACLE_PROXY_GEOM, type=mujoco.mjtGeom.mjGEOM_BOX, size=list(half_size)
     )
     set_env_collision(geom)
     return spec.compile()

@@ -10,7 +10,7 @@ Subscriber = Callable[[TaskEvent], None]
 
 
 class EventBus:
-    """Delivers each published event to every subscriber, in subscription order."""
+    """Hands each published event to every subscriber, in subscription order."""
 
     def __init__(self) -> None:
         self._subscribers: list[Subscriber] = []

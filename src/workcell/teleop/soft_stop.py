@@ -1,5 +1,5 @@
-"""A soft stop for a base driven by a person: it slows before the conveyor, the table and
-the walls instead of driving into them.
+"""A soft stop for a base driven by a person: it slows before the task's fixtures, the
+tables and the walls instead of driving into them.
 
 Each control period, the chassis' distance to every fixed obstacle is measured by MuJoCo
 (``mj_geomDistance``, the geoms' real shapes); the part of the commanded velocity that
@@ -79,7 +79,7 @@ class SoftStop:
 
 
 def fixed_obstacles(model: mujoco.MjModel) -> list[int]:
-    """Geoms fixed to the world that collide (the conveyor, the table, walls, racks), the
+    """Geoms fixed to the world that collide (belts, tables, walls, racks), the
     floor left out."""
     out = []
     for geom in range(model.ngeom):

@@ -116,7 +116,7 @@ export function renderEndScreen(overlay: HTMLElement, app: App, study: EndScreen
     overlay.className = "overlay trial-end";
     const outcome = trialEnd.outcome;
     overlay.append(
-      el("h2", { textContent: outcome === "success" ? "Delivered!" : `Trial over: ${outcome}` }),
+      el("h2", { textContent: outcome === "success" ? "Done!" : `Trial over: ${outcome}` }),
       linesToDom(trialEndSummary(trialEnd), "summary"),
       el("p", { textContent: nextTrialText(app) }),
     );

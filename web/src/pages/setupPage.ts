@@ -19,7 +19,7 @@ const OPERATOR_KEY = "operator_id";
  * session's place in their plan): not on the form. */
 const SET_BY_STUDY_SERVER: readonly string[] = ["consent", "study_step"];
 const MODE_HELP: Record<string, string> = {
-  practice: "one trial, one box, ends at delivery",
+  practice: "one trial, one box, ends when the task is done",
   collection: "repeated one-box trials with automatic reset",
   challenge: "rounds of levels with more boxes and less time",
 };

@@ -28,6 +28,15 @@ TASK_STAGES: tuple[TaskStage, ...] = get_args(TaskStage)
 TASK_STAGES_VERSION = "1"
 LIFT_M = 0.05
 """How far above its height at the start of a hold a held box must rise to count as lifted."""
+COMPLETED_COLUMN = "boxes_delivered"
+"""The trial column that counts its delivered boxes: a trial with one is ``delivered``
+without reading its frames (the audit reads it from here)."""
+FRAME_STAGES_TEXT = (
+    f"(definition v{TASK_STAGES_VERSION}): a gripper touched a box, both pads closed on it, "
+    f"it was lifted {LIFT_M * 100:.0f} cm, carried over the delivery zone, delivered. A "
+    "timeout that carried its box over the zone is not one that never moved"
+)
+"""How the stages are read from the frames, as the audit's report says it."""
 
 
 @dataclass(frozen=True)

@@ -6,13 +6,13 @@ from __future__ import annotations
 from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
 
-from workcell.expert.operator import ExpertOperator
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
 from workcell.task.operator import Operator
 from workcell.tasks.box_transfer.judge import BoxTransferJudge
 from workcell.tasks.box_transfer.scene import BoxTransferScene
 from workcell.tasks.box_transfer.stages import TASK_STAGES
+from workcell.tasks.elements.expert import ExpertOperator
 from workcell.tasks.task import Task
 from workcell.tasks.worlds import WorldName, WorldRanges
 

@@ -18,10 +18,10 @@ from numpy.typing import NDArray
 
 from workcell.control.command import BaseTwist
 from workcell.expert.grasp_geometry import PalmTargets
-from workcell.expert.operator import STANDBY_DISTANCE, ExpertOperator, Placement
 from workcell.expert.phase import ExpertPhase
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.world import World
+from workcell.tasks.elements.expert import STANDBY_DISTANCE, ExpertOperator, Placement
 from workcell.tasks.palletize.judge import filled_slots
 from workcell.tasks.palletize.layout import EDGE_MARGIN, SLOT_SIGNS, PalletLayout
 

@@ -17,10 +17,10 @@ from numpy.typing import NDArray
 
 from workcell.control.command import BaseTwist
 from workcell.expert.grasp_geometry import PalmTargets
-from workcell.expert.operator import ExpertOperator, Placement
 from workcell.expert.phase import ExpertPhase
 from workcell.sim.boxes import BoxSlot
 from workcell.sim.world import World
+from workcell.tasks.elements.expert import ExpertOperator, Placement
 from workcell.tasks.shelve.scene import PICK_HEADING
 from workcell.tasks.shelve.shelf import ShelfLayout
 from workcell.tasks.shelve.stages import REST_SPEED

@@ -4,9 +4,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from workcell.expert.operator import ExpertOperator, Placement
 from workcell.sim.boxes import BoxSlot
 from workcell.sim.world import World
+from workcell.tasks.elements.expert import ExpertOperator, Placement
 from workcell.tasks.sort.judge import sort_scene
 
 

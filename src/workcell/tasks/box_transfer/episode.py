@@ -8,10 +8,10 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from workcell.control.simulation import Simulation
-from workcell.expert.operator import ExpertOperator
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.task.runner import SessionRunner
 from workcell.task.schedule import TrialSpec
+from workcell.tasks.elements.expert import ExpertOperator
 
 StepObserver = Callable[[Simulation], None]
 
