@@ -4,6 +4,7 @@ sends up it. The same body runs in a session's process and in a session's Ray ac
 
 The pipe carries tuples. From the server: ``("input", Input)``, ``("new_link",)``,
 ``("act", action, source)``, ``("frames", FrameStats)``, ``("pause", paused)``,
+``("drive", person, reason)`` (take over or hand back),
 ``("stop", reason, note)``. From the
 child: first ``("ready", session_id, scene)`` or ``("failed", message)``, then
 ``("state", text, pacing)`` (the pacing counters as a tuple: ``pacing_values``),
@@ -130,6 +131,8 @@ def _obey(conn: Connection, live: LiveSession) -> None:
             live.request_action(body[0], body[1])
         elif kind == "frames":
             live.report_frames(body[0])
+        elif kind == "drive":
+            live.request_driving(body[0], body[1])
         elif kind == "pause":
             live.request_pause(body[0])
         elif kind == "stop":
