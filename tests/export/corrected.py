@@ -6,6 +6,7 @@ input while they drive, so the robot holds still: the frames between are correct
 
 from __future__ import annotations
 
+from collections.abc import Collection
 from pathlib import Path
 
 from workcell.intervene.operator import InterveningOperator
@@ -19,15 +20,22 @@ HAND_BACK_S = 2.0
 PERSON = "corrector"
 
 
-def record_corrected(store: Path, trials: int = 2, time_limit_s: float = 3.0) -> None:
-    """``trials`` collection trials of ``time_limit_s`` (timeouts), each taken over at
-    :data:`TAKE_OVER_S` and handed back at :data:`HAND_BACK_S`."""
+def record_corrected(
+    store: Path,
+    trials: int = 2,
+    time_limit_s: float = 3.0,
+    taken: Collection[int] | None = None,
+    person: str = PERSON,
+) -> None:
+    """``trials`` collection trials of ``time_limit_s`` (timeouts), those whose index is in
+    ``taken`` (None: every one) taken over at :data:`TAKE_OVER_S` and handed back at
+    :data:`HAND_BACK_S` by ``person``."""
     config = resolve_session_config(
         flags={
             "task.mode": "collection",
             "task.countdown_s": 0.0,
             "task.time_limit_s": time_limit_s,
-            "operator_id": PERSON,
+            "operator_id": person,
             "driver": "expert",
         }
     )
@@ -43,10 +51,14 @@ def record_corrected(store: Path, trials: int = 2, time_limit_s: float = 3.0) ->
         assert isinstance(operator, InterveningOperator)
 
         def after_step() -> None:
-            t = session.runner.trial_time
+            runner = session.runner
+            current = runner.current
+            if current is None or (taken is not None and current.trial_index not in taken):
+                return
+            t = runner.trial_time
             if TAKE_OVER_S <= t < HAND_BACK_S and not operator.person_drives:
-                switch(operator, session.runner, True, PERSON, "scripted")
+                switch(operator, runner, True, person, "scripted")
             elif t >= HAND_BACK_S and operator.person_drives:
-                switch(operator, session.runner, False, PERSON, "")
+                switch(operator, runner, False, person, "")
 
         assert session.run(after_step=after_step) == "completed"

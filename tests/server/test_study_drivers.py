@@ -84,9 +84,7 @@ def test_two_participants_correct_the_expert_at_the_same_time(tmp_path: Path) ->
         sessions = {s.session_id: s for s in reader.sessions()}
         trials = reader.trials()
         took = {
-            e.payload["operator_id"]: e.payload
-            for e in reader.events()
-            if e.kind == "take_over"
+            e.payload["operator_id"]: e.payload for e in reader.events() if e.kind == "take_over"
         }
     assert sorted(s.operator_id for s in sessions.values()) == ["p01", "p02"]
     assert {t.driver for t in trials} == {"expert"} and len(trials) == 2

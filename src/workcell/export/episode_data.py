@@ -114,4 +114,5 @@ def corrected_rows(frames: Mapping[str, Sequence[Any] | NDArray[Any]], n: int) -
     if "intervention" not in frames:
         return np.zeros(n, dtype=bool)
     values = np.asarray(frames["intervention"], dtype=np.float64)
-    return np.nan_to_num(values, nan=0.0) == 1.0
+    corrected: NDArray[np.bool_] = np.nan_to_num(values, nan=0.0) == 1.0
+    return corrected
