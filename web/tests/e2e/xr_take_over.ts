@@ -5,7 +5,10 @@
 // the in-VR menu (X, the highlight down to "Hand back to expert", A), and the expert goes on
 // and delivers the box. Prints "RESULT {json}".
 //
-//   npm run build:e2e && node build/e2e/tests/e2e/xr_take_over.js http://127.0.0.1:8000   (in web/)
+// A second argument names another driver (policy:PATH): the session then runs 20 s and the
+// policy drives on to the end after the hand-back, delivering or not.
+//
+//   npm run build:e2e && node build/e2e/tests/e2e/xr_take_over.js http://127.0.0.1:8000 [DRIVER]   (in web/)
 
 import type { EmulatedDevice } from "../../src/xr/emulate";
 import { check, log, runScript, sleep, waitFor } from "./lib.js";
@@ -34,11 +37,15 @@ function device(change: Change): void {
 
 const MENU_ITEM = 5; // "take_over" in src/xr/vrMenu.ts MENU_ITEMS
 
+const driver = process.argv[3] ?? "expert";
+const expert = driver === "expert";
+const settings: Record<string, string> = expert ? { driver } : { driver, "task.time_limit_s": "20" };
+
 await runScript("xr_take_over", async ({ url, page }) => {
   await startSession(page, url, {
     operatorId: "e2e-xr-corrector",
     query: { emulate: "quest3", quality: "low" },
-    settings: { driver: "expert" },
+    settings,
   });
   await page.click("#enter-vr");
   await waitFor(page, (s) => s.teleop?.presenting === true && s.teleop.xr_frames > 5, { what: "the XR session" });
@@ -46,7 +53,8 @@ await runScript("xr_take_over", async ({ url, page }) => {
   const watching = await waitFor(page, (s) => s.hud?.phase === "running" && (s.state?.t_sim ?? 0) > 2, {
     what: "the expert to drive for two seconds",
   });
-  check(watching.hud?.driver === "expert" && watching.hud.taken_over === false, `the HUD reads ${JSON.stringify(watching.hud)}`);
+  const named = watching.hud?.driver ?? "";
+  check((expert ? named === "expert" : named.startsWith("policy:")) && watching.hud?.taken_over === false, `the HUD reads ${JSON.stringify(watching.hud)}`);
 
   // Both grips squeezed for a moment: the person takes over.
   for (const side of ["left", "right"] as const) await page.evaluate<void, Change>(device, { side, button: "squeeze", value: 1 });
@@ -87,8 +95,11 @@ await runScript("xr_take_over", async ({ url, page }) => {
   const result = {
     session_id: end.ended.session_id,
     successes: end.ended.successes,
+    reason: end.ended.reason,
+    driver: named,
     raised_m: Number((after - before).toFixed(3)),
   };
   console.log(`RESULT ${JSON.stringify(result)}`);
-  check(end.ended.successes === 1, `the expert did not deliver after the hand-back: ${JSON.stringify(end.ended)}`);
+  if (expert) check(end.ended.successes === 1, `the expert did not deliver after the hand-back: ${JSON.stringify(end.ended)}`);
+  else check(end.ended.reason === "completed", `the policy's session ended ${JSON.stringify(end.ended)}`);
 });
