@@ -141,3 +141,17 @@ def test_a_bad_driver_is_refused_naming_what_is_allowed(tmp_path: Path) -> None:
                 assert "person, expert or policy:PATH" in problem.message
 
     asyncio.run(scenario())
+
+
+def test_a_policy_driver_that_is_not_there_refuses_the_start_in_one_line(tmp_path: Path) -> None:
+    async def scenario() -> None:
+        with running_server(tmp_path) as server:
+            async with client(server) as operator:
+                await operator.hello()
+                missing = tmp_path / "no-such-policy"
+                await operator.send(m.StartSession(settings={"driver": f"policy:{missing}"}))
+                refused = await operator.wait_for(lambda x: isinstance(x, m.Error), 60)
+                assert isinstance(refused, m.Error), refused
+                assert str(missing) in refused.message and "\n" not in refused.message
+
+    asyncio.run(scenario())

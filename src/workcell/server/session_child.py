@@ -94,12 +94,12 @@ def run_child(conn: Connection, args: SessionArgs) -> threading.Thread | None:
     root = logging.getLogger()
     root.handlers[:] = [_PipeLogHandler(listener)]
     root.setLevel(logging.INFO)
-    live = LiveSession(
-        args.config, args.store_path, listener, args.state_hz, args.max_catch_up_s,
-        key_file=args.key_file,
-    )  # fmt: skip
-    listener.live = live
-    try:
+    try:  # a driver that cannot be built (a policy not found) refuses the start too
+        live = LiveSession(
+            args.config, args.store_path, listener, args.state_hz, args.max_catch_up_s,
+            key_file=args.key_file,
+        )  # fmt: skip
+        listener.live = live
         live.start()
     except BaseException as error:  # told to the server, which refuses the start
         message = str(error) if isinstance(error, WorkcellError) else f"the server failed: {error}"
