@@ -30,6 +30,8 @@ EXAMPLES: tuple[ev.TaskEvent, ...] = (
     ev.StopRequested(1, 2.9, "admin", "the room closes"),
     ev.Paused(1, 1.5),
     ev.Resumed(1, 1.5, 12.25),
+    ev.TookOver(1, 4.5, "p07", "expert", "it hesitates at the belt"),
+    ev.HandedBack(1, 7.25, "p07", "policy:act-run1-1a2b3c", ""),
 )
 
 

@@ -22,6 +22,7 @@ from workcell.record.columns import (
     FILTERED_POSE_COLUMNS,
     FRAME_COLUMNS,
     FRAME_DEVICE_COLUMNS,
+    FRAME_INTERVENTION_COLUMNS,
     FRAME_TASK_COLUMNS,
 )
 from workcell.record.schema import FRAME_INTEGER_COLUMNS, FRAMES, TRIALS
@@ -49,8 +50,9 @@ def session_info(seed: int = 7) -> SessionInfo:
     )
 
 
-def trial_start(seed: int = 0, *, task: bool = False) -> TrialStart:
-    """A trial's start; with ``task``, its task columns (as schema version 5 writes them)."""
+def trial_start(seed: int = 0, *, task: bool = False, driver: bool = True) -> TrialStart:
+    """A trial's start; with ``task``, its task columns and its driver (as schema version 6
+    writes them)."""
     if not task:
         return TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0, trial_seed=seed)
     return TrialStart(
@@ -61,6 +63,7 @@ def trial_start(seed: int = 0, *, task: bool = False) -> TrialStart:
         task="box_transfer",
         world="D1",
         goal={"goal_x": 1.5 + 0.01 * seed, "goal_y": -0.25},
+        driver="expert" if driver else None,
     )
 
 
@@ -87,11 +90,19 @@ def trial_end(n_frames: int) -> TrialEnd:
 
 
 def frames(
-    start: int, n: int, seed: int = 0, *, filtered: bool = True, task: bool | None = None
+    start: int,
+    n: int,
+    seed: int = 0,
+    *,
+    filtered: bool = True,
+    task: bool | None = None,
+    driver: bool = True,
 ) -> dict[str, NDArray[Any]]:
     """Frames ``start .. start+n-1`` as columns (without the id columns); without the
     filtered poses (as schema version 2 wrote frames) unless ``filtered``, without the task
-    columns (as version 4 and older wrote them) unless ``task`` (default: ``filtered``)."""
+    columns (as version 4 and older wrote them) unless ``task`` (default: ``filtered``),
+    without the intervention column (as version 5 and older) unless ``task`` and
+    ``driver``."""
     index = np.arange(start, start + n)
     columns: dict[str, NDArray[Any]] = {"frame_index": index}
     values = np.stack([np.random.default_rng([seed, int(i)]).normal(size=64) for i in index])
@@ -119,18 +130,29 @@ def frames(
     )
     columns["stage"] = np.array([STAGES[i % len(STAGES)] for i in index], dtype=object)
     columns["progress"] = (index % 5) / 4.0
+    columns["intervention"] = ((index // 4) % 2).astype(float)
     task = filtered if task is None else task
-    left_out = (() if filtered else FILTERED_POSE_COLUMNS) + (() if task else FRAME_TASK_COLUMNS)
+    left_out = (
+        (() if filtered else FILTERED_POSE_COLUMNS)
+        + (() if task else FRAME_TASK_COLUMNS)
+        + (() if task and driver else FRAME_INTERVENTION_COLUMNS)
+    )
     return {
         name: columns[name] for name in FRAME_COLUMNS if name in columns and name not in left_out
     }
 
 
 def frame_rows(
-    start: int, n: int, seed: int = 0, *, filtered: bool = True, task: bool | None = None
+    start: int,
+    n: int,
+    seed: int = 0,
+    *,
+    filtered: bool = True,
+    task: bool | None = None,
+    driver: bool = True,
 ) -> list[dict[str, object]]:
     """The same frames as one mapping per frame, with NULL device state as None."""
-    columns = frames(start, n, seed, filtered=filtered, task=task)
+    columns = frames(start, n, seed, filtered=filtered, task=task, driver=driver)
     rows: list[dict[str, object]] = []
     for i in range(n):
         row: dict[str, object] = {}
@@ -154,7 +176,7 @@ def batch(
 
 
 def fill_store(
-    path: Path, *, filtered: bool = True, task: bool | None = None
+    path: Path, *, filtered: bool = True, task: bool | None = None, driver: bool = True
 ) -> dict[str, list[str]]:
     """A closed store: two sessions, trials of every kind of end, events, an annotation;
     frames without filtered poses (as schema version 2 wrote them) unless ``filtered``;
@@ -171,13 +193,13 @@ def fill_store(
             store.add_event(session_id, "session_start", {"operator": "expert"})
             for k, n in enumerate((12, 7)):
                 task = filtered if task is None else task
-                start = trial_start(seed=10 * s + k, task=task)
+                start = trial_start(seed=10 * s + k, task=task, driver=driver)
                 trial_id = store.start_trial(session_id, start)
                 ids["trials"].append(trial_id)
                 store.add_event(session_id, "trial_start", trial_id=trial_id, t_sim=0.0)
                 seed = 10 * s + k
-                first = frames(0, 5, seed, filtered=filtered, task=task)
-                rest = frame_rows(5, n - 5, seed, filtered=filtered, task=task)
+                first = frames(0, 5, seed, filtered=filtered, task=task, driver=driver)
+                rest = frame_rows(5, n - 5, seed, filtered=filtered, task=task, driver=driver)
                 store.add_frames(trial_id, batch(store, trial_id, first))
                 store.add_frames(trial_id, batch(store, trial_id, rest))
                 store.commit()

@@ -208,7 +208,7 @@ def test_a_version_3_store_migrates_with_its_empty_root_and_a_signed_one_only_wi
     line = capsys.readouterr().err
     assert f"its chain is signed with key {KEY.key_id}: migrate it with that key" in line
     assert main(["verify", "--recover", "--store", str(path), "--key", str(key_file)]) == 0
-    assert f"migrated: {path} from schema version 3 to 5" in capsys.readouterr().out
+    assert f"migrated: {path} from schema version 3 to 6" in capsys.readouterr().out
     assert verify_store(path, key=KEY) == []
     with Store.open(path, writer=True, key=KEY) as store:  # a new session after the old
         store.end_session(store.create_session(synthetic.session_info(seed=3)))

@@ -8,7 +8,13 @@ import numpy as np
 
 from tests.record import synthetic
 from workcell.record.batch import RowBatch
-from workcell.record.columns import FILTERED_POSE_COLUMNS, FRAME_TASK_COLUMNS, TRIAL_TASK_COLUMNS
+from workcell.record.columns import (
+    FILTERED_POSE_COLUMNS,
+    FRAME_INTERVENTION_COLUMNS,
+    FRAME_TASK_COLUMNS,
+    TRIAL_DRIVER_COLUMNS,
+    TRIAL_TASK_COLUMNS,
+)
 from workcell.record.schema import FRAMES, TRIALS, TableLayout
 
 
@@ -66,7 +72,8 @@ def test_appended_columns_count_only_where_a_row_holds_them() -> None:
 def test_the_task_columns_count_only_where_a_row_holds_them() -> None:
     fixed = {"session_id": "s", "trial_id": "t"}
     row = synthetic.frame_rows(4, 1)[0]  # every column, the task's stage and progress too
-    old = {k: v for k, v in row.items() if k not in FRAME_TASK_COLUMNS}
+    newer = FRAME_TASK_COLUMNS + FRAME_INTERVENTION_COLUMNS
+    old = {k: v for k, v in row.items() if k not in newer}
     version_4 = RowBatch.from_mappings(VERSION_4_FRAMES, [old], fixed).checksums()[0]
     absent = RowBatch.from_mappings(FRAMES, [old], fixed).checksums()[0]
     nulls = {"stage": None, "progress": None}
@@ -97,10 +104,10 @@ def test_the_trials_task_columns_count_only_where_a_row_holds_them() -> None:
     row |= {"required_boxes": 1, "time_limit_s": 60.0, "started_wall": 1.0}
     version_4 = TableLayout(
         "trials",
-        tuple(c for c in TRIALS.columns if c.name not in TRIAL_TASK_COLUMNS),
+        tuple(c for c in TRIALS.columns if c.name not in TRIAL_TASK_COLUMNS + TRIAL_DRIVER_COLUMNS),
         TRIALS.key,
     )
-    old = {k: v for k, v in row.items() if k not in TRIAL_TASK_COLUMNS}
+    old = {k: v for k, v in row.items() if k not in TRIAL_TASK_COLUMNS + TRIAL_DRIVER_COLUMNS}
     before = RowBatch.from_mappings(version_4, [old]).checksums()[0]
     assert RowBatch.from_mappings(TRIALS, [row]).checksums()[0] == before
     held = RowBatch.from_mappings(TRIALS, [{**row, "task": "box_transfer"}]).checksums()[0]
@@ -116,8 +123,38 @@ VERSION_2_FRAMES = TableLayout(
 """The frames table as schema version 2 had it."""
 VERSION_4_FRAMES = TableLayout(
     "frames",
-    tuple(c for c in FRAMES.columns if c.name not in FRAME_TASK_COLUMNS),
+    tuple(
+        c for c in FRAMES.columns if c.name not in FRAME_TASK_COLUMNS + FRAME_INTERVENTION_COLUMNS
+    ),
     FRAMES.key,
     added=FRAMES.added[:1],
 )
 """The frames table as schema version 4 had it."""
+VERSION_5_FRAMES = TableLayout(
+    "frames",
+    tuple(c for c in FRAMES.columns if c.name not in FRAME_INTERVENTION_COLUMNS),
+    FRAMES.key,
+    added=FRAMES.added[:2],
+)
+"""The frames table as schema version 5 had it."""
+
+
+def test_the_driver_columns_count_only_where_a_row_holds_them() -> None:
+    fixed = {"session_id": "s", "trial_id": "t"}
+    row = synthetic.frame_rows(4, 1)[0]
+    old = {k: v for k, v in row.items() if k not in FRAME_INTERVENTION_COLUMNS}
+    version_5 = RowBatch.from_mappings(VERSION_5_FRAMES, [old], fixed).checksums()[0]
+    absent = RowBatch.from_mappings(FRAMES, [old], fixed).checksums()[0]
+    null = RowBatch.from_mappings(FRAMES, [{**old, "intervention": None}], fixed).checksums()[0]
+    assert absent == version_5 == null  # a frame written before version 6 keeps its sum
+    person = RowBatch.from_mappings(FRAMES, [{**old, "intervention": 1.0}], fixed).checksums()[0]
+    driver = RowBatch.from_mappings(FRAMES, [{**old, "intervention": 0.0}], fixed).checksums()[0]
+    assert len({version_5, person, driver}) == 3
+    trial: dict[str, object] = dict.fromkeys(TRIALS.names)
+    trial |= {"session_id": "s", "trial_id": "t", "trial_index": 0, "mode": "collection"}
+    trial |= {"required_boxes": 1, "time_limit_s": 60.0, "started_wall": 1.0}
+    sums = {
+        RowBatch.from_mappings(TRIALS, [{**trial, "driver": d}]).checksums()[0]
+        for d in (None, "expert", "person")
+    }
+    assert len(sums) == 3

@@ -54,8 +54,8 @@ def test_files_have_exactly_the_contract_columns(exported: tuple[Path, Path]) ->
     assert _header(out / "frames.csv")[: len(FRAME_CONTRACT_COLUMNS)] == list(
         FRAME_CONTRACT_COLUMNS
     )
-    assert _header(out / "trials.csv") == [*TRIAL_COLUMNS, *TRIAL_TASK_COLUMNS]
-    assert _header(out / "frames.csv")[-2:] == list(FRAME_TASK_COLUMNS)
+    assert _header(out / "trials.csv") == [*TRIAL_COLUMNS, *TRIAL_TASK_COLUMNS, "driver"]
+    assert _header(out / "frames.csv")[-3:] == [*FRAME_TASK_COLUMNS, "intervention"]
     assert _header(out / "sessions.csv") == list(SESSION_COLUMNS)
     assert _header(out / "events.csv") == list(EVENT_COLUMNS)
     assert verify_export(out) == []
@@ -99,7 +99,7 @@ def test_manifest_records_parameters_and_checksums(exported: tuple[Path, Path]) 
         assert entry["metric_definitions"] == session.metric_definitions
     assert manifest["files"]["frames.csv"]["rows"] == n_frames
     assert all(len(f["sha256"]) == 64 for f in manifest["files"].values())
-    assert manifest["columns"]["trials.csv"] == [*TRIAL_COLUMNS, *TRIAL_TASK_COLUMNS]
+    assert manifest["columns"]["trials.csv"] == [*TRIAL_COLUMNS, *TRIAL_TASK_COLUMNS, "driver"]
 
 
 @pytest.mark.parametrize("name", ["frames.csv", "trials.csv", "sessions.csv"])
@@ -149,8 +149,8 @@ def test_an_export_made_before_the_filtered_poses_still_reads(exported: tuple[Pa
     frames = out / "frames.csv"
     with frames.open(newline="") as file:
         rows = list(csv.reader(file))
-    keep = len(FRAME_COLUMNS) - len(FILTERED_POSE_COLUMNS) - len(FRAME_TASK_COLUMNS)
-    assert rows[0][keep:] == [*FILTERED_POSE_COLUMNS, *FRAME_TASK_COLUMNS]
+    keep = len(FRAME_COLUMNS) - len(FILTERED_POSE_COLUMNS) - len(FRAME_TASK_COLUMNS) - 1
+    assert rows[0][keep:] == [*FILTERED_POSE_COLUMNS, *FRAME_TASK_COLUMNS, "intervention"]
     with frames.open("w", newline="") as file:
         csv.writer(file).writerows(row[:keep] for row in rows)
     _cut(out, "trials.csv", len(TRIAL_COLUMNS))
@@ -176,6 +176,25 @@ def test_an_export_made_before_the_filtered_poses_still_reads(exported: tuple[Pa
         csv.writer(file).writerows(row[: keep - 1] for row in rows)
     with pytest.raises(ExportError, match="header is not the contract's columns"):
         read_csv_export(out)
+
+
+def test_an_export_made_before_the_driver_columns_still_reads(
+    exported: tuple[Path, Path],
+) -> None:
+    """A version-5 export has no driver in trials.csv and no intervention in frames.csv: it
+    reads, with those columns NULL; this version's export holds them as recorded."""
+    _, out = exported
+    whole = read_csv_export(out).tables
+    assert set(whole["trials.csv"]["driver"]) == {"expert"}
+    assert set(whole["frames.csv"]["intervention"].tolist()) == {0.0, 1.0}
+    _cut(out, "trials.csv", len(TRIAL_COLUMNS) + len(TRIAL_TASK_COLUMNS))
+    _cut(out, "frames.csv", len(FRAME_COLUMNS) - 1)
+    assert verify_export(out) == []
+    back = read_csv_export(out).tables
+    assert all(value is None for value in back["trials.csv"]["driver"])
+    assert np.isnan(back["frames.csv"]["intervention"]).all()
+    assert back["trials.csv"]["task"].tolist() == whole["trials.csv"]["task"].tolist()
+    assert columns_equal(back["frames.csv"]["progress"], whole["frames.csv"]["progress"])
 
 
 def _cut(out: Path, name: str, keep: int) -> None:
@@ -206,10 +225,10 @@ def test_an_export_made_before_the_task_columns_still_reads(exported: tuple[Path
         assert json.loads(whole["trials.csv"]["goal_json"][i]) == trial.goal
     assert set(whole["frames.csv"]["stage"]) == set(synthetic.STAGES)
     _cut(out, "trials.csv", len(TRIAL_COLUMNS))
-    _cut(out, "frames.csv", len(FRAME_COLUMNS) - len(FRAME_TASK_COLUMNS))
+    _cut(out, "frames.csv", len(FRAME_COLUMNS) - len(FRAME_TASK_COLUMNS) - 1)
     assert verify_export(out) == []
     back = read_csv_export(out).tables
     assert all(value is None for value in back["trials.csv"]["task"])
     assert np.isnan(back["frames.csv"]["progress"]).all()
-    for column in FRAME_COLUMNS[: -len(FRAME_TASK_COLUMNS)]:
+    for column in FRAME_COLUMNS[: -len(FRAME_TASK_COLUMNS) - 1]:
         assert columns_equal(back["frames.csv"][column], whole["frames.csv"][column]), column

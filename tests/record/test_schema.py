@@ -30,15 +30,15 @@ def _columns(conn: sqlite3.Connection, table: str) -> list[str]:
     return [row[1] for row in conn.execute(f"PRAGMA table_info({table})")]
 
 
-def test_new_store_has_the_version_5_schema(tmp_path: Path) -> None:
+def test_new_store_has_the_version_6_schema(tmp_path: Path) -> None:
     path = tmp_path / "s.db"
     synthetic.fill_store(path)
     conn = sqlite3.connect(path)
-    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 5
+    assert conn.execute("PRAGMA user_version").fetchone()[0] == SCHEMA_VERSION == 6
     assert conn.execute("PRAGMA application_id").fetchone()[0] == APPLICATION_ID
     assert conn.execute("PRAGMA journal_mode").fetchone()[0] == "wal"
     meta = dict(conn.execute("SELECT key, value FROM meta"))
-    assert meta["schema_version"] == "5"
+    assert meta["schema_version"] == "6"
     assert meta["software_version"]
     tables = {r[0] for r in conn.execute("SELECT name FROM sqlite_schema WHERE type='table'")}
     assert {"meta", "sessions", "trials", "events", "frames", "annotations", "chain"} <= tables
@@ -49,18 +49,19 @@ def test_new_store_has_the_version_5_schema(tmp_path: Path) -> None:
     newest = conn.execute("SELECT head FROM chain ORDER BY rowid DESC LIMIT 1").fetchone()
     assert (first[0], meta["chain_tip_head"], meta["chain_tip_links"]) == (own, newest[0], "8")
     # the contract's names, in the contract's order, first
-    assert _columns(conn, "frames")[: len(FRAME_COLUMNS) - 23] == list(FRAME_COLUMNS[:-23])
+    assert _columns(conn, "frames")[: len(FRAME_COLUMNS) - 24] == list(FRAME_COLUMNS[:-24])
     assert _columns(conn, "trials")[: len(TRIAL_COLUMNS)] == list(TRIAL_COLUMNS)
     for table in ("sessions", "events", "annotations"):
         assert _columns(conn, table)[-1] == "checksum"
-    # version 3's filtered poses, then version 5's task columns come after the checksum,
-    # as ALTER TABLE appends them
-    assert _columns(conn, "frames")[-24:] == [
+    # version 3's filtered poses, then version 5's task columns and version 6's driver
+    # columns come after the checksum, as ALTER TABLE appends them
+    assert _columns(conn, "frames")[-25:] == [
         "checksum",
         *FILTERED_POSE_COLUMNS,
         *FRAME_TASK_COLUMNS,
+        "intervention",
     ]
-    assert _columns(conn, "trials")[-6:] == ["checksum", *TRIAL_TASK_COLUMNS]
+    assert _columns(conn, "trials")[-7:] == ["checksum", *TRIAL_TASK_COLUMNS, "driver"]
     children = {
         table: {row[2] for row in conn.execute(f"PRAGMA foreign_key_list({table})")}
         for table in ("trials", "events", "frames", "annotations")
@@ -182,20 +183,20 @@ def test_a_version_1_store_is_migrated_by_a_writer_and_refused_by_readers(
     with pytest.raises(StoreError) as refused:
         Store.open(path, writer=False)
     message = str(refused.value)
-    assert "schema version 1" in message and "migrating it to version 5" in message
+    assert "schema version 1" in message and "migrating it to version 6" in message
     assert f"workcell verify --recover --store {path}" in message
     with pytest.raises(StoreError, match="schema version 1"):
         verify_store(path)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
     out = capsys.readouterr().out
-    assert f"migrated: {path} from schema version 1 to 5" in out
+    assert f"migrated: {path} from schema version 1 to 6" in out
     assert "2 sessions were chained when the store was migrated" in out
     with Store.open(path, writer=True) as store:
         meta = store.meta()
         sessions = store.sessions()
         links = store.chain()
         counts = store.counts()
-    assert meta["schema_version"] == "5" and "migrated_wall" in meta
+    assert meta["schema_version"] == "6" and "migrated_wall" in meta
     assert [s.schema_version for s in sessions] == [1, 1]  # as they were recorded
     assert counts.trials == len(ids["trials"]) and counts.frames == 38  # every row kept
     assert len(links) == 8 and all(link.signature is None for link in links)
@@ -230,11 +231,11 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     before = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     heads = conn.execute("SELECT head FROM chain ORDER BY session_id, position").fetchall()
     conn.close()
-    with pytest.raises(StoreError, match="migrating it to version 5") as refused:
+    with pytest.raises(StoreError, match="migrating it to version 6") as refused:
         Store.open(path, writer=False)
     assert "from before the frames' filtered poses" in str(refused.value)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
-    assert f"migrated: {path} from schema version 2 to 5" in capsys.readouterr().out
+    assert f"migrated: {path} from schema version 2 to 6" in capsys.readouterr().out
     conn = sqlite3.connect(path)
     after = conn.execute("SELECT trial_id, frame_index, checksum FROM frames").fetchall()
     assert after == before and len(after) == 38
@@ -246,7 +247,7 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
     assert findings == []
     assert stats.migrated_sessions == 0  # the chains were not recomputed: nothing to qualify
     with Store.open(path, writer=True) as store:
-        assert store.meta()["schema_version"] == "5" and "migrated_wall" not in store.meta()
+        assert store.meta()["schema_version"] == "6" and "migrated_wall" not in store.meta()
         assert [s.schema_version for s in store.sessions()] == [2, 2]
 
 
@@ -268,7 +269,7 @@ def _every_row(conn: sqlite3.Connection) -> dict[str, list[tuple[object, ...]]]:
     out = {}
     for table in tables:
         names = [n for n in _columns(conn, table) if n not in (*TRIAL_TASK_COLUMNS, "stage")]
-        names = [n for n in names if n not in FRAME_TASK_COLUMNS]
+        names = [n for n in names if n not in (*FRAME_TASK_COLUMNS, "driver", "intervention")]
         quoted = ", ".join(f'"{n}"' for n in names)
         out[table] = conn.execute(f"SELECT {quoted} FROM {table} ORDER BY rowid").fetchall()
     return out
@@ -286,11 +287,11 @@ def test_a_version_4_store_is_migrated_with_every_row_checksum_and_link_kept(
     before = _every_row(conn)
     tip = dict(conn.execute("SELECT key, value FROM meta WHERE key LIKE 'chain_tip_%'"))
     conn.close()
-    with pytest.raises(StoreError, match="migrating it to version 5") as refused:
+    with pytest.raises(StoreError, match="migrating it to version 6") as refused:
         Store.open(path, writer=False)
-    assert "from before the trials' and frames' task columns" in str(refused.value)
+    assert "from before the trials' and frames' task and driver columns" in str(refused.value)
     assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
-    assert f"migrated: {path} from schema version 4 to 5" in capsys.readouterr().out
+    assert f"migrated: {path} from schema version 4 to 6" in capsys.readouterr().out
     conn = sqlite3.connect(path)
     Store.open(tmp_path / "fresh.db", writer=True).close()
     fresh = sqlite3.connect(tmp_path / "fresh.db")
@@ -308,7 +309,7 @@ def test_a_version_4_store_is_migrated_with_every_row_checksum_and_link_kept(
     assert findings == [] and stats.migrated_sessions == 0
     # the migrated store takes trials with task columns, and verifies
     with Store.open(path, writer=True) as store:
-        assert store.meta()["schema_version"] == "5"
+        assert store.meta()["schema_version"] == "6"
         session_id = store.create_session(synthetic.session_info(seed=9))
         trial_id = store.start_trial(session_id, synthetic.trial_start(seed=3, task=True))
         store.add_frames(trial_id, synthetic.batch(store, trial_id, synthetic.frames(0, 6)))
@@ -342,3 +343,43 @@ def test_the_task_columns_are_covered_by_the_row_checksums(tmp_path: Path) -> No
         ("frames", "checksum mismatch"),
         ("trials", "checksum mismatch"),
     }, [str(f) for f in findings]
+
+
+def test_a_version_5_store_is_migrated_with_every_row_kept_and_takes_drivers(
+    tmp_path: Path, capsys: pytest.CaptureFixture[str], monkeypatch: pytest.MonkeyPatch
+) -> None:
+    path = tmp_path / "v5.db"
+    with monkeypatch.context() as recorded_by_version_5:
+        recorded_by_version_5.setattr(workcell.record.store, "SCHEMA_VERSION", 5)
+        ids = synthetic.fill_store(path, task=True, driver=False)
+    conn = sqlite3.connect(path, isolation_level=None)
+    conn.execute("BEGIN")
+    synthetic.drop_appended(conn, 6)
+    conn.execute("UPDATE meta SET value = '5' WHERE key = 'schema_version'")
+    conn.execute("PRAGMA user_version = 5")
+    conn.execute("COMMIT")
+    before = conn.execute("SELECT * FROM frames ORDER BY rowid").fetchall()
+    conn.close()
+    with pytest.raises(StoreError, match="migrating it to version 6") as refused:
+        Store.open(path, writer=False)
+    assert "from before the trials' driver and the frames' intervention" in str(refused.value)
+    assert main(["verify", "--recover", "--store", str(path)]) == 0  # migrates it
+    assert f"migrated: {path} from schema version 5 to 6" in capsys.readouterr().out
+    conn = sqlite3.connect(path)
+    assert [row[:-1] for row in conn.execute("SELECT * FROM frames ORDER BY rowid")] == before
+    assert conn.execute("SELECT count(*) FROM frames WHERE intervention IS NULL").fetchone() == (
+        38,
+    )
+    assert conn.execute("SELECT driver FROM trials").fetchall() == [(None,)] * 4
+    conn.close()
+    with Store.open(path, writer=True) as store:
+        session_id = store.create_session(synthetic.session_info(seed=9))
+        trial_id = store.start_trial(session_id, synthetic.trial_start(seed=3, task=True))
+        store.add_frames(trial_id, synthetic.batch(store, trial_id, synthetic.frames(0, 8)))
+        store.end_trial(trial_id, synthetic.trial_end(8))
+        store.end_session(session_id)
+        old, new = store.trials(ids["sessions"][0])[0], store.trials(session_id)[0]
+        flags = store.frames(trial_id)["intervention"].tolist()
+    assert (old.driver, new.driver) == (None, "expert")
+    assert flags == [0.0] * 4 + [1.0] * 4
+    assert verify_store(path) == []

@@ -49,6 +49,7 @@ def test_default_toml_is_complete_commented_and_round_trips() -> None:
         "seed",
         "operator_id",
         "condition",
+        "driver",
         "consent",
         "study_step",
     }
@@ -156,3 +157,14 @@ def test_a_key_of_thousands_of_characters_is_named_in_one_short_line() -> None:
     assert caught.value.problems[0].startswith("kkkk")
     assert caught.value.problems[1].startswith("world.kkkk")
     assert "... (3000 characters): unknown setting; allowed here: task" in caught.value.problems[0]
+
+
+def test_the_driver_is_the_person_expert_or_a_policy() -> None:
+    assert SessionConfig().driver == "person"
+    assert SessionConfig(driver="expert").driver == "expert"
+    assert SessionConfig(driver="policy:runs/act/last").driver == "policy:runs/act/last"
+    for bad in ("robot", "policy:", "Expert", "policy: x"):
+        with pytest.raises(ConfigError) as refused:
+            SessionConfig(driver=bad)
+        (line,) = str(refused.value).splitlines()
+        assert line.startswith(f"driver = {bad!r}") and "person, expert or policy:PATH" in line

@@ -63,6 +63,26 @@ export class App extends ClientModel {
     return this.connection.send({ type: "pause", paused });
   }
 
+  /** Whether an autonomous driver (expert, policy) drives this session, so the person may
+   * take over. */
+  get autonomous(): boolean {
+    return this.hud !== null && this.hud.driver !== "person";
+  }
+
+  /** The person takes control from the session's driver, or hands it back (recorded with
+   * `reason`); false when the session's driver is the person or nothing was sent. */
+  toggleDriving(reason = ""): boolean {
+    if (!this.autonomous || !this.sessionActive || !this.isOperator) return false;
+    const type = this.hud?.taken_over === true ? "hand_back" : "take_over";
+    return this.connection.send({ type, reason: reason.trim().slice(0, STOP_REASON_MAX) });
+  }
+
+  /** Take control (true) or hand it back (false), unless it is so already. */
+  setDriving(person: boolean, reason = ""): boolean {
+    if (!this.autonomous || (this.hud?.taken_over === true) === person) return false;
+    return this.toggleDriving(reason);
+  }
+
   /** An operator action besides driving (recorded by the server as an event). */
   act(action: Act["action"], source: Act["source"]): boolean {
     return this.connection.send({ type: "act", action, source });

@@ -52,6 +52,16 @@ export interface Hud {
    * the sentence every exported episode carries; empty before the first trial.
    */
   readonly instruction: string;
+  /**
+   * Who drives the session (its ``driver`` setting): ``person``, ``expert`` or
+   * ``policy:<id>``.
+   */
+  readonly driver: string;
+  /**
+   * The person has taken control from an autonomous ``driver`` (until they hand it
+   * back); always False when the driver is the person.
+   */
+  readonly taken_over: boolean;
 }
 
 /** A trial's countdown began (``seconds`` long). */
@@ -217,6 +227,36 @@ export interface ClientFrames {
   readonly type: "event";
 }
 
+/**
+ * The person (``operator_id``) took control from the session's autonomous
+ * ``driver`` (``expert`` or ``policy:<id>``), for ``reason`` (their words, possibly
+ * empty): the frames after it are corrections (``intervention`` 1) until
+ * :class:`HandedBack`.
+ */
+export interface TookOver {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly operator_id: string;
+  readonly driver: string;
+  readonly reason: string;
+  readonly kind: "take_over";
+  readonly type: "event";
+}
+
+/**
+ * The person (``operator_id``) gave control back to ``driver``, which goes on from
+ * the state it finds; ``reason`` their words, possibly empty.
+ */
+export interface HandedBack {
+  readonly trial_index: number;
+  readonly t_sim: number;
+  readonly operator_id: string;
+  readonly driver: string;
+  readonly reason: string;
+  readonly kind: "hand_back";
+  readonly type: "event";
+}
+
 /** A trial is over: its outcome, time, deliveries and score. */
 export interface TrialEnded {
   readonly trial_index: number;
@@ -316,6 +356,28 @@ export interface Act {
   readonly action: "restart_trial" | "recenter_view" | "view_first" | "view_third" | "turn_snap" | "turn_smooth" | "snap_left" | "snap_right";
   readonly source: "xr_menu" | "xr_button" | "desktop";
   readonly type: "act";
+}
+
+/**
+ * The person takes control from the session's autonomous driver (``driver`` expert
+ * or a policy) at once, without a jump: each arm's current target becomes its clutch's
+ * anchor. Recorded as a ``take_over`` event with ``reason`` (their words, up to
+ * :data:`~workcell.task.events.STOP_NOTE_MAX` characters, may be empty); refused in a
+ * session the person drives anyway.
+ */
+export interface TakeOver {
+  readonly reason: string;
+  readonly type: "take_over";
+}
+
+/**
+ * The person gives control back to the session's driver, which goes on from the
+ * state it finds (the expert re-plans, a policy drops its queued actions). Recorded as a
+ * ``hand_back`` event with ``reason``.
+ */
+export interface HandBack {
+  readonly reason: string;
+  readonly type: "hand_back";
 }
 
 /**
@@ -804,7 +866,9 @@ export type TaskEvent =
   | ClientFrames
   | StopRequested
   | Paused
-  | Resumed;
+  | Resumed
+  | TookOver
+  | HandedBack;
 
 /** What a client may send. */
 export type ClientMessage =
@@ -814,6 +878,8 @@ export type ClientMessage =
   | Stop
   | Pause
   | Act
+  | TakeOver
+  | HandBack
   | FrameStats
   | Ping;
 

@@ -21,8 +21,10 @@ from workcell.audit.rows import SessionRow, TrialRow
 from workcell.audit.source import (
     FRAME_COLUMNS_READ,
     MIDPOINT_COLUMNS,
+    SWITCH_KINDS,
     FloatArray,
     Pauses,
+    Switches,
     midpoint_xy,
     pause_of,
 )
@@ -99,6 +101,16 @@ class CsvSource:
             if pause is not None:
                 out.setdefault(row["trial_id"], []).append(pause)
         return {trial_id: tuple(pauses) for trial_id, pauses in out.items()}
+
+    def trial_switches(self, trial_ids: Collection[str]) -> dict[str, Switches]:
+        wanted = set(trial_ids)
+        out: dict[str, list[tuple[str, float]]] = {}
+        for row in self._table("events.csv"):
+            if row["kind"] not in SWITCH_KINDS or row["trial_id"] not in wanted:
+                continue
+            if row["t_sim"] is not None:
+                out.setdefault(row["trial_id"], []).append((row["kind"], float(row["t_sim"])))
+        return {trial_id: tuple(switches) for trial_id, switches in out.items()}
 
     def close(self) -> None:
         pass

@@ -11,8 +11,10 @@ from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.figures import RenderedFigure
 from workcell.audit.html_parts import CSS, esc, image, number
+from workcell.audit.interventions import intervention_groups
 from workcell.audit.ladder import audit_ladder
 from workcell.audit.report_comparison import comparison_section
+from workcell.audit.report_interventions import interventions_section
 from workcell.audit.report_ladder import ladder_section
 from workcell.audit.report_paired import study_section
 from workcell.audit.report_sections import (
@@ -89,6 +91,7 @@ Repeated trials of one operator are attempts, not independent people.</p>
 {fig["outcomes"]}
 {stages_section(trials, grouped(trials).get("operator", []))}
 {ladder_section(audit_ladder(trials), fig.get("ladder", ""))}
+{interventions_section(intervention_groups(trials, result.switches))}
 <h2>3. Successful demonstrations (Table I)</h2>
 {table_one(trials)}
 {fig["distributions"]}

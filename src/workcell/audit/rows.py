@@ -60,6 +60,10 @@ class SessionRow:
     """The session seed (None: not read)."""
     status: str = ""
     """``completed``, ``interrupted``, ... (:data:`workcell.record.columns.SESSION_STATUSES`)."""
+    driver: str = "person"
+    """The session's ``driver`` setting: ``person`` unless a live session's autonomous
+    driver drove while its operator watched (``workcell collect`` records ``person``: its
+    ``--operator`` drove, and nobody watched)."""
 
     @classmethod
     def parse(
@@ -98,6 +102,7 @@ class SessionRow:
             zone=session_zone(parameters),
             seed=None if row.get("seed") is None else int(row["seed"]),
             status=str(row.get("status") or ""),
+            driver=str(parameters.get("driver") or "person"),
         )
 
 
@@ -122,11 +127,15 @@ class TrialRow:
     world: str | None = None
     """The named world (``D0``, ``D1``, ``D2``) the trial ran in (schema version 5; None
     before it and for ranges of no named world)."""
+    driver: str | None = None
+    """Who drove (``person``, ``expert``, ``policy:<id>``, ``generated``; schema version 6,
+    None before it)."""
 
     @classmethod
     def parse(cls, row: Mapping[str, Any]) -> TrialRow:
         stored = {name: row[name] for name in TRIAL_COLUMNS}
         task, stage, world = row.get("task"), row.get("stage"), row.get("world")
+        driver = row.get("driver")
         return cls(
             session_id=stored["session_id"],
             trial_id=stored["trial_id"],
@@ -139,6 +148,7 @@ class TrialRow:
             task=task if isinstance(task, str) and task else None,
             recorded_stage=stage if isinstance(stage, str) and stage else None,
             world=world if isinstance(world, str) and world else None,
+            driver=driver if isinstance(driver, str) and driver else None,
         )
 
     @property

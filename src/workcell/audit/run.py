@@ -2,8 +2,8 @@
 
 from __future__ import annotations
 
-from collections.abc import Callable, Sequence
-from dataclasses import dataclass
+from collections.abc import Callable, Mapping, Sequence
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -20,7 +20,7 @@ from workcell.audit.parallel import (
 )
 from workcell.audit.population import flag_slow
 from workcell.audit.rows import SessionRow
-from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray
+from workcell.audit.source import FRAME_COLUMNS_READ, AuditSource, FloatArray, Switches
 from workcell.audit.stage_pass import with_stages
 from workcell.audit.store_source import StoreSource
 from workcell.audit.trial_audit import TrialAudit
@@ -46,6 +46,8 @@ class AuditResult:
     findings: tuple[Finding, ...]
     trajectories: dict[str, FloatArray]
     frames_read: int
+    switches: Mapping[str, Switches] = field(default_factory=dict)
+    """Each corrected trial's take-overs and hand-backs (:mod:`workcell.audit.interventions`)."""
 
 
 def stratified(count: int, k: int) -> list[int]:
@@ -149,6 +151,7 @@ def run_audit(
         findings=tuple(findings),
         trajectories=_trajectories(source, trials, config.trajectories),
         frames_read=frames_read,
+        switches=source.trial_switches(list(rows)),
     )
 
 

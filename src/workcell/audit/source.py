@@ -32,6 +32,9 @@ MIDPOINT_COLUMNS: tuple[str, ...] = ("tcp_l_x", "tcp_l_y", "tcp_r_x", "tcp_r_y")
 SourceKind = Literal["store", "csv"]
 Pauses = tuple[tuple[float, float], ...]
 """A trial's pauses: (t_sim it paused at, wall seconds it stood paused), in order."""
+Switches = tuple[tuple[str, float], ...]
+"""A trial's take-overs and hand-backs: (``take_over`` or ``hand_back``, t_sim), in order."""
+SWITCH_KINDS: tuple[str, ...] = ("take_over", "hand_back")
 
 
 def pause_of(t_sim: object, payload_json: str) -> tuple[float, float] | None:
@@ -81,6 +84,11 @@ class AuditSource(Protocol):
     def trial_pauses(self, trial_ids: Collection[str]) -> dict[str, Pauses]:
         """The operator's pauses of the given trials that had any (their resumed events':
         the trial time each paused at and the wall seconds it stood)."""
+        ...
+
+    def trial_switches(self, trial_ids: Collection[str]) -> dict[str, Switches]:
+        """The take-overs and hand-backs of the given trials that had any (their
+        ``take_over`` and ``hand_back`` events, in order)."""
         ...
 
     def close(self) -> None: ...

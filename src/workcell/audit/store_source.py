@@ -26,6 +26,7 @@ from workcell.audit.source import (
     MIDPOINT_COLUMNS,
     FloatArray,
     Pauses,
+    Switches,
     midpoint_xy,
     pause_of,
 )
@@ -154,6 +155,18 @@ class StoreSource:
             if pause is not None:
                 out.setdefault(trial_id, []).append(pause)
         return {trial_id: tuple(pauses) for trial_id, pauses in out.items()}
+
+    def trial_switches(self, trial_ids: Collection[str]) -> dict[str, Switches]:
+        wanted = set(trial_ids)
+        sql = (
+            "SELECT trial_id, kind, t_sim FROM events "
+            "WHERE kind IN ('take_over', 'hand_back') ORDER BY seq"
+        )
+        out: dict[str, list[tuple[str, float]]] = {}
+        for trial_id, kind, t_sim in self._conn.execute(sql):
+            if trial_id in wanted and t_sim is not None:
+                out.setdefault(trial_id, []).append((kind, float(t_sim)))
+        return {trial_id: tuple(switches) for trial_id, switches in out.items()}
 
     def _frame_counts(self) -> dict[str, int | None]:
         """Each trial's n_frames as its row says (None while it runs)."""

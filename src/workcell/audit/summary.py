@@ -17,6 +17,11 @@ from workcell.audit.comparison import CAVEAT, Comparison, compare_result, result
 from workcell.audit.config import AUDIT_VERSION
 from workcell.audit.counts import DispositionCounts
 from workcell.audit.flags import FLAG_NAMES
+from workcell.audit.interventions import (
+    INTERVENTIONS_VERSION,
+    InterventionGroup,
+    intervention_groups,
+)
 from workcell.audit.ladder import LADDER_VERSION, Rung, audit_ladder
 from workcell.audit.oscillation import OscillationCriteria
 from workcell.audit.paired import PairedComparison, WithinSubject
@@ -79,6 +84,23 @@ def _ladder(rungs: list[Rung]) -> dict[str, Any]:
     return {
         "definition_version": LADDER_VERSION,
         "rungs": [{**asdict(r), "confidence": 0.95, "interval": "wilson"} for r in rungs],
+    }
+
+
+def _interventions(groups: list[InterventionGroup]) -> dict[str, Any]:
+    """``summary["interventions"]``: per driver, and per driver and person."""
+    return {
+        "definition_version": INTERVENTIONS_VERSION,
+        "groups": [
+            {
+                **asdict(g),
+                "alone": {**asdict(g.alone), "rate": g.alone.rate},
+                "corrected": {**asdict(g.corrected), "rate": g.corrected.rate},
+                "confidence": 0.95,
+                "interval": "wilson",
+            }
+            for g in groups
+        ],
     }
 
 
@@ -225,6 +247,9 @@ def build_summary(result: AuditResult) -> dict[str, Any]:
     rungs = audit_ladder(trials)
     if rungs:
         summary["ladder"] = _ladder(rungs)
+    corrections = intervention_groups(trials, result.switches)
+    if corrections:
+        summary["interventions"] = _interventions(corrections)
     comparison = compare_result(result)
     if comparison is not None:
         summary["comparison"] = _comparison(comparison)

@@ -12,6 +12,9 @@ Row ``t`` is recorded frame ``t`` (``frame_index`` equals the store's, ``timesta
   on its last row.
 - **next.done** is true on the last row of every episode (success, failure, timeout or
   interruption); **next.success** is true on the last row of a successful trial.
+- **intervention** is true on the rows a person who took over from the trial's autonomous
+  driver drove (the frame's ``intervention`` column; false where it is 0 or was not
+  recorded, before schema version 6): LeRobot's name for a corrected frame.
 """
 
 from __future__ import annotations
@@ -39,6 +42,8 @@ CONVENTIONS: dict[str, str] = {
         "true on the last row of every episode (success, failure, timeout or interruption)"
     ),
     "next.success": "true on the last row of a successful trial",
+    "intervention": "true where a person who took over from the trial's driver drove the "
+    "frame (a correction), false where the driver drove or nothing was recorded",
     "timestamp": "frame_index / fps, seconds from the trial start (t_sim)",
     "observation.state": "TCP quaternions (w, x, y, z) continuous: each frame's sign agrees "
     "with the frame before (non-negative dot product); the first frame's has w >= 0",
@@ -58,6 +63,8 @@ class EpisodeArrays:
     done: NDArray[np.bool_]
     success: NDArray[np.bool_]
     boxes: BoxTrack
+    intervention: NDArray[np.bool_]
+    """True on the rows a person who took over drove (see the module docstring)."""
 
     @property
     def length(self) -> int:
@@ -98,4 +105,14 @@ def episode_arrays(
         done=done,
         success=success,
         boxes=boxes,
+        intervention=corrected_rows(frames, n),
     )
+
+
+def corrected_rows(frames: Mapping[str, Sequence[Any] | NDArray[Any]], n: int) -> NDArray[np.bool_]:
+    """Each frame's ``intervention`` as a boolean (False where not recorded)."""
+    if "intervention" not in frames:
+        return np.zeros(n, dtype=bool)
+    values = np.asarray(frames["intervention"], dtype=np.float64)
+    corrected: NDArray[np.bool_] = np.nan_to_num(values, nan=0.0) == 1.0
+    return corrected

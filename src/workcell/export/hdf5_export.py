@@ -12,6 +12,8 @@
                          study_step, outcome, flags, ...)
         states           (n, nq + nv) restored MuJoCo qpos and qvel (see .restore)
         actions          (n, 23)   rewards (n,)   dones (n,)
+        intervention     (n,) 1 on the rows a person who took over from the trial's driver
+                         drove (a correction), else 0: the per-frame correction mask
         obs/state        (n, 39)   obs/environment_state (n, 8 per box + the goal)
         obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for: the
                          trial's recorded video decoded, or rendered from its states
@@ -152,6 +154,7 @@ def _write_demo(
     demo.create_dataset("actions", data=arrays.action)
     demo.create_dataset("rewards", data=arrays.reward)
     demo.create_dataset("dones", data=arrays.done.astype(np.int64))
+    demo.create_dataset("intervention", data=arrays.intervention.astype(np.int64))
     obs, next_obs = demo.create_group("obs"), demo.create_group("next_obs")
     for key, values in (("state", arrays.state), ("environment_state", arrays.environment)):
         obs.create_dataset(key, data=values)

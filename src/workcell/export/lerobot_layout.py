@@ -51,6 +51,9 @@ PROVENANCE_JSON_PATH = "meta/workcell_provenance.json"
 REWARD_KEY = "next.reward"
 DONE_KEY = "next.done"
 SUCCESS_KEY = "next.success"
+INTERVENTION_KEY = "intervention"
+"""Per frame: a person who took over from the trial's driver drove it (LeRobot's name, as
+``lerobot-rollout --strategy.type=dagger`` records it)."""
 INDEX_KEYS: tuple[str, ...] = ("timestamp", "frame_index", "episode_index", "index", "task_index")
 
 
@@ -114,6 +117,7 @@ def dataset_features(
     features[REWARD_KEY] = _scalar("float32")
     features[DONE_KEY] = _scalar("bool")
     features[SUCCESS_KEY] = _scalar("bool")
+    features[INTERVENTION_KEY] = _scalar("bool")
     features["timestamp"] = _scalar("float32")
     for key in INDEX_KEYS[1:]:
         features[key] = _scalar("int64")

@@ -17,7 +17,7 @@ from numpy.typing import NDArray
 
 from workcell.export.episode_data import EpisodeArrays
 from workcell.export.features import ACTION_KEY, ENVIRONMENT_KEY, STATE_KEY
-from workcell.export.lerobot_layout import DONE_KEY, REWARD_KEY, SUCCESS_KEY
+from workcell.export.lerobot_layout import DONE_KEY, INTERVENTION_KEY, REWARD_KEY, SUCCESS_KEY
 from workcell.export.provenance import Provenance
 
 _PANDAS_VERSION = "2.2.3"
@@ -42,6 +42,7 @@ def data_table(
         REWARD_KEY: pa.array(arrays.reward.astype(np.float32)),
         DONE_KEY: pa.array(arrays.done, pa.bool_()),
         SUCCESS_KEY: pa.array(arrays.success, pa.bool_()),
+        INTERVENTION_KEY: pa.array(arrays.intervention, pa.bool_()),
         "timestamp": pa.array(arrays.timestamps(fps), pa.float32()),
         "frame_index": pa.array(np.arange(n), pa.int64()),
         "episode_index": pa.array(np.full(n, episode_index), pa.int64()),

@@ -95,6 +95,14 @@ class PolicyOperator:
         self._steps += 1
         return self._command
 
+    def resume(self, world: World, command: Command) -> None:
+        """Go on from the world as a person who took over left it: the queued actions of a
+        chunking policy are dropped and it decides afresh at the next control period,
+        ``command`` (the person's last) as the action before."""
+        self._policy.reset()
+        self._command = command
+        self._steps = 0
+
     def close(self) -> None:
         self._observations.close()
 

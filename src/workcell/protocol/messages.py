@@ -140,6 +140,28 @@ class Act:
     type: Literal["act"] = "act"
 
 
+@dataclass(frozen=True)
+class TakeOver:
+    """The person takes control from the session's autonomous driver (``driver`` expert
+    or a policy) at once, without a jump: each arm's current target becomes its clutch's
+    anchor. Recorded as a ``take_over`` event with ``reason`` (their words, up to
+    :data:`~workcell.task.events.STOP_NOTE_MAX` characters, may be empty); refused in a
+    session the person drives anyway."""
+
+    reason: str = ""
+    type: Literal["take_over"] = "take_over"
+
+
+@dataclass(frozen=True)
+class HandBack:
+    """The person gives control back to the session's driver, which goes on from the
+    state it finds (the expert re-plans, a policy drops its queued actions). Recorded as a
+    ``hand_back`` event with ``reason``."""
+
+    reason: str = ""
+    type: Literal["hand_back"] = "hand_back"
+
+
 @dataclass(frozen=True, kw_only=True)
 class FrameStats(FrameFigures):
     """How the operator's browser draws, over the frames since its previous report (every
@@ -160,7 +182,9 @@ class Ping:
     type: Literal["ping"] = "ping"
 
 
-ClientMessage = Hello | StartSession | Input | Stop | Pause | Act | FrameStats | Ping
+ClientMessage = (
+    Hello | StartSession | Input | Stop | Pause | Act | TakeOver | HandBack | FrameStats | Ping
+)
 
 
 # --- server -> client -------------------------------------------------------------------------
@@ -367,6 +391,8 @@ CLIENT_MESSAGES: tuple[type, ...] = (
     Stop,
     Pause,
     Act,
+    TakeOver,
+    HandBack,
     FrameStats,
     Ping,
 )

@@ -49,6 +49,8 @@ MAX_TEXT: dict[tuple[type, str], int] = {
     (m.Hello, "resume_token"): 128,
     (m.Hello, "seat"): 16,
     (m.Stop, "reason"): STOP_NOTE_MAX,
+    (m.TakeOver, "reason"): STOP_NOTE_MAX,
+    (m.HandBack, "reason"): STOP_NOTE_MAX,
 }
 """Longest allowed text of a field (characters)."""
 WIDE_INTEGERS: frozenset[tuple[type, str]] = frozenset({(TrialStarted, "trial_seed")})

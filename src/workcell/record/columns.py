@@ -109,8 +109,19 @@ judge's ``stage`` (the furthest of the task's stages reached) and ``progress`` (
 :class:`workcell.tasks.Evaluation`), the latest judgement at or before the instant. Added by
 schema version 5, after every earlier column (frames recorded before it hold NULL)."""
 
+FRAME_INTERVENTION_COLUMNS: tuple[str, ...] = ("intervention",)
+"""Who drove at the frame's instant: ``intervention`` 1 while the person has taken control
+from the session's autonomous driver (a correction), 0 while the driver drives (in a
+session whose driver is the person there is nothing to take over: 0 throughout; see the
+trial's ``driver``). LeRobot's per-frame feature of the same name. Added by schema version
+6, after every earlier column (frames recorded before it hold NULL)."""
+
 FRAME_COLUMNS: tuple[str, ...] = (
-    FRAME_CONTRACT_COLUMNS + FRAME_EXTRA_COLUMNS + FILTERED_POSE_COLUMNS + FRAME_TASK_COLUMNS
+    FRAME_CONTRACT_COLUMNS
+    + FRAME_EXTRA_COLUMNS
+    + FILTERED_POSE_COLUMNS
+    + FRAME_TASK_COLUMNS
+    + FRAME_INTERVENTION_COLUMNS
 )
 
 TRIAL_COLUMNS: tuple[str, ...] = (
@@ -147,8 +158,16 @@ stages the trial reached and ``progress`` (0..1) its final progress, both as its
 judge said at its last frame instant, and ``goal_json`` what the trial asked as numbers,
 a JSON object of the task's ``goal_names`` (:meth:`workcell.tasks.Task.goal`)."""
 
-TRIALS_CSV_COLUMNS: tuple[str, ...] = TRIAL_COLUMNS + TRIAL_TASK_COLUMNS
-"""trials.csv's columns: the contract's, then (since schema version 5) the task-neutral ones."""
+TRIAL_DRIVER_COLUMNS: tuple[str, ...] = ("driver",)
+"""Who drove the trial (added by schema version 6; NULL in trials recorded before it):
+``person`` (a person at a browser or headset), ``expert`` (the task's scripted expert),
+``policy:<id>`` (a learned policy, its checkpoint's operator id) or ``generated``
+(``workcell generate``). With an autonomous driver a person may have taken over: the
+frames' ``intervention`` column and the ``take_over``/``hand_back`` events say when."""
+
+TRIALS_CSV_COLUMNS: tuple[str, ...] = TRIAL_COLUMNS + TRIAL_TASK_COLUMNS + TRIAL_DRIVER_COLUMNS
+"""trials.csv's columns: the contract's, then (since schema version 5) the task-neutral ones
+and (since version 6) the driver."""
 
 OUTCOMES: tuple[str, ...] = get_args(Outcome)
 """Every trial outcome: ``success``, ``timeout``, ``interrupted`` and (since the task API)

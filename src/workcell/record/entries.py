@@ -93,12 +93,15 @@ class TrialStart:
     task: str | None = None
     world: str | None = None
     goal: Mapping[str, float] | None = None
+    driver: str | None = None
+    """Who drives (schema version 6): ``person``, ``expert``, ``policy:<id>``,
+    ``generated``; None where not known."""
 
     def __post_init__(self) -> None:
         _nonempty(self.mode, "trial mode")
         if not (math.isfinite(self.time_limit_s) and self.time_limit_s > 0):
             raise RecordError(f"trial time_limit_s = {self.time_limit_s}: must be > 0")
-        for name in ("task", "world"):
+        for name in ("task", "world", "driver"):
             value = getattr(self, name)
             if value is not None:
                 _nonempty(value, f"trial {name}")
@@ -111,6 +114,7 @@ class TrialStart:
             "task": self.task,
             "world": self.world,
             "goal_json": None if self.goal is None else to_json(self.goal, "trial goal"),
+            "driver": self.driver,
         }
 
 
@@ -257,6 +261,8 @@ class TrialRecord:
     stage: str | None = None
     progress: float | None = None
     goal: dict[str, Any] | None = None
+    driver: str | None = None
+    """Who drove (schema version 6; None in trials recorded before it)."""
 
     @classmethod
     def from_row(cls, row: Mapping[str, Any]) -> TrialRecord:

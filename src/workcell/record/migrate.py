@@ -24,6 +24,11 @@ and goal (:data:`~workcell.record.columns.TRIAL_TASK_COLUMNS`) and the frames' s
 progress (:data:`~workcell.record.columns.FRAME_TASK_COLUMNS`), NULL in every row already
 recorded. As in version 3, a row checksum counts a version's appended columns only where
 the row holds one of them, so every checksum and chain link stays valid.
+
+Version 5 → 6 appends who drove: the trials' ``driver``
+(:data:`~workcell.record.columns.TRIAL_DRIVER_COLUMNS`) and the frames' ``intervention``
+(:data:`~workcell.record.columns.FRAME_INTERVENTION_COLUMNS`), NULL in every row already
+recorded, the same way.
 """
 
 from __future__ import annotations
@@ -82,13 +87,19 @@ def _v4_to_v5(conn: sqlite3.Connection) -> None:
     _append(conn, FRAMES, 5)
 
 
-MIGRATIONS = {1: _v1_to_v2, 2: _v2_to_v3, 3: _v3_to_v4, 4: _v4_to_v5}
+def _v5_to_v6(conn: sqlite3.Connection) -> None:
+    _append(conn, TRIALS, 6)
+    _append(conn, FRAMES, 6)
+
+
+MIGRATIONS = {1: _v1_to_v2, 2: _v2_to_v3, 3: _v3_to_v4, 4: _v4_to_v5, 5: _v5_to_v6}
 """Version → the step that takes a store of that version to the next."""
 MIGRATION_NOTES = {
-    1: "from before hash chains, filtered poses, chain tips and task columns",
-    2: "from before the frames' filtered poses, chain tips and task columns",
-    3: "from before chain tips, store roots and task columns",
-    4: "from before the trials' and frames' task columns",
+    1: "from before hash chains, filtered poses, chain tips, task and driver columns",
+    2: "from before the frames' filtered poses, chain tips, task and driver columns",
+    3: "from before chain tips, store roots, task and driver columns",
+    4: "from before the trials' and frames' task and driver columns",
+    5: "from before the trials' driver and the frames' intervention columns",
 }
 """Version → what a store of that version lacks, for the message that asks to migrate it."""
 CHAINED_BY = 1

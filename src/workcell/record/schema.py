@@ -1,4 +1,4 @@
-"""Schema version 5 of a store: the five tables, their column types, and the DDL.
+"""Schema version 6 of a store: the five tables, their column types, and the DDL.
 
 Every table's columns are the interchange contract's names (:mod:`workcell.record.columns`)
 followed by the store's own (``checksum``, ``content_checksum``, ...). The version lives in
@@ -11,8 +11,9 @@ after the ``checksum`` column as ``ALTER TABLE`` appends them, so that a new sto
 migrated one have the same tables; version 4 the store's identity in its chains (the
 ``chain_roots`` table) and the chain tip kept in ``meta``; version 5 the task-neutral columns
 (:data:`~workcell.record.columns.TRIAL_TASK_COLUMNS` of the trials,
-:data:`~workcell.record.columns.FRAME_TASK_COLUMNS` of the frames), appended the same way. A
-writer migrates an older store (:mod:`workcell.record.migrate`).
+:data:`~workcell.record.columns.FRAME_TASK_COLUMNS` of the frames), appended the same way;
+version 6 who drove (the trials' ``driver``, the frames' ``intervention``), appended the
+same way. A writer migrates an older store (:mod:`workcell.record.migrate`).
 """
 
 from __future__ import annotations
@@ -27,13 +28,15 @@ from workcell.record.columns import (
     FILTERED_POSE_COLUMNS,
     FRAME_COLUMNS,
     FRAME_DEVICE_COLUMNS,
+    FRAME_INTERVENTION_COLUMNS,
     FRAME_TASK_COLUMNS,
     SESSION_COLUMNS,
     TRIAL_COLUMNS,
+    TRIAL_DRIVER_COLUMNS,
     TRIAL_TASK_COLUMNS,
 )
 
-SCHEMA_VERSION = 5
+SCHEMA_VERSION = 6
 APPLICATION_ID = 0x57434C31
 """``PRAGMA application_id`` of every Workcell store: ASCII "WCL1"."""
 
@@ -183,11 +186,15 @@ FRAMES = TableLayout(
         # costs a frame; `workcell verify` reports NULLs outside the device columns (and
         # the task columns, NULL in frames recorded before version 5).
         {"session_id", "trial_id", "frame_index", "boxes"},
-        set(FRAME_DEVICE_COLUMNS) | set(FRAME_TASK_COLUMNS),
+        set(FRAME_DEVICE_COLUMNS) | set(FRAME_TASK_COLUMNS) | set(FRAME_INTERVENTION_COLUMNS),
     ),
     key=("trial_id", "frame_index"),
     constraints=("FOREIGN KEY (session_id, trial_id) REFERENCES trials (session_id, trial_id)",),
-    added=(Appended(3, FILTERED_POSE_COLUMNS), Appended(5, FRAME_TASK_COLUMNS)),
+    added=(
+        Appended(3, FILTERED_POSE_COLUMNS),
+        Appended(5, FRAME_TASK_COLUMNS),
+        Appended(6, FRAME_INTERVENTION_COLUMNS),
+    ),
 )
 
 TRIAL_EXTRA_COLUMNS: tuple[str, ...] = (
@@ -199,10 +206,11 @@ TRIAL_EXTRA_COLUMNS: tuple[str, ...] = (
 TRIALS = TableLayout(
     "trials",
     _columns(
-        TRIAL_COLUMNS + TRIAL_EXTRA_COLUMNS + TRIAL_TASK_COLUMNS,
+        TRIAL_COLUMNS + TRIAL_EXTRA_COLUMNS + TRIAL_TASK_COLUMNS + TRIAL_DRIVER_COLUMNS,
         _of(
             "text",
             (
+                "driver",
                 "task",
                 "world",
                 "stage",
@@ -247,7 +255,7 @@ TRIALS = TableLayout(
         "UNIQUE (session_id, trial_index)",
         "FOREIGN KEY (session_id) REFERENCES sessions (session_id)",
     ),
-    added=(Appended(5, TRIAL_TASK_COLUMNS),),
+    added=(Appended(5, TRIAL_TASK_COLUMNS), Appended(6, TRIAL_DRIVER_COLUMNS)),
 )
 
 SESSIONS = TableLayout(

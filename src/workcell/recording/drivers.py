@@ -10,6 +10,7 @@ the recorder stores beside each frame (None for an operator that only gives comm
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
@@ -28,10 +29,14 @@ if TYPE_CHECKING:
 
 @dataclass(frozen=True)
 class Driving:
-    """A built driver: the operator, and where its raw device input comes from."""
+    """A built driver: the operator, where its raw device input comes from, the driver's
+    name as trials record it (``person``, ``expert``, ``policy:<id>``, ``generated``) and,
+    for a session a person may take over, whether the person drives now."""
 
     operator: Operator
     operator_input: InputSource | None = None
+    name: str = "person"
+    intervention: Callable[[], bool] | None = None
 
 
 @dataclass(frozen=True)
@@ -43,7 +48,7 @@ class ExpertDriver:
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
         from workcell.tasks.registry import load_task  # noqa: PLC0415
 
-        return Driving(load_task(config.task.kind).expert(self.expert))
+        return Driving(load_task(config.task.kind).expert(self.expert), name="expert")
 
 
 @dataclass(frozen=True)
@@ -57,7 +62,8 @@ class PolicyDriver:
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
         from workcell.learn.policy_operator import PolicyOperator  # noqa: PLC0415
 
-        return Driving(PolicyOperator(self.checkpoint, config, sim, verbose=self.verbose))
+        operator = PolicyOperator(self.checkpoint, config, sim, verbose=self.verbose)
+        return Driving(operator, name=f"policy:{self.checkpoint.operator_id}")
 
 
 @dataclass(frozen=True)
@@ -102,7 +108,33 @@ class GeneratedDriver:
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
         from workcell.generate.operator import GeneratedOperator  # noqa: PLC0415
 
-        return Driving(GeneratedOperator(self.plan))
+        return Driving(GeneratedOperator(self.plan), name="generated")
 
 
-Driver = ExpertDriver | PolicyDriver | TeleopDriver | GeneratedDriver
+@dataclass(frozen=True)
+class InterveningDriver:
+    """``autonomous`` drives while a person at a browser watches and may take over and
+    hand back (:class:`~workcell.intervene.operator.InterveningOperator`); the recorded
+    device input is the person's while they drive."""
+
+    autonomous: ExpertDriver | PolicyDriver
+
+    def build(self, config: SessionConfig, sim: Simulation) -> Driving:
+        from workcell.intervene.operator import InterveningOperator  # noqa: PLC0415
+        from workcell.teleop.operator import TeleopOperator  # noqa: PLC0415
+
+        person = TeleopDriver().build(config, sim)
+        sim.controller.solve_held_arms = True  # the driver's arms are solved every period
+        driving = self.autonomous.build(config, sim)
+        teleop = person.operator
+        assert isinstance(teleop, TeleopOperator)
+        operator = InterveningOperator(
+            driving.operator,  # type: ignore[arg-type]  # expert and policy can resume
+            teleop,
+            teleop.tcp_source,
+            driving.name,
+        )
+        return Driving(operator, operator.operator_input, driving.name, operator.intervention)
+
+
+Driver = ExpertDriver | PolicyDriver | TeleopDriver | GeneratedDriver | InterveningDriver

@@ -92,7 +92,8 @@ class FrameLayout:
       and all NaN without a device (a command-only operator: grip and trigger then read
       from the command, as :func:`input_from_command` says);
     - :data:`TASK_VALUES` values of the task's judgement: the stage (its position in
-      :attr:`stages`) and the progress (0..1), NaN where not known.
+      :attr:`stages`) and the progress (0..1), NaN where not known; then whether a person
+      who took over drove (``intervention``: 1 or 0, NaN where not known).
     """
 
     nq: int
@@ -174,8 +175,8 @@ CAPTURED_INTEGERS = 5
 DEVICE_VALUES = 53
 """grip (2), trigger (2), controller_l, controller_r, headset (7 each), stick_l, stick_r
 (2 each), age_s, the three poses filtered (7 each), buttons (2)."""
-TASK_VALUES = 2
-"""The stage's position in the task's stages, and the progress."""
+TASK_VALUES = 3
+"""The stage's position in the task's stages, the progress, and the intervention flag."""
 
 NAN = math.nan
 _NO_POSE: tuple[float, ...] = (NAN,) * 7
@@ -273,12 +274,13 @@ class FrameCapture:
         t_wall: float | None = None,
         stage: int = -1,
         progress: float = NAN,
+        intervention: float = 0.0,
     ) -> None:
         """Copy the state of this instant (``t_sim`` on the trial clock, ``t_wall`` Unix
         seconds, now if not given), of the operator's device (None for a command-only
         operator, see :func:`input_from_command`) and the task's judgement (``stage``: its
-        position in the layout's stages, -1 for none); the buffer must not be
-        :attr:`full`."""
+        position in the layout's stages, -1 for none) and whether a person who took over
+        drives (``intervention`` 1, else 0); the buffer must not be :attr:`full`."""
         world = self.world
         # After mj_step the body and site poses are those of the step's start; bring them up
         # to the joint positions so that every pose in the frame belongs to the same instant.
@@ -321,6 +323,7 @@ class FrameCapture:
             rows[count, self.layout.device_at :] = NAN
             self._device_rows.discard(count)
         self._count = count + 1
+        rows[count, self.layout.task_at + 2] = intervention
         self.judged(stage, progress)
 
     def judged(self, stage: int, progress: float) -> None:
@@ -328,7 +331,7 @@ class FrameCapture:
         in the layout's stages, -1 for none)."""
         if self._count:
             at = self.layout.task_at
-            self._rows[self._count - 1, at : at + TASK_VALUES] = (
+            self._rows[self._count - 1, at : at + 2] = (
                 NAN if stage < 0 else stage,
                 progress,
             )

@@ -93,6 +93,7 @@ def real_matrix(
     real[:, 111] = device[:, 29]
     real[:, 112:133] = device[:, 30:51]
     real[:, 133] = rows[:n, layout.task_at + 1]
+    real[:, 134] = rows[:n, layout.task_at + 2]
     return real
 
 

@@ -122,8 +122,14 @@ class RecordedSession:
         it; the store is closed on leaving."""
         with _open_store(self.config) as store:
             if store is not None:
+                driving = self._driving
                 self.recorder = Recorder(
-                    store, self.runner, self._driving.operator_input, media=self._media()
+                    store,
+                    self.runner,
+                    driving.operator_input,
+                    media=self._media(),
+                    driver=driving.name,
+                    intervention=driving.intervention,
                 )
             yield self
 

@@ -126,8 +126,15 @@ class Recorder:
         runner: SessionRunner,
         operator_input: InputSource | None = None,
         media: MediaRecorder | None = None,
+        *,
+        driver: str = "person",
+        intervention: Callable[[], bool] | None = None,
     ) -> None:
+        """``driver``: who drives, as each trial records it; ``intervention``: whether a
+        person who took over from it drives now (None: never)."""
         self.store = store
+        self.driver = driver
+        self._intervention = intervention
         self.runner = runner
         self.config = runner.config
         self.thresholds = metric_thresholds(self.config)
@@ -185,6 +192,7 @@ class Recorder:
             step_wall_ms=runner.last_step_wall_s * 1000.0,
             stage=self._stage_index.get(runner.stage, -1),
             progress=runner.progress,
+            intervention=float(self._intervention is not None and self._intervention()),
         )
         self._sampled_step = runner.sim.world.physics_steps
         if self.media is not None:
@@ -255,6 +263,7 @@ class Recorder:
             task=self.config.task.kind,
             world=None if named == CUSTOM else named,
             goal=dict(zip(task.goal_names, goal, strict=True)),
+            driver=self.driver,
         )
         self._trial_id = self.store.start_trial(self.session_id, start)
         self._trial_index = event.trial_index

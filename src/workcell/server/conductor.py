@@ -253,6 +253,22 @@ class Conductor:
         else:
             self.session.request_action(message.action, message.source)
 
+    def drive(self, client: Client, message: m.TakeOver | m.HandBack) -> None:
+        """The person takes control from the session's driver or hands it back."""
+        if client is not self.operator:
+            client.refuse("not_allowed", f"{message.type}: only the operator drives")
+        elif self.session is None:
+            client.refuse("not_allowed", f"{message.type}: no session is running")
+        elif self.session.args.config.driver == "person":
+            client.refuse(
+                "not_allowed",
+                f"{message.type}: this session's driver is the person (driver = person); "
+                "only a session driven by expert or policy:PATH can be taken over",
+            )
+        else:
+            person = isinstance(message, m.TakeOver)
+            self.session.request_driving(person, message.reason.strip())
+
     def frame_stats(self, client: Client, message: m.FrameStats) -> None:
         """The operator's drawing figures go into the record; a spectator's are not asked
         for and are ignored, as are reports while no session runs."""

@@ -19,9 +19,11 @@ from pathlib import Path
 from typing import Protocol
 
 from workcell.errors import WorkcellError
+from workcell.intervene.driver import live_driver
+from workcell.intervene.operator import InterveningOperator
+from workcell.intervene.switch import switch
 from workcell.protocol.codec import encode
 from workcell.protocol.messages import FrameStats, Scene, SessionEnded
-from workcell.recording.drivers import TeleopDriver
 from workcell.recording.recorded_session import RealTime, RecordedSession, RecordedSessionConfig
 from workcell.server.scene import describe
 from workcell.server.state_message import StateBuilder, event_message
@@ -70,7 +72,7 @@ class LiveSession:
         """The session as it runs: at the control rate a person drives at."""
         self.recorded = RecordedSessionConfig(
             session=self.config,
-            driver=TeleopDriver(),
+            driver=live_driver(self.config),
             store=store_path,
             key_file=key_file,
             real_time=RealTime(max_catch_up_s),
@@ -107,6 +109,18 @@ class LiveSession:
 
         self._requests.append(apply)
 
+    def request_driving(self, person: bool, reason: str = "") -> None:
+        """The person takes control from the session's driver (``person``) or hands it
+        back, at the next control period (from any thread); nothing happens in a session
+        the person drives anyway, or when it is so already."""
+
+        def apply(runner: SessionRunner) -> None:
+            session = self._session
+            if session is not None and isinstance(session.operator, InterveningOperator):
+                switch(session.operator, runner, person, self.config.operator_id, reason)
+
+        self._requests.append(apply)
+
     def report_frames(self, stats: FrameStats) -> None:
         """Record how the operator's browser draws, at the next control period (from any
         thread)."""
@@ -140,8 +154,12 @@ class LiveSession:
     @property
     def operator(self) -> TeleopOperator:
         """The operator the client's inputs go to (once :meth:`start` has returned)."""
-        assert self._session is not None and isinstance(self._session.operator, TeleopOperator)
-        return self._session.operator
+        assert self._session is not None
+        operator = self._session.operator
+        if isinstance(operator, InterveningOperator):
+            return operator.person
+        assert isinstance(operator, TeleopOperator)
+        return operator
 
     @property
     def pacing(self) -> PacingStats:
@@ -228,7 +246,12 @@ class LiveSession:
         a new input (the operator sees its input applied at once), else at ``state_hz``
         on the sim clock; never faster than the control rate."""
         operator = self.operator
-        states = StateBuilder(session.runner, operator)
+        intervening = session.operator
+        states = StateBuilder(
+            session.runner,
+            operator,
+            intervening if isinstance(intervening, InterveningOperator) else None,
+        )
         dt = session.sim.control_dt
         next_state: float | None = None  # None: the first period's State is due
         shown_input = operator.applied_seq

@@ -4,6 +4,7 @@ sends up it. The same body runs in a session's process and in a session's Ray ac
 
 The pipe carries tuples. From the server: ``("input", Input)``, ``("new_link",)``,
 ``("act", action, source)``, ``("frames", FrameStats)``, ``("pause", paused)``,
+``("drive", person, reason)`` (take over or hand back),
 ``("stop", reason, note)``. From the
 child: first ``("ready", session_id, scene)`` or ``("failed", message)``, then
 ``("state", text, pacing)`` (the pacing counters as a tuple: ``pacing_values``),
@@ -93,12 +94,12 @@ def run_child(conn: Connection, args: SessionArgs) -> threading.Thread | None:
     root = logging.getLogger()
     root.handlers[:] = [_PipeLogHandler(listener)]
     root.setLevel(logging.INFO)
-    live = LiveSession(
-        args.config, args.store_path, listener, args.state_hz, args.max_catch_up_s,
-        key_file=args.key_file,
-    )  # fmt: skip
-    listener.live = live
-    try:
+    try:  # a driver that cannot be built (a policy not found) refuses the start too
+        live = LiveSession(
+            args.config, args.store_path, listener, args.state_hz, args.max_catch_up_s,
+            key_file=args.key_file,
+        )  # fmt: skip
+        listener.live = live
         live.start()
     except BaseException as error:  # told to the server, which refuses the start
         message = str(error) if isinstance(error, WorkcellError) else f"the server failed: {error}"
@@ -130,6 +131,8 @@ def _obey(conn: Connection, live: LiveSession) -> None:
             live.request_action(body[0], body[1])
         elif kind == "frames":
             live.report_frames(body[0])
+        elif kind == "drive":
+            live.request_driving(body[0], body[1])
         elif kind == "pause":
             live.request_pause(body[0])
         elif kind == "stop":

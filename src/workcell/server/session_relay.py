@@ -177,6 +177,9 @@ class RelayedSession(ABC):
     def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
         self._send(("act", action, source))
 
+    def request_driving(self, person: bool, reason: str = "") -> None:
+        self._send(("drive", person, reason))
+
     def report_frames(self, stats: FrameStats) -> None:
         self._send(("frames", stats))
 

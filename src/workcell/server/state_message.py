@@ -9,6 +9,7 @@ import mujoco
 import numpy as np
 
 from workcell.control.command import ArmCommand
+from workcell.intervene.operator import InterveningOperator
 from workcell.protocol.messages import Pose, State
 from workcell.server.scene import DIGITS, PoseReader
 from workcell.sim.joints import SIDES
@@ -44,9 +45,17 @@ def _world_pose(world: World, base_pose: Pose) -> Pose:
 class StateBuilder:
     """Builds :class:`State` messages for one running session."""
 
-    def __init__(self, runner: SessionRunner, operator: TeleopOperator) -> None:
+    def __init__(
+        self,
+        runner: SessionRunner,
+        operator: TeleopOperator,
+        intervening: InterveningOperator | None = None,
+    ) -> None:
         self.runner = runner
         self.operator = operator
+        self.intervening = intervening
+        """The session's operator when an autonomous driver drives it (the HUD says who
+        drives now)."""
         model = runner.sim.world.model
         self.reader = PoseReader(model)
         self.seq = 0
@@ -65,6 +74,15 @@ class StateBuilder:
         w, qx, qy, qz = (round(v, DIGITS) for v in self._quat.tolist())
         return (x, y, z, w, qx, qy, qz)
 
+    def _hud(self) -> Hud:
+        hud = self.runner.hud()
+        intervening = self.intervening
+        if intervening is None:
+            return hud
+        return dataclasses.replace(
+            hud, driver=intervening.driver_name, taken_over=intervening.person_drives
+        )
+
     def build(self) -> State:
         runner = self.runner
         world = runner.sim.world
@@ -74,7 +92,7 @@ class StateBuilder:
             seq=self.seq,
             t_sim=round(runner.trial_time, 6),
             poses=self.reader.poses(world.data),
-            hud=hud_message(runner.hud()),
+            hud=hud_message(self._hud()),
             input_seq=self.operator.applied_seq,
             tcp_targets=(self._target("l", command.left), self._target("r", command.right)),
             following=(command.left.follow, command.right.follow),

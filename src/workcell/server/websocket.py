@@ -16,7 +16,7 @@ import asyncio
 import contextlib
 import time
 from collections.abc import Coroutine
-from typing import Any
+from typing import Any, assert_never
 
 from starlette.websockets import WebSocket, WebSocketDisconnect
 
@@ -121,6 +121,10 @@ async def _handle(
         conductor.pause(client, message)
     elif isinstance(message, m.Act):
         conductor.act(client, message)
+    elif isinstance(message, m.TakeOver | m.HandBack):
+        conductor.drive(client, message)
     elif isinstance(message, m.FrameStats):
         conductor.frame_stats(client, message)
+    else:
+        assert_never(message)
     return None

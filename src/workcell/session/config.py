@@ -22,6 +22,8 @@ MODES: tuple[str, ...] = get_args(Mode)
 PoseFilterKind = Literal["one_euro", "off"]
 TASK_KIND_PATTERN = r"[a-z][a-z0-9_]{0,63}|[A-Za-z_][\w.]{0,199}:[A-Za-z_]\w{0,99}"
 """A built-in task's name, or ``module:Class`` (:mod:`workcell.tasks.registry`)."""
+DRIVER_PATTERN = r"person|expert|policy:\S.{0,999}"
+"""Who drives a live session: ``person``, ``expert`` or ``policy:PATH``."""
 
 
 def _raise_if(problems: list[str]) -> None:
@@ -222,6 +224,15 @@ class SessionConfig:
         "workcell audit --by condition compares conditions",
         pattern=r"[\w.-]{0,64}",
         pattern_doc="up to 64 letters, digits, '.', '_' or '-'",
+    )
+    driver: str = setting(
+        "person",
+        "who drives a live session: person (the operator at the browser or headset), expert "
+        "(the task's scripted expert) or policy:PATH (a trained policy's checkpoint); with "
+        "expert or a policy the person watches and may take over and hand back "
+        "(docs/intervention.md); workcell collect's --operator decides there",
+        pattern=DRIVER_PATTERN,
+        pattern_doc="person, expert or policy:PATH (PATH a trained policy's folder)",
     )
     consent: str = setting(
         "",

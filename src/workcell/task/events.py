@@ -233,6 +233,36 @@ class ClientFrames(FrameFigures):
 
 
 @dataclass(frozen=True)
+class TookOver:
+    """The person (``operator_id``) took control from the session's autonomous
+    ``driver`` (``expert`` or ``policy:<id>``), for ``reason`` (their words, possibly
+    empty): the frames after it are corrections (``intervention`` 1) until
+    :class:`HandedBack`."""
+
+    trial_index: int
+    t_sim: float
+    operator_id: str
+    driver: str
+    reason: str
+    kind: Literal["take_over"] = "take_over"
+    type: Literal["event"] = "event"
+
+
+@dataclass(frozen=True)
+class HandedBack:
+    """The person (``operator_id``) gave control back to ``driver``, which goes on from
+    the state it finds; ``reason`` their words, possibly empty."""
+
+    trial_index: int
+    t_sim: float
+    operator_id: str
+    driver: str
+    reason: str
+    kind: Literal["hand_back"] = "hand_back"
+    type: Literal["event"] = "event"
+
+
+@dataclass(frozen=True)
 class TrialEnded:
     """A trial is over: its outcome, time, deliveries and score."""
 
@@ -262,6 +292,8 @@ TaskEvent = (
     | StopRequested
     | Paused
     | Resumed
+    | TookOver
+    | HandedBack
 )
 TASK_EVENTS: tuple[type[TaskEvent], ...] = get_args(TaskEvent)
 

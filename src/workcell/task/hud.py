@@ -49,3 +49,9 @@ class Hud:
     """What the trial asks, in one sentence: its task's
     :meth:`~workcell.tasks.task.Task.trial_instruction` (the shelf shelve asks for, say),
     the sentence every exported episode carries; empty before the first trial."""
+    driver: str = "person"
+    """Who drives the session (its ``driver`` setting): ``person``, ``expert`` or
+    ``policy:<id>``."""
+    taken_over: bool = False
+    """The person has taken control from an autonomous ``driver`` (until they hand it
+    back); always False when the driver is the person."""

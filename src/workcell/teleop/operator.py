@@ -63,6 +63,8 @@ class TeleopOperator:
         self._heading = heading_source
         """Slows the base before fixed obstacles (None: the sticks' twist as it is)."""
         self._tcp_source = tcp_source
+        self.tcp_source = tcp_source
+        """Where an arm's TCP target is now (base frame)."""
         self._clock = clock
         self._lock = threading.Lock()
         self._latest: Input | None = None

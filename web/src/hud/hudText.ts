@@ -17,6 +17,7 @@ export function clock(seconds: number): string {
 
 export function hudLines(hud: Hud): HudLine[] {
   const lines: HudLine[] = [{ label: "Mode", value: hud.mode }];
+  if (hud.driver !== "person") lines.push(drivingLine(hud));
   if (hud.mode === "challenge") {
     const rounds = hud.rounds !== null ? `/${hud.rounds}` : "";
     lines.push({ label: "Round", value: `${hud.round ?? "-"}${rounds}` });
@@ -39,6 +40,14 @@ export function hudLines(hud: Hud): HudLine[] {
   lines.push({ label: "Score", value: String(hud.score) });
   if (hud.phase === "running") lines.push({ label: "Time bonus", value: `+${hud.time_bonus} on success` });
   return lines;
+}
+
+/** Who drives a session an autonomous driver runs: the driver, or the person who took
+ * over from it. */
+export function drivingLine(hud: Hud): HudLine {
+  return hud.taken_over
+    ? { label: "Driving", value: `you (took over from ${hud.driver})`, alert: true }
+    : { label: "Driving", value: `${hud.driver} (take over: T, both grips, menu)` };
 }
 
 type Interruption = NonNullable<TrialEnded["interruption_reason"]>;

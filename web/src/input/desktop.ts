@@ -24,6 +24,7 @@ export const KEY_MAP: readonly { keys: string; action: string }[] = [
   { keys: "right drag", action: "look around (the robot's head follows)" },
   { keys: "C", action: "first / third person view" },
   { keys: "P", action: "pause / resume the trial (its clock stops)" },
+  { keys: "T", action: "take over from the expert or policy driving / hand back" },
   { keys: "Esc", action: "release everything" },
 ];
 
@@ -70,6 +71,8 @@ export class DesktopInput {
   viewToggleRequested = false;
   /** P was pressed: the page pauses or resumes the trial. */
   pauseToggleRequested = false;
+  /** T was pressed: the page takes over from the session's driver or hands back. */
+  driveToggleRequested = false;
   /** Wheel turned without a grip held (the page zooms the camera). */
   onZoom: ((delta: number) => void) | null = null;
   private readonly cleanup: (() => void)[] = [];
@@ -213,6 +216,9 @@ export class DesktopInput {
         break;
       case "KeyP":
         this.pauseToggleRequested = true;
+        break;
+      case "KeyT":
+        this.driveToggleRequested = true;
         break;
       case "Escape":
         this.latchedGrip = false;

@@ -147,6 +147,8 @@ export class ClientModel {
       case "operator_action":
       case "stop_requested":
       case "client_frames": // recorded only; the server does not send it
+      case "take_over": // who drives: each State's HUD says (taken_over)
+      case "hand_back":
         break;
       default:
         unhandled(event);

@@ -29,6 +29,7 @@ import { exposeCapture, exposeExtra } from "../debug";
 import { el } from "../util/dom";
 import { describeReport } from "../scene/frameMeter";
 import { SnapTurn } from "../xr/snapTurn";
+import { drivingLabel, GripHold } from "../xr/gripHold";
 import { snapTurnRequested } from "../util/env";
 import type { TurnMode } from "../xr/snapTurn";
 
@@ -87,6 +88,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const vignette = new Vignette();
   let turnMode: TurnMode = snapTurnRequested() ? "snap" : "smooth";
   const snapTurn = new SnapTurn();
+  const gripHold = new GripHold();
   viewer.camera.add(vignette.mesh);
   const baseMotion = new BaseMotionMeter();
   let hudMode: HudMode = "wrist";
@@ -215,6 +217,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     } else if (item === "toggle_view") toggleView("xr_menu");
     else if (item === "toggle_turn") toggleTurn("xr_menu");
     else if (item === "pause") controls.togglePause();
+    else if (item === "take_over") app.toggleDriving();
     else if (item === "stop_session" && controls.chooseStopInVr()) menu.state.reopen();
   };
 
@@ -259,6 +262,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
         stickY: raw.right.stick[1],
       });
       if (chosen !== null) choose(chosen, raw.headset);
+      // Both grips squeezed for a moment while the driver drives: the person takes over.
+      if (gripHold.update(raw.left.grip, raw.right.grip, time / 1000, app.autonomous && app.hud?.taken_over === false && !menu.state.open)) {
+        app.setDriving(true);
+      }
       const menuOpen = menu.state.open;
       if (!menuOpen) controls.stopArmed = false; // closing the menu cancels a stop
       if (menuOpen || chosen !== null) {
@@ -304,7 +311,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (menuOpen) {
         const views = viewer.viewMode === "first" ? "Third person" : "First person";
         const turns = turnMode === "snap" ? "Smooth turning" : "Snap turning";
-        menu.draw(views, turns, app.paused ? "Resume" : "Pause", controls.stopArmed ? "Confirm stop" : "Stop session");
+        menu.draw(views, turns, app.paused ? "Resume" : "Pause", controls.stopArmed ? "Confirm stop" : "Stop session", drivingLabel(app.hud));
         // in front of where the operator looks now (raw local-floor, as the rig's children)
         const gaze = raw.headset === null ? 0 : headingOf(raw.headset);
         menu.mesh.position.set(rawEyes.x - 0.6 * Math.sin(gaze), rawEyes.y - 0.1, rawEyes.z - 0.6 * Math.cos(gaze));
@@ -327,6 +334,10 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (desktop.pauseToggleRequested) {
         desktop.pauseToggleRequested = false;
         controls.togglePause();
+      }
+      if (desktop.driveToggleRequested) {
+        desktop.driveToggleRequested = false;
+        app.toggleDriving();
       }
     }
     lastFrame = reading;

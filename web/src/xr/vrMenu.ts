@@ -5,13 +5,22 @@
 
 import * as THREE from "three";
 
-export type MenuItem = "restart_trial" | "recenter_view" | "toggle_view" | "toggle_turn" | "pause" | "stop_session" | "close";
+export type MenuItem =
+  | "restart_trial"
+  | "recenter_view"
+  | "toggle_view"
+  | "toggle_turn"
+  | "pause"
+  | "take_over"
+  | "stop_session"
+  | "close";
 export const MENU_ITEMS: readonly MenuItem[] = [
   "restart_trial",
   "recenter_view",
   "toggle_view",
   "toggle_turn",
   "pause",
+  "take_over",
   "stop_session",
   "close",
 ];
@@ -22,6 +31,7 @@ const LABELS: Record<MenuItem, string> = {
   toggle_view: "Switch view",
   toggle_turn: "Switch turning",
   pause: "Pause",
+  take_over: "Take over",
   stop_session: "Stop session",
   close: "Close menu",
 };
@@ -103,8 +113,14 @@ export class VrMenu {
 
   /** Draw the items with the highlight (only when something changed); the toggles are
    * labelled with what choosing them switches to. */
-  draw(viewLabel: string, turnLabel = LABELS.toggle_turn, pauseLabel = LABELS.pause, stopLabel = LABELS.stop_session): void {
-    const key = `${this.state.index}|${viewLabel}|${turnLabel}|${pauseLabel}|${stopLabel}`;
+  draw(
+    viewLabel: string,
+    turnLabel = LABELS.toggle_turn,
+    pauseLabel = LABELS.pause,
+    stopLabel = LABELS.stop_session,
+    driveLabel = LABELS.take_over,
+  ): void {
+    const key = `${this.state.index}|${viewLabel}|${turnLabel}|${pauseLabel}|${stopLabel}|${driveLabel}`;
     if (key === this.drawn) return;
     this.drawn = key;
     const c = this.context;
@@ -127,6 +143,7 @@ export class VrMenu {
         toggle_view: viewLabel,
         toggle_turn: turnLabel,
         pause: pauseLabel,
+        take_over: driveLabel,
         stop_session: stopLabel,
       };
       const label = labels[item] ?? LABELS[item];

@@ -18,12 +18,14 @@ export interface StartOptions {
   artifacts?: string;
   mode?: "practice" | "collection" | "challenge";
   task?: string;
+  /** Further settings typed into the form (by their dotted names), after the tests' own. */
+  settings?: Record<string, string>;
 }
 
 export async function startSession(
   page: Page,
   url: string,
-  { operatorId, query = {}, artifacts, mode = "practice", task = "box_transfer" }: StartOptions,
+  { operatorId, query = {}, artifacts, mode = "practice", task = "box_transfer", settings = {} }: StartOptions,
 ): Promise<DebugSnapshot> {
   await page.goto(pageUrl(url, query));
   await waitFor(page, (s) => s.link.status === "open" && s.role === "operator" && s.scene_bodies > 0, {
@@ -67,7 +69,7 @@ export async function startSession(
 
   await page.click(`.mode-choice[data-mode="${mode}"]`);
   await page.fill('input[name="operator_id"]', operatorId);
-  for (const [key, value] of Object.entries(TEST_SETTINGS)) await page.fill(`[name="${key}"]`, value);
+  for (const [key, value] of Object.entries({ ...TEST_SETTINGS, ...settings })) await page.fill(`[name="${key}"]`, value);
   if (artifacts !== undefined) await screenshotStats(page, path.join(artifacts, "setup.png"));
   await page.click("button.start");
   const s = await waitFor(page, (s) => s.session_active && s.page === "#/teleop" && s.state !== null, {

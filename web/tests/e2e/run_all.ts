@@ -7,7 +7,7 @@ import { fileURLToPath } from "node:url";
 
 const here = path.dirname(fileURLToPath(import.meta.url));
 const url = process.argv[2] ?? process.env.WORKCELL_URL ?? "http://127.0.0.1:8000";
-const scripts = ["xr_delivery", "xr_task", "xr_shelve", "desktop_delivery", "sessions_replay", "xr_exit_toolbar", "xr_menu", "xr_hands", "first_screen"];
+const scripts = ["xr_delivery", "xr_task", "xr_shelve", "desktop_delivery", "sessions_replay", "xr_exit_toolbar", "xr_menu", "xr_hands", "first_screen", "take_over_desktop", "xr_take_over"];
 let failed = 0;
 for (const name of scripts) {
   console.log(`--- ${name}`);

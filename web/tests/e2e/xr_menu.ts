@@ -44,7 +44,7 @@ function baseYaw(): number {
   return Math.atan2(2 * (w * z + x * y), 1 - 2 * (y * y + z * z));
 }
 
-const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "pause", "stop_session", "close"];
+const ITEMS = ["restart_trial", "recenter_view", "toggle_view", "toggle_turn", "pause", "take_over", "stop_session", "close"];
 
 await runScript("xr_menu", async ({ url, page, artifacts }) => {
   await startSession(page, url, { operatorId: "e2e-xr-menu", query: { emulate: "quest3" }, artifacts });

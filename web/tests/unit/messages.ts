@@ -18,6 +18,8 @@ export const hud = (over: Partial<Hud> = {}): Hud => ({
   task: "box_transfer",
   stage: "none",
   time_bonus: 100,
+  driver: "person",
+  taken_over: false,
   instruction: "Carry the box from the conveyor to the delivery table.",
   ...over,
 });

@@ -15,6 +15,7 @@ from numpy.typing import NDArray
 
 from workcell.control.command import ArmCommand, BaseTwist, Command
 from workcell.expert.grasp_geometry import PalmTargets, palm_targets
+from workcell.expert.hands import measured_palms
 from workcell.expert.phase import ExpertPhase
 from workcell.expert.skill import ExpertConfig, SkillProfile
 from workcell.sim.boxes import BoxSlot, BoxState
@@ -94,6 +95,19 @@ class ExpertOperator:
             ExpertPhase.BACKOFF: self._backoff,
         }[self.phase]
         return self._command(world, handler(world))
+
+    def resume(self, world: World, command: Command) -> None:
+        """Go on from the world as someone else left it (a person who took over handed
+        back): carry a box the hands hold to where it goes, else back off and wait for the
+        next box. The palms start where the hands are, so the arms do not jump."""
+        self._pause_until = 0.0
+        self._noticed_at = None
+        self._grasp_attempts = 0
+        self._palms = measured_palms(world)
+        self._box = world.grasp.holding
+        self._close = 1.0 if self._box is not None else 0.0
+        self._waypoints = [] if self._box is None else self._carry_route(world)
+        self._enter(world, ExpertPhase.BACKOFF if self._box is None else ExpertPhase.CARRY)
 
     def placement(self, world: World, box: BoxSlot) -> Placement:
         """Where ``box`` is set down: the delivery zone's centre, at the height a box rests
