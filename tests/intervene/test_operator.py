@@ -11,12 +11,12 @@ import numpy as np
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
-from workcell.expert.operator import ExpertOperator
 from workcell.expert.phase import ExpertPhase
 from workcell.intervene.operator import GRIPPER_CATCH, InterveningOperator
 from workcell.protocol.messages import ControllerState, Input
 from workcell.recording.drivers import ExpertDriver, InterveningDriver
 from workcell.session.config import SessionConfig
+from workcell.tasks.elements.expert import ExpertOperator
 from workcell.tasks.registry import load_task
 
 
