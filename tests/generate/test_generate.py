@@ -130,7 +130,12 @@ def test_attempts_are_recorded_with_operator_provenance_and_verdicts(
     assert accepted, stdout
     for payload in accepted:
         assert payload["outcome"] == "success" and payload["reason"] is None
-        assert payload["recheck"] == {"seconds": 1.0, "held": True, "reason": None}
+        assert payload["recheck"] == {
+            "seconds": 1.0,
+            "settle_s": 0.25,
+            "held": True,
+            "reason": None,
+        }
         stages = [s["end_stage"] for s in payload["segments"]]
         assert stages[-1] == "delivered"
         assert {s["reference"] for s in payload["segments"]} == {"box", "goal"}

@@ -66,3 +66,44 @@ def test_a_trial_without_its_tasks_stages_is_refused() -> None:
         segment(source(["None"] * 10), BOX_TRANSFER_REFERENCES)
     with pytest.raises(GenerateError, match="knows the stages of box transfer"):
         references_for("palletize", ("none", "touched", "grasped", "placed_1"))
+
+
+def creeping(speeds: np.ndarray) -> SourceTrial:
+    """:func:`source` whose box, after the belt, slides on at ``speeds`` (one per frame
+    from frame 41), its x integrated from them, as recorded frame to frame."""
+    stages = ["none"] * 100 + ["grasped"] * 5
+    trial = source(stages)
+    box = trial.box_pose.copy()
+    box[41:, 3] = speeds[: len(box) - 41]
+    box[41:, 0] = box[40, 0] + np.cumsum(box[41:, 3]) / RATE_HZ
+    return SourceTrial(**{**trial.__dict__, "operator_id": "teleop", "box_pose": box})
+
+
+def test_a_box_taken_while_it_still_creeps_is_moved_from_where_the_hands_met_it() -> None:
+    # a person's operator (bench/teleop_sources.py) takes the box as it creeps off the belt
+    # at a few cm/s, its frame-to-frame speed above and below the rest speed by turns
+    speeds = np.where(np.arange(64) % 2 == 0, 0.07, 0.04)
+    trial = creeping(speeds)
+    (first, _) = segment(trial, BOX_TRANSFER_REFERENCES)
+    # never at rest for 0.5 s; below 0.1 m/s on average over frames 37 to 47 (3 frames at
+    # 0.2 m/s, 7 at 0.055): replayed from there, moved from the box's pose at the grasp
+    assert first.waits_for_rest and first.anchor == 47
+    assert first.pose.x == pytest.approx(trial.box_pose[100, 0])
+
+
+def test_a_box_that_never_slows_down_is_refused() -> None:
+    with pytest.raises(GenerateError, match="never rested before stage grasped"):
+        segment(creeping(np.full(64, 0.12)), BOX_TRANSFER_REFERENCES)
+
+
+def test_a_box_moving_in_the_hands_from_the_grasp_on_is_not_waited_for() -> None:
+    # a person's squeeze moves the box as it closes: the segment on the same box after
+    # the grasp carries on from its start, as the operator replays it (unjoined)
+    stages = ["none"] * 80 + ["grasped"] * 5 + ["lifted"] * 30 + ["over_zone"] * 5
+    trial = source(stages)
+    box = trial.box_pose.copy()
+    box[80:, 3] = 0.3
+    moving = SourceTrial(**{**trial.__dict__, "box_pose": box})
+    first, second, *_ = segment(moving, BOX_TRANSFER_REFERENCES)
+    assert first.waits_for_rest and first.anchor == 51
+    assert (second.start, second.anchor, second.waits_for_rest) == (80, 80, False)
