@@ -98,7 +98,7 @@ def plan(episodes: dict[int, NDArray[np.bool_]], weight: int, source: str) -> Co
 def read_frames(dataset: Path) -> tuple[dict[str, Any], Any]:
     """The dataset's info.json and its frames (a pandas DataFrame, in index order)."""
     try:
-        import pandas as pd  # noqa: PLC0415
+        import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # noqa: PLC0415
     except ImportError:
         raise MissingLearnExtraError("pandas") from None
     info = json.loads((dataset / "meta" / "info.json").read_text())
@@ -154,7 +154,7 @@ def aggregate(dataset: Path, out: Path, weight: int) -> CorrectionPlan:
 
 
 def _tasks(dataset: Path) -> dict[int, str]:
-    import pandas as pd  # noqa: PLC0415
+    import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # noqa: PLC0415
 
     table = pd.read_parquet(dataset / "meta" / "tasks.parquet")
     return {int(i): str(name) for name, i in zip(table.index, table["task_index"], strict=True)}
