@@ -75,6 +75,17 @@ def register(subparsers: Subparsers) -> None:
         "the newest kept)",
     )
     parser.add_argument(
+        "--correction-weight",
+        type=int,
+        metavar="K",
+        help="train on demonstrations plus corrections, as HG-DAgger aggregates them: an "
+        "episode with corrected frames (intervention = true) contributes only its corrected "
+        "stretches, each repeated K times (LeRobot has no per-sample weights, so repetition "
+        "is the weight; 1: counted once), every other episode is kept whole; the dataset "
+        "trained on is written to OUT-dataset, beside OUT (state-only exports; default: "
+        "every frame of every episode, as exported)",
+    )
+    parser.add_argument(
         "--lerobot",
         action="append",
         default=[],
@@ -111,8 +122,11 @@ def run(args: argparse.Namespace) -> int:
     )
     from workcell.learn.train_options import TrainOptions  # noqa: PLC0415
 
+    dataset = args.dataset
+    if args.correction_weight is not None:
+        dataset = _with_corrections(args.dataset, args.out, args.correction_weight)
     options = TrainOptions(
-        dataset=args.dataset,
+        dataset=dataset,
         out=args.out,
         policy=args.policy,
         steps=args.steps,
@@ -141,6 +155,24 @@ def run(args: argparse.Namespace) -> int:
     for line in evaluation_hint(args.dataset, options.out):
         print(line)
     return 0
+
+
+def _with_corrections(dataset: Path, out: Path, weight: int) -> Path:
+    from workcell.learn.corrections import aggregate, aggregated_path, check_weight  # noqa: PLC0415
+    from workcell.learn.train import check_dataset  # noqa: PLC0415
+
+    check_weight(weight)
+    check_dataset(dataset)
+    built = aggregated_path(out)
+    plan = aggregate(dataset, built, weight)
+    stretches = sum(1 for s in plan.stretches if s.corrected) // weight
+    print(
+        f"demonstrations plus corrections: {plan.demonstration_frames} demonstration frames, "
+        f"{stretches} corrected stretch(es) x {weight} = {plan.corrected_frames} frames; "
+        f"written to {built}",
+        flush=True,
+    )
+    return built
 
 
 def evaluation_seed(dataset: Path) -> int:
