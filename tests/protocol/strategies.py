@@ -11,7 +11,7 @@ from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 
 from hypothesis import strategies as st
 
-from workcell.protocol import messages as m
+from workcell.protocol.scene import Pose
 from workcell.protocol.validation import MAX_TEXT, POSITION_LIMIT_M, RANGES
 
 finite = st.floats(allow_nan=False, allow_infinity=False)
@@ -53,7 +53,7 @@ poses = st.tuples(*[st.floats(-POSITION_LIMIT_M, POSITION_LIMIT_M)] * 3, quatern
 
 
 def for_hint(hint: Any, bounds: tuple[float, float] | None = None, max_text: int = 64) -> Any:
-    if hint == m.Pose:
+    if hint == Pose:
         return poses
     if hint is bool:
         return st.booleans()

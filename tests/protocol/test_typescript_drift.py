@@ -7,6 +7,7 @@ from pathlib import Path
 from typing import get_args, get_type_hints
 
 from workcell.protocol import messages as m
+from workcell.protocol.scene import Pose
 from workcell.protocol.typescript import OUTPUT, REGENERATE, generate, main, ts_type
 from workcell.session.config import Mode
 from workcell.task import events as ev
@@ -29,12 +30,12 @@ def test_check_mode_reports_a_stale_file(tmp_path: Path) -> None:
 
 
 def test_type_spelling() -> None:
-    assert ts_type(m.Pose) == "Pose"
+    assert ts_type(Pose) == "Pose"
     assert ts_type(tuple[float, float]) == "readonly [number, number]"
-    assert ts_type(m.Pose | None) == "Pose | null"
-    assert ts_type(tuple[m.Pose, ...]) == "readonly Pose[]"
+    assert ts_type(Pose | None) == "Pose | null"
+    assert ts_type(tuple[Pose, ...]) == "readonly Pose[]"
     assert ts_type(tuple[str | None, ...]) == "readonly (string | null)[]"
-    assert ts_type(tuple[tuple[m.Pose, ...], ...]) == "readonly (readonly Pose[])[]"
+    assert ts_type(tuple[tuple[Pose, ...], ...]) == "readonly (readonly Pose[])[]"
     assert ts_type(dict[str, object]) == "{ readonly [key: string]: unknown }"
 
 

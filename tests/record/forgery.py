@@ -14,7 +14,8 @@ import numpy as np
 from workcell.record import chain, chain_tip, lifecycle, rowio
 from workcell.record.chain import ChainKey
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
-from workcell.record.schema import ANNOTATIONS, CHECKSUM, EVENTS, FRAMES, SESSIONS, TRIALS, quote
+from workcell.record.layout import CHECKSUM
+from workcell.record.schema import ANNOTATIONS, EVENTS, FRAMES, SESSIONS, TRIALS, quote
 
 
 @contextlib.contextmanager

@@ -15,7 +15,8 @@ from workcell.record.columns import (
     TRIAL_DRIVER_COLUMNS,
     TRIAL_TASK_COLUMNS,
 )
-from workcell.record.schema import FRAMES, TRIALS, TableLayout
+from workcell.record.layout import TableLayout
+from workcell.record.schema import FRAMES, TRIALS
 
 
 def _one(**changes: object) -> str:

@@ -28,7 +28,8 @@ from workcell.record.columns import (
 )
 from workcell.record.csv_format import FILES, file_sha256
 from workcell.record.export_csv import columns_equal, export_csv, read_csv_export
-from workcell.record.schema import SCHEMA_VERSION, TableLayout, column_list
+from workcell.record.layout import TableLayout
+from workcell.record.schema import SCHEMA_VERSION, column_list
 from workcell.record.verify import verify_export
 from workcell.sim.joints import JOINT_ORDER
 

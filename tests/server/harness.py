@@ -20,6 +20,7 @@ from websockets.asyncio.client import ClientConnection, connect
 
 from workcell.protocol import messages as m
 from workcell.protocol.codec import decode_server, encode
+from workcell.protocol.scene import Pose
 from workcell.server.app import create_app
 from workcell.server.conductor import Conductor
 from workcell.server.http_config import uvicorn_config
@@ -163,7 +164,7 @@ class Client:
         self,
         left: m.ControllerState | None = None,
         right: m.ControllerState | None = None,
-        headset: m.Pose | None = None,
+        headset: Pose | None = None,
     ) -> int:
         self.seq += 1
         await self.send(
@@ -180,7 +181,7 @@ class Client:
 
 
 def hand(
-    pose: m.Pose | None = (0.0, 1.0, -0.3, 1.0, 0.0, 0.0, 0.0),
+    pose: Pose | None = (0.0, 1.0, -0.3, 1.0, 0.0, 0.0, 0.0),
     grip: float = 0.0,
     trigger: float = 0.0,
     stick: tuple[float, float] = (0.0, 0.0),

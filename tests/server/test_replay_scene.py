@@ -11,7 +11,7 @@ import pytest
 
 from workcell.cli.main import main
 from workcell.control.simulation import Simulation
-from workcell.protocol.messages import BodyDescription
+from workcell.protocol.scene import BodyDescription
 from workcell.record.store import Store
 from workcell.server.replay import _config, trial_replay
 from workcell.server.scene import describe

@@ -14,6 +14,7 @@ import pytest
 from tests.server.harness import FAST_SETTINGS, client, hand, running_server
 from workcell.protocol import messages as m
 from workcell.record.store import Store
+from workcell.server.conductor import LINK_DROPPED
 from workcell.task import events as ev
 
 EXPERT: dict[str, Any] = {
@@ -153,5 +154,53 @@ def test_a_policy_driver_that_is_not_there_refuses_the_start_in_one_line(tmp_pat
                 refused = await operator.wait_for(lambda x: isinstance(x, m.Error), 60)
                 assert isinstance(refused, m.Error), refused
                 assert str(missing) in refused.message and "\n" not in refused.message
+
+    asyncio.run(scenario())
+
+
+@pytest.mark.slow
+def test_a_dropped_link_hands_back_and_a_reconnect_does_not_take_over_again(
+    tmp_path: Path,
+) -> None:
+    async def scenario() -> None:
+        with running_server(tmp_path, grace_s=10.0) as server:
+            async with client(server) as spectator:
+                await spectator.hello(role="spectator")
+                async with client(server) as first:
+                    token = (await first.hello()).resume_token
+                    assert token is not None
+                    await first.send(m.StartSession(settings=EXPERT))
+                    await first.wait_for(lambda x: _state(x, False, 1.0), 30.0)
+                    await first.send(m.TakeOver(reason="mine"))
+                    await first.wait_for(lambda x: _state(x, True), 10.0)
+                # the person's connection closed while they drove: the expert takes back over
+                back = await spectator.wait_for(lambda x: isinstance(x, ev.HandedBack), 10.0)
+                assert isinstance(back, ev.HandedBack)
+                assert (back.reason, back.driver) == (LINK_DROPPED, "expert")
+                watching = await spectator.wait_for(lambda x: _state(x, False), 10.0)
+                assert isinstance(watching, m.State) and watching.hud is not None
+                assert watching.hud.driver == "expert"
+                assert server.conductor.session is not None  # within the grace: still running
+                async with client(server) as again:
+                    welcome = await again.hello("operator", token)
+                    assert welcome.role == "operator"  # the seat comes back, not the controls
+                    state = await again.wait_for(lambda x: isinstance(x, m.State), 10.0)
+                    assert isinstance(state, m.State) and state.hud is not None
+                    assert state.hud.taken_over is False
+                    await again.send(m.TakeOver(reason="again"))  # taking over again works
+                    await again.wait_for(lambda x: _state(x, True), 10.0)
+                    await again.send(m.Stop())
+                    ended = await again.wait_for(lambda x: isinstance(x, m.SessionEnded), 30.0)
+                    assert isinstance(ended, m.SessionEnded)
+                    assert ended.reason == "operator_stop"
+        with Store.open(server.options.store, writer=False) as store:
+            (trial,) = store.trials()
+            events = store.events(session_id=trial.session_id)
+        kinds = [
+            (e.kind, e.payload.get("reason"))
+            for e in events
+            if e.kind in ("take_over", "hand_back")
+        ]
+        assert kinds == [("take_over", "mine"), ("hand_back", LINK_DROPPED), ("take_over", "again")]
 
     asyncio.run(scenario())

@@ -10,7 +10,8 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
-from workcell.protocol.messages import Pose, Scene
+from workcell.protocol.messages import Scene
+from workcell.protocol.scene import Pose
 
 SettingKind = Literal["int", "float", "text", "choice", "int_list", "float_list", "bool"]
 

@@ -17,6 +17,7 @@ import math
 from typing import Any, cast, get_args
 
 from workcell.protocol import messages as m
+from workcell.protocol.scene import Pose
 from workcell.protocol.validation import (
     MAX_SAFE_INTEGER,
     POSITION_LIMIT_M,
@@ -93,7 +94,7 @@ def _numbers(value: Any, count: int) -> tuple[float, ...]:
     return tuple(map(float, value))
 
 
-def _pose(value: Any) -> m.Pose:
+def _pose(value: Any) -> Pose:
     """As :func:`~workcell.protocol.validation.unit_pose` makes it, in the same
     arithmetic (its quaternion normalised unless its norm is 1 within 1e-12)."""
     x, y, z, qw, qx, qy, qz = _numbers(value, 7)

@@ -4,7 +4,8 @@ These dataclasses are the single source of truth: the TypeScript types in
 ``web/src/protocol.ts`` are generated from them (``python -m workcell.protocol.typescript``)
 and a test fails when that file is stale. The task's events (:mod:`workcell.task.events`,
 each a message of type ``event`` told apart by ``kind``) and its HUD
-(:mod:`workcell.task.hud`) are sent as they are, so they are declared there, once.
+(:mod:`workcell.task.hud`) are sent as they are, so they are declared there, once. The
+scene's parts are described in :mod:`workcell.protocol.scene`.
 Direction is part of the type: a client can only send a :data:`ClientMessage` and the
 server only sends a :data:`ServerMessage`. Every message is a JSON object with a ``type``
 field naming it.
@@ -19,6 +20,7 @@ from __future__ import annotations
 from dataclasses import dataclass
 from typing import Literal
 
+from workcell.protocol.scene import BodyDescription, MaterialDescription, Pose
 from workcell.session.config import Mode
 from workcell.task.events import (
     TASK_EVENTS,
@@ -34,7 +36,6 @@ PROTOCOL_VERSION = 1
 SUBPROTOCOL = f"workcell.v{PROTOCOL_VERSION}"
 """The WebSocket subprotocol a client must offer; another version is refused."""
 
-Pose = tuple[float, float, float, float, float, float, float]
 Role = Literal["operator", "spectator"]
 InputSource = Literal["xr", "xr_hands", "desktop", "gamepad"]
 """Where an input came from: WebXR controllers, WebXR with at least one tracked hand (a hand
@@ -207,57 +208,6 @@ class Welcome:
 
 
 @dataclass(frozen=True)
-class GeomDescription:
-    """A primitive shape: MuJoCo geom type name (``box``, ``sphere``, ``capsule``,
-    ``cylinder``, ``plane``, ``ellipsoid``), MuJoCo ``size`` semantics, pose relative to
-    its body, colour."""
-
-    shape: str
-    size: tuple[float, float, float]
-    pos: tuple[float, float, float]
-    quat: tuple[float, float, float, float]
-    rgba: tuple[float, float, float, float]
-    material: int = -1
-    """Index into :attr:`Scene.materials` of the geom's shading, or -1 for none (matte)."""
-
-
-@dataclass(frozen=True)
-class BodyDescription:
-    """A body of the compiled model; ``index`` is its position in :class:`State` poses
-    when ``dynamic`` (it moves), else its fixed world pose is ``pose``."""
-
-    name: str
-    index: int
-    dynamic: bool
-    pose: Pose
-    geoms: tuple[GeomDescription, ...]
-
-
-@dataclass(frozen=True)
-class TextureDescription:
-    """A model's 2D texture, as pixels: ``width`` x ``height`` RGB bytes (row by row, the
-    model's own rows subsampled to at most 64 a side), base64; ``repeat`` is how often it
-    repeats across the geom's two sides (MuJoCo ``texrepeat``)."""
-
-    width: int
-    height: int
-    rgb: str
-    repeat: tuple[float, float]
-
-
-@dataclass(frozen=True)
-class MaterialDescription:
-    """A MuJoCo material's shading (``specular``, ``shininess``, ``emission``: 0-1, as
-    MuJoCo's renderer uses them) and its texture, if any. The geom's ``rgba`` is its colour."""
-
-    name: str
-    specular: float
-    shininess: float
-    emission: float
-    texture: TextureDescription | None
-
-
-@dataclass(frozen=True)
 class Scene:
     """Everything to draw, derived from the compiled MuJoCo model. Sent on connect and
     when a session starts."""
@@ -270,8 +220,9 @@ class Scene:
 
 @dataclass(frozen=True)
 class State:
-    """The latest poses of the dynamic bodies (in :class:`BodyDescription` index order),
-    sent at up to 60 Hz; a client that falls behind gets only the newest."""
+    """The latest poses of the dynamic bodies (in :class:`~workcell.protocol.scene.BodyDescription`
+    index order),
+        sent at up to 60 Hz; a client that falls behind gets only the newest."""
 
     seq: int
     t_sim: float

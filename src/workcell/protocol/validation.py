@@ -21,6 +21,7 @@ from typing import Any, Literal, Union, get_args, get_origin, get_type_hints
 from workcell.errors import WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.messages import ErrorCode
+from workcell.protocol.scene import Pose
 from workcell.task.events import STOP_NOTE_MAX, TrialStarted
 
 QUATERNION_TOLERANCE = 1e-2
@@ -202,7 +203,7 @@ def convert(value: Any, hint: Any, path: str) -> Any:
         return _convert_union(value, args, path)
     if origin is tuple:
         converted = _convert_tuple(value, args, path)
-        return _unit_pose(converted, path) if hint == m.Pose else converted
+        return _unit_pose(converted, path) if hint == Pose else converted
     if origin is dict:
         if not isinstance(value, dict):
             raise _invalid("malformed", path, value, "must be an object")

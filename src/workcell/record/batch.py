@@ -18,7 +18,8 @@ from numpy.typing import NDArray
 
 from workcell.record.checksum import row_checksums
 from workcell.record.errors import RecordError
-from workcell.record.schema import FRAMES, TableLayout
+from workcell.record.layout import TableLayout
+from workcell.record.schema import FRAMES
 
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 Columnar = Mapping[str, Any]
@@ -77,7 +78,7 @@ class RowBatch:
     ) -> RowBatch:
         """Rows as mappings with every column of ``layout``; ``fixed`` columns (ids the
         store fills in) may be left out, and must match where given; appended columns
-        (:class:`~workcell.record.schema.TableLayout`) may be left out too (NULL)."""
+        (:class:`~workcell.record.layout.TableLayout`) may be left out too (NULL)."""
         fixed = fixed or {}
         table = layout.name
         _check_names(layout, rows[0].keys() if rows else (), fixed)

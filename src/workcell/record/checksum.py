@@ -12,7 +12,7 @@ real, then integer columns, each group in table order):
 - each integer value as int64, little-endian (NULL as 0), then one byte per integer
   column: 1 where the value is NULL, 0 otherwise;
 - a table's appended columns (text and real columns later schema versions added, see
-  :class:`~workcell.record.schema.TableLayout`) are left out of the values above and
+  :class:`~workcell.record.layout.TableLayout`) are left out of the values above and
   follow at the end, version by version (oldest first), each version's only where the row
   holds one of its columns: the version's marker (``b"\0appended\0"`` for version 3, the
   first to append, ``b"\0appended v<N>\0"`` for a later version N), then its text values

@@ -19,14 +19,13 @@ from workcell.record.columns import (
     SESSION_COLUMNS,
     TRIALS_CSV_COLUMNS,
 )
+from workcell.record.layout import Appended, TableLayout
 from workcell.record.schema import (
     ANNOTATIONS,
     EVENTS,
     FRAMES,
     SESSIONS,
     TRIALS,
-    Appended,
-    TableLayout,
 )
 
 MANIFEST = "manifest.json"

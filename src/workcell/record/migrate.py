@@ -42,13 +42,13 @@ from workcell.record import chain, chain_tip
 from workcell.record.chain_key import ChainKey
 from workcell.record.errors import StoreError
 from workcell.record.ids import new_id
+from workcell.record.layout import TableLayout
 from workcell.record.schema import (
     CHAIN_ROOTS_SQL,
     CHAIN_SQL,
     FRAMES,
     SCHEMA_VERSION,
     TRIALS,
-    TableLayout,
     quote,
 )
 

@@ -8,7 +8,8 @@ from functools import cache
 from typing import Any
 
 from workcell.record.batch import RowBatch
-from workcell.record.schema import CHECKSUM, TableLayout, column_list, quote
+from workcell.record.layout import CHECKSUM, TableLayout
+from workcell.record.schema import column_list, quote
 
 FETCH_ROWS = 1024
 

@@ -33,6 +33,7 @@ from workcell.record.connection import connect, damage_as_store_error, writer_ac
 from workcell.record.export_check import verify_export
 from workcell.record.findings import IntegrityFinding
 from workcell.record.frame_check import check_trial_frames
+from workcell.record.layout import TableLayout
 from workcell.record.schema import (
     ANNOTATIONS,
     EVENTS,
@@ -40,7 +41,6 @@ from workcell.record.schema import (
     SCHEMA_VERSION,
     SESSIONS,
     TRIALS,
-    TableLayout,
     quote,
 )
 from workcell.sim.joints import JOINT_ORDER

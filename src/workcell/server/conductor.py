@@ -13,34 +13,27 @@ import dataclasses
 import logging
 import secrets
 from pathlib import Path
-from typing import Any, Protocol
+from typing import Any
 
-from workcell.errors import ConfigError, WorkcellError
+from workcell.errors import WorkcellError
 from workcell.protocol import messages as m
 from workcell.protocol.codec import encode
 from workcell.record.errors import StoreError
 from workcell.server.client import Client
-from workcell.server.field_problems import field_problems
 from workcell.server.options import ServerOptions
 from workcell.server.scene import idle_scene
 from workcell.server.session_listener import SessionListener
 from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import RelayedSession, SessionArgs, SessionFactory
+from workcell.server.session_settings import SessionPlanner, session_settings
 from workcell.server.shards import SessionShards
-from workcell.server.study_desk import Refusal
 from workcell.server.waiting_line import WaitingLine
 from workcell.session.config import SessionConfig
-from workcell.session.toml_io import from_mapping
-from workcell.tasks.registry import built_in_task
 
 logger = logging.getLogger(__name__)
 
-
-class SessionPlanner(Protocol):
-    """Where a seat's session settings come from when the operator does not choose them (a
-    study participant's plan): the settings, or why the session does not start."""
-
-    async def plan(self, start: m.StartSession) -> SessionConfig | Refusal: ...
+LINK_DROPPED = "link dropped: the operator's connection closed"
+"""The reason of the ``hand_back`` recorded when the person who took over disconnects."""
 
 
 class Conductor:
@@ -96,6 +89,8 @@ class Conductor:
             self.resume_token = None
             return
         self.session.operator.new_link()  # no input arrives: the base stops, arms freeze
+        if self.session.args.config.driver != "person":  # a person driving hands back
+            self.session.request_driving(False, LINK_DROPPED)
         loop = asyncio.get_running_loop()
         self._grace = loop.call_later(self.options.grace_s, self._grace_over)
 
@@ -192,7 +187,7 @@ class Conductor:
         the way (a setting, the store, the session's process dying) is one error."""
         session: RelayedSession | None = None
         try:
-            config = await self._settings(client, start)
+            config = await session_settings(self.planner, client, start)
             if config is None:
                 return None
             self.store = self.shards.new_shard() if self.shards else self.options.store
@@ -215,22 +210,6 @@ class Conductor:
         if session is not None and session.running:
             session.kill()  # it started but could not be taken on
         return None
-
-    async def _settings(self, client: Client, start: m.StartSession) -> SessionConfig | None:
-        """The session's settings: the operator's, or the planner's (None: refused)."""
-        if self.planner is not None:
-            planned = await self.planner.plan(start)
-            if isinstance(planned, Refusal):
-                client.refuse(planned.code, planned.message)
-                return None
-            return planned
-        try:
-            config = from_mapping(SessionConfig, start.settings)
-            built_in_task(config.task.kind)
-        except ConfigError as error:
-            client.send(m.ConfigRejected(problems=field_problems(error)))
-            return None
-        return config
 
     @property
     def starting(self) -> bool:

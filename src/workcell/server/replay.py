@@ -20,7 +20,7 @@ from numpy.typing import NDArray
 
 from workcell.errors import ConfigError, WorkcellError
 from workcell.protocol.api import TrialReplay
-from workcell.protocol.messages import Pose
+from workcell.protocol.scene import Pose
 from workcell.record.store import Store
 from workcell.server.replay_facts import replay_facts, timeline
 from workcell.server.scene import PoseReader, describe

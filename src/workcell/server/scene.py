@@ -14,12 +14,12 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.control.simulation import Simulation
-from workcell.protocol.messages import (
+from workcell.protocol.messages import Scene
+from workcell.protocol.scene import (
     BodyDescription,
     GeomDescription,
     MaterialDescription,
     Pose,
-    Scene,
     TextureDescription,
 )
 from workcell.session.config import SessionConfig

@@ -37,10 +37,11 @@ from workcell.protocol import messages as m
 from workcell.server.admission import AdmissionRule, Measured
 from workcell.server.auth import ADMIN, Principal
 from workcell.server.client import Client
-from workcell.server.conductor import Conductor, SessionPlanner
+from workcell.server.conductor import Conductor
 from workcell.server.options import ServerOptions
 from workcell.server.session_process import SessionProcess
 from workcell.server.session_relay import SessionFactory
+from workcell.server.session_settings import SessionPlanner
 from workcell.server.shards import SessionShards
 from workcell.server.study_desk import Refusal, StudyDesk
 from workcell.server.waiting_line import WaitingLine

@@ -10,7 +10,8 @@ import numpy as np
 
 from workcell.control.command import ArmCommand
 from workcell.intervene.operator import InterveningOperator
-from workcell.protocol.messages import Pose, State
+from workcell.protocol.messages import State
+from workcell.protocol.scene import Pose
 from workcell.server.scene import DIGITS, PoseReader
 from workcell.sim.joints import SIDES
 from workcell.sim.world import World

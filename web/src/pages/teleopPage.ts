@@ -31,6 +31,8 @@ import { describeReport } from "../scene/frameMeter";
 import { SnapTurn } from "../xr/snapTurn";
 import { drivingLabel, GripHold } from "../xr/gripHold";
 import { snapTurnRequested } from "../util/env";
+import { ControllerMarkers } from "../xr/controllerMarkers";
+import { hintText, linkBadgeText } from "../hud/statusText";
 import type { TurnMode } from "../xr/snapTurn";
 
 export interface TeleopShared {
@@ -44,15 +46,6 @@ const HUD_REFRESH_MS = 100;
 const BASE_LIMITS = { linear: 0.8, yaw: 1.2 };
 /** A State older than this (ms) no longer tells how the base moves. */
 const STATE_FRESH_MS = 300;
-
-function controllerMarker(colour: number): THREE.Mesh {
-  const mesh = new THREE.Mesh(
-    new THREE.BoxGeometry(0.05, 0.03, 0.1),
-    new THREE.MeshStandardMaterial({ color: colour, roughness: 0.5 }),
-  );
-  mesh.visible = false;
-  return mesh;
-}
 
 export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): () => void {
   const { viewer, xr, sequencer } = shared;
@@ -83,8 +76,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const hudPanel = new HudPanel();
   hudPanel.mesh.visible = false;
   viewer.rig.add(hudPanel.mesh);
-  const markers = [controllerMarker(0x4fa3ff), controllerMarker(0xff7a4f)];
-  for (const m of markers) viewer.rig.add(m);
+  const markers = new ControllerMarkers();
+  for (const m of markers.meshes) viewer.rig.add(m);
   const vignette = new Vignette();
   let turnMode: TurnMode = snapTurnRequested() ? "snap" : "smooth";
   const snapTurn = new SnapTurn();
@@ -146,7 +139,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     vrButton.textContent = xr.presenting ? "Exit VR" : "Enter VR";
     hudPanel.mesh.visible = xr.presenting;
     if (xr.presenting) setView("first");
-    for (const m of markers) m.visible = false;
+    markers.hide();
   };
   void xrAvailability().then((availability) => {
     vrButton.disabled = availability !== "supported";
@@ -163,14 +156,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
   const renderHud = (): void => {
     const info = app.connection.info;
     const role = app.connection.role;
-    linkBadge.textContent =
-      info.status === "open"
-        ? `● connected (${role}${info.rttMs !== null ? `, ${Math.round(info.rttMs)} ms` : ""})`
-        : info.status === "reconnecting"
-          ? `● reconnecting (attempt ${info.attempts})…`
-          : info.status === "refused"
-            ? `● refused: ${info.reason ?? ""}`
-            : "● connecting…";
+    linkBadge.textContent = linkBadgeText(info, role);
     linkBadge.className = `link-badge ${info.status}`;
     controls.sync();
     restartButton.disabled = controls.stopButton.disabled;
@@ -181,14 +167,8 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       hud.append(linesToDom(hudLines(h), "hud-lines"));
       if (h.phase === "countdown") hud.append(el("div", { className: "countdown", textContent: String(Math.ceil(h.countdown_s)) }));
     }
-    const left = lastFrame?.left;
-    const right = lastFrame?.right;
-    hint.textContent =
-      role === "spectator"
-        ? `Spectating seat ${app.connection.lastWelcome?.seat ?? "1"}: another client operates.`
-        : app.sessionActive
-          ? `grip L ${(left?.grip ?? 0).toFixed(1)} R ${(right?.grip ?? 0).toFixed(1)} · trigger L ${(left?.trigger ?? 0).toFixed(1)} R ${(right?.trigger ?? 0).toFixed(1)}${app.holding ? " · holding a box" : ""}`
-          : "";
+    const seat = app.connection.lastWelcome?.seat ?? "1";
+    hint.textContent = hintText(role, seat, app.sessionActive, app.holding, lastFrame);
     if (xr.presenting) {
       const trialEnd = app.lastTrialEnd;
       if (app.ended !== null) {
@@ -289,16 +269,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
       if (leftStick && !(lastLeftButtons & BUTTON.stick)) hudMode = hudMode === "wrist" ? "hidden" : "wrist";
       lastLeftButtons = xrReading.left.buttons;
       lastButtons = buttons;
-      [raw.left, raw.right].forEach((hand, i) => {
-        const marker = markers[i];
-        if (marker === undefined) return;
-        marker.visible = hand.pose !== null;
-        if (hand.pose !== null) {
-          marker.position.set(hand.pose[0], hand.pose[1], hand.pose[2]);
-          marker.quaternion.set(hand.pose[4], hand.pose[5], hand.pose[6], hand.pose[3]);
-          (marker.material as THREE.MeshStandardMaterial).emissive.setHex(hand.grip >= 0.5 ? 0x333333 : 0);
-        }
-      });
+      markers.update(raw.left, raw.right);
       const placed = hudPlacement(hudMode, xrReading.left.pose, [headsetLocal.x, headsetLocal.y, headsetLocal.z]);
       hudPlaced = placed;
       const rawEyes = raw.headsetPosition ?? { x: 0, y: 1.6, z: 0 };
@@ -416,7 +387,7 @@ export function mountTeleop(root: HTMLElement, app: App, shared: TeleopShared): 
     viewer.rig.remove(hudPanel.mesh);
     viewer.camera.remove(vignette.mesh);
     viewer.rig.remove(menu.mesh);
-    for (const m of markers) viewer.rig.remove(m);
+    for (const m of markers.meshes) viewer.rig.remove(m);
     xr.onChange = null;
     void xr.exit();
     viewer.unmount();

@@ -20,10 +20,9 @@ from workcell.expert.phase import ExpertPhase
 from workcell.expert.skill import ExpertConfig, SkillProfile
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.world import World
+from workcell.tasks.elements.base_drive import ARRIVED_M, arrived_at, twist_toward, wrap_angle
 
 REST_SPEED = 0.06
-ARRIVED_M = 0.015
-ARRIVED_RAD = 0.03
 HAND_TOLERANCE_M = 0.02
 PREGRASP_GAP = 0.07
 RELEASE_GAP = 0.08
@@ -43,10 +42,6 @@ class Placement:
 
     center: NDArray[np.float64]
     rest_z: float
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi
 
 
 class ExpertOperator:
@@ -346,7 +341,7 @@ class ExpertOperator:
             heading = 0.0 if to_table[0] > 0 else math.pi
         else:
             heading = math.pi / 2 if to_table[1] > 0 else -math.pi / 2
-        heading = pose[2] + _wrap(heading - pose[2])
+        heading = pose[2] + wrap_angle(heading - pose[2])
         goal = np.array(
             [
                 place_center[0] - self.place_distance * math.cos(heading),
@@ -368,35 +363,12 @@ class ExpertOperator:
         self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M
     ) -> BaseTwist:
         """A saturated proportional twist toward ``goal`` (x, y, yaw in the world)."""
-        pose = world.base_pose
-        error_world = goal[:2] - pose[:2]
-        distance = float(np.linalg.norm(error_world))
-        yaw = float(pose[2])
-        c, s = math.cos(yaw), math.sin(yaw)
-        error = np.array(
-            [c * error_world[0] + s * error_world[1], -s * error_world[0] + c * error_world[1]]
-        )
-        yaw_error = _wrap(float(goal[2]) - yaw)
-        r = world.config.robot
-        vmax = r.max_linear_speed * self.profile.speed_scale
-        wmax = r.max_yaw_rate * self.profile.speed_scale
-        linear = error * 2.0
-        speed = float(np.linalg.norm(linear))
-        if speed > vmax:
-            linear *= vmax / speed
-        if distance < tolerance * 0.5:
-            linear[:] = 0.0
-        wz = float(np.clip(2.5 * yaw_error, -wmax, wmax))
-        return BaseTwist(float(linear[0]), float(linear[1]), wz)
+        return twist_toward(world, goal, self.profile.speed_scale, tolerance)
 
     def _arrived(
         self, world: World, goal: NDArray[np.float64], tolerance: float = ARRIVED_M
     ) -> bool:
-        pose = world.base_pose
-        close = float(np.linalg.norm(goal[:2] - pose[:2])) < tolerance
-        aligned = abs(_wrap(float(goal[2] - pose[2]))) < ARRIVED_RAD * (tolerance / ARRIVED_M)
-        slow = float(np.linalg.norm(world.base_velocity[:2])) < 0.05
-        return close and aligned and slow
+        return arrived_at(world, goal, tolerance)
 
     def _command(self, world: World, twist: BaseTwist) -> Command:
         palms = self._palms

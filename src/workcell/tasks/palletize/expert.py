@@ -21,6 +21,7 @@ from workcell.expert.grasp_geometry import PalmTargets
 from workcell.expert.phase import ExpertPhase
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.world import World
+from workcell.tasks.elements.base_drive import wrap_angle
 from workcell.tasks.elements.expert import STANDBY_DISTANCE, ExpertOperator, Placement
 from workcell.tasks.palletize.judge import filled_slots
 from workcell.tasks.palletize.layout import EDGE_MARGIN, SLOT_SIGNS, PalletLayout
@@ -83,7 +84,7 @@ class PalletizeExpert(ExpertOperator):
         self._slot = _next_free_slot(world, layout)
         sign = SLOT_SIGNS[self._slot][0]
         heading = layout.yaw if sign < 0 else layout.yaw + math.pi
-        heading = float(world.base_pose[2]) + _wrap(heading - float(world.base_pose[2]))
+        heading = float(world.base_pose[2]) + wrap_angle(heading - float(world.base_pose[2]))
         slot_x, slot_y = layout.slot_local(self._slot)
         stand_x = slot_x + sign * (layout.size[0] / 2 + EDGE_MARGIN + STAND_OFF)
         side = layout.to_world(np.array([stand_x, layout.half[1] + SIDE_CLEARANCE]))
@@ -125,7 +126,7 @@ class PalletizeExpert(ExpertOperator):
         # belt sweeps the boxes queued there.
         c = world.config.conveyor
         heading = c.direction_yaw + math.pi
-        heading = float(pose[2]) + _wrap(heading - float(pose[2]))
+        heading = float(pose[2]) + wrap_angle(heading - float(pose[2]))
         route.append(np.array([c.end_x + STANDBY_DISTANCE, c.center_y, heading]))
         return route
 
@@ -149,7 +150,3 @@ def _layout(world: World) -> PalletLayout:
 def _next_free_slot(world: World, layout: PalletLayout) -> int:
     filled = filled_slots(world, layout)
     return next((i for i in range(len(SLOT_SIGNS)) if i not in filled), len(SLOT_SIGNS) - 1)
-
-
-def _wrap(angle: float) -> float:
-    return (angle + math.pi) % (2 * math.pi) - math.pi
