@@ -128,10 +128,14 @@ class ExpertOperator:
             self._enter(world, ExpertPhase.APPROACH)
         return self._drive(world, standby)
 
+    def _pick_heading(self, world: World) -> float:
+        """The base's heading while it picks a box: facing the belt by default."""
+        return world.config.conveyor.direction_yaw + math.pi
+
     def _approach(self, world: World) -> BaseTwist:
         box = self._require_box()
         pos = world.boxes.position(world.data, box)
-        heading = world.config.conveyor.direction_yaw + math.pi
+        heading = self._pick_heading(world)
         p = self.profile
         back = np.array([math.cos(heading), math.sin(heading)])
         side = np.array([-back[1], back[0]])

@@ -66,19 +66,8 @@ class ShelveExpert(ExpertOperator):
                 return slot
         return None
 
-    def _approach(self, world: World) -> BaseTwist:
-        box = self._require_box()
-        pos = world.boxes.position(world.data, box)
-        p = self.profile
-        back = np.array([math.cos(PICK_HEADING), math.sin(PICK_HEADING)])
-        side = np.array([-back[1], back[0]])
-        goal_xy = pos[:2] - back * p.pick_distance_m + side * p.lateral_offset_m
-        goal = np.array([goal_xy[0], goal_xy[1], PICK_HEADING])
-        self._ready_arms(world)
-        twist = self._drive(world, goal)
-        if self._arrived(world, goal):
-            self._enter(world, ExpertPhase.PREGRASP)
-        return twist
+    def _pick_heading(self, world: World) -> float:
+        return PICK_HEADING
 
     def _carry_route(self, world: World) -> list[NDArray[np.float64]]:
         route = super()._carry_route(world)
