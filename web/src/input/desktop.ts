@@ -57,6 +57,12 @@ function typing(target: EventTarget | null): boolean {
 
 export class DesktopInput {
   private readonly down = new Set<string>();
+  /** Keys pressed since the last read... */
+  private readonly unread = new Set<string>();
+  /** ...and of those, the ones already let go: a tap shorter than a frame still counts as
+   * held for one read, so on a slow page (a frame every few hundred ms) a short tap moves
+   * the robot a little instead of being lost between two frames. */
+  private readonly tapped = new Set<string>();
   private latchedGrip = false;
   private latchedTrigger = false;
   private readonly hands: Record<"l" | "r", VirtualHand> = {
@@ -88,8 +94,8 @@ export class DesktopInput {
       this.cleanup.push(() => target.removeEventListener(type, handler as EventListener));
     };
     on(window, "keydown", (e) => this.keyDown(e));
-    on(window, "keyup", (e) => this.down.delete(e.code));
-    on(window, "blur", () => this.down.clear());
+    on(window, "keyup", (e) => this.keyUp(e.code));
+    on(window, "blur", () => this.releaseAll());
     on(surface, "contextmenu", (e) => e.preventDefault());
     on(surface, "mousedown", (e) => {
       this.drag = { button: e.button, x: e.clientX, y: e.clientY };
@@ -122,8 +128,11 @@ export class DesktopInput {
     const pad = readGamepad();
     const now = performance.now();
     if (pad?.active === true) this.lastPadActive = now;
-    const key = (code: string): number => (this.down.has(code) ? 1 : 0);
-    const slow = this.down.has("ShiftLeft") || this.down.has("ShiftRight") ? SLOW : 1;
+    const held = new Set([...this.down, ...this.tapped]);
+    this.unread.clear();
+    this.tapped.clear();
+    const key = (code: string): number => (held.has(code) ? 1 : 0);
+    const slow = held.has("ShiftLeft") || held.has("ShiftRight") ? SLOW : 1;
 
     const grip: [number, number] = [
       Math.max(key("KeyG"), this.latchedGrip ? 1 : 0, pad?.grip[0] ?? 0),
@@ -199,11 +208,23 @@ export class DesktopInput {
     );
   }
 
+  private keyUp(code: string): void {
+    this.down.delete(code);
+    if (this.unread.has(code)) this.tapped.add(code);
+  }
+
+  private releaseAll(): void {
+    this.down.clear();
+    this.unread.clear();
+    this.tapped.clear();
+  }
+
   private keyDown(event: KeyboardEvent): void {
     if (typing(event.target)) return;
     if (event.code.startsWith("Arrow") || event.code === "Space") event.preventDefault();
     if (event.repeat) return;
     this.down.add(event.code);
+    this.unread.add(event.code);
     switch (event.code) {
       case "KeyB":
         this.latchedGrip = !this.latchedGrip;
@@ -223,7 +244,7 @@ export class DesktopInput {
       case "Escape":
         this.latchedGrip = false;
         this.latchedTrigger = false;
-        this.down.clear();
+        this.releaseAll();
         break;
       default:
         break;

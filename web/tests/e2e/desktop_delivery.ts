@@ -7,21 +7,18 @@
 //   npm run build:e2e && node build/e2e/tests/e2e/desktop_delivery.js http://127.0.0.1:8000   (in web/)
 
 import path from "node:path";
-import type { Keyboard } from "playwright-core";
 import type { Pose } from "../../src/protocol";
-import { PATIENCE_MS, check, checkDrawn, runScript, sleep, waitFor, waitForFrames } from "./lib.js";
+import { PATIENCE_MS, check, checkDrawn, runScript, waitFor, waitForFrames } from "./lib.js";
 import type { DebugSnapshot } from "./lib.js";
-import { ScriptedOperator, controllerCorrections } from "./operator.js";
-import type { Decision, Drive, Observation } from "./operator.js";
+import { ScriptedOperator } from "./operator.js";
+import type { Decision, Observation, Vec3 } from "./operator.js";
+import { norm, sub, toBase } from "./observation.js";
 import { startSession } from "./flow.js";
 import { checkDelivered, deliver, deliveryResult } from "./delivery.js";
+import { DesktopHands, hideKeymap } from "./desktop_hands.js";
 
 const TICK_MS = 15;
-const TAP_MS = 110; // a key tap near the goal...
-const SETTLE_MS = 250; // ...then let the base stop before looking again
-const METRES_PER_PIXEL = 0.0015; // src/input/desktop.ts MOUSE_METRES_PER_PIXEL
-const METRES_PER_WHEEL = 0.0004; // src/input/desktop.ts WHEEL_METRES_PER_UNIT
-const PALM_IN_Z = Math.SQRT1_2; // quaternion z of a controller turned palm-in
+const TIME_LIMIT_S = "300"; // the trial's: a loaded machine draws few frames a second
 
 function observeJs(): { snap: DebugSnapshot; bodies: Record<string, Pose> } {
   const workcell = window.__workcell;
@@ -29,48 +26,21 @@ function observeJs(): { snap: DebugSnapshot; bodies: Record<string, Pose> } {
   return { snap: workcell.snapshot(), bodies: workcell.bodies() };
 }
 
-/** Keys held down now, pressed and released only on change. */
-class Keys {
-  readonly down = new Set<string>();
-  /** Every key ever used, for the report. */
-  readonly pressed = new Set<string>();
-
-  constructor(private readonly keyboard: Keyboard) {}
-
-  async set(wanted: ReadonlySet<string>): Promise<void> {
-    for (const key of [...this.down]) {
-      if (!wanted.has(key)) {
-        await this.keyboard.up(key);
-        this.down.delete(key);
-      }
-    }
-    for (const key of wanted) {
-      if (!this.down.has(key)) {
-        await this.keyboard.down(key);
-        this.down.add(key);
-        this.pressed.add(key);
-      }
-    }
-  }
-}
-
-/** Drive keys for a stick decision: a component beyond `deadband` holds its key; Shift
- * (slow) unless some component asks for more than half speed. */
-function driveKeys(drive: Drive, wanted: Set<string>): void {
-  const { forward, left, turn } = drive;
-  const deadband = 0.05;
-  if (forward > deadband) wanted.add("w");
-  if (forward < -deadband) wanted.add("s");
-  if (left > deadband) wanted.add("a");
-  if (left < -deadband) wanted.add("d");
-  if (turn > deadband) wanted.add("e");
-  if (turn < -deadband) wanted.add("q");
-  const fast = Math.max(Math.abs(forward), Math.abs(left), Math.abs(turn)) > 0.5;
-  if (wanted.size > 0 && !fast) wanted.add("Shift");
+/** How far (cm) each arm target and each hand is from where the operator wants it. */
+function handErrors(decision: Decision, obs: Observation): string {
+  const wanted = decision.targets;
+  if (wanted === null) return "";
+  const cm = (p: Vec3 | null, goal: Vec3): string => (p === null ? "-" : (100 * norm(sub(toBase(obs.base, p), goal))).toFixed(1));
+  return `target_cm=${cm(obs.targets[0], wanted.l)}/${cm(obs.targets[1], wanted.r)} hand_cm=${cm(obs.tcp[0], wanted.l)}/${cm(obs.tcp[1], wanted.r)}`;
 }
 
 await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
-  await startSession(page, url, { operatorId: "e2e-desktop", query: { quality: "low" }, artifacts });
+  await startSession(page, url, {
+    operatorId: "e2e-desktop",
+    query: { quality: "low" },
+    artifacts,
+    settings: { "task.time_limit_s": TIME_LIMIT_S },
+  });
   const canvas = page.locator("canvas.viewer-canvas");
   const box = await canvas.boundingBox();
   check(box !== null, "no 3D view on the teleop page");
@@ -93,81 +63,25 @@ await runScript("desktop_delivery", async ({ url, page, artifacts }) => {
 
   await waitFor(page, (s) => s.hud?.phase === "running", { what: "the countdown to end" });
   await checkDrawn(page, path.join(artifacts, "hud-running.png"), page.locator("#hud"));
+  await hideKeymap(page);
 
-  const keys = new Keys(page.keyboard);
   const operator = new ScriptedOperator({ onOff: true, lead: 0.25, tolerance: 0.03, slowDrive: true });
-  let mouse: { x: number; y: number } | null = null; // while the left button is held
-  const act = async (decision: Decision, obs: Observation, snap: DebugSnapshot): Promise<number> => {
-    const sent = snap.teleop?.last_input ?? null;
-    const wanted = new Set<string>();
-    driveKeys(decision.drive, wanted);
-    if (decision.grip) wanted.add("g").add("h");
-    if (decision.trigger) wanted.add("f").add("j");
-    const following = obs.following[0] && obs.following[1];
-    if (decision.grip && decision.palmsIn && following && sent !== null) {
-      const zs = [sent.left.pose?.[6] ?? 0, -(sent.right.pose?.[6] ?? 0)];
-      if (Math.min(...zs) < PALM_IN_Z - 0.01) wanted.add("z");
-    }
-    // Differential (hands together/apart) by keys, common motion by the mouse.
-    const [cl, cr] = controllerCorrections(obs, decision.targets, 0.8, 0.05);
-    if (cl !== null && cr !== null && following) {
-      const together = (cl[0] - cr[0]) / 2;
-      if (together > 0.004) wanted.add("Comma");
-      if (together < -0.004) wanted.add("Period");
-      const common = [0, 1, 2].map((k) => ((cl[k] ?? 0) + (cr[k] ?? 0)) / 2) as [number, number, number];
-      if (mouse === null) {
-        mouse = { ...centre };
-        await page.mouse.move(mouse.x, mouse.y);
-        await page.mouse.down();
-      }
-      const dx = Math.round(common[0] / METRES_PER_PIXEL);
-      const dy = Math.round(common[2] / METRES_PER_PIXEL);
-      if (dx !== 0 || dy !== 0) {
-        const nx: number = mouse.x + dx;
-        const ny: number = mouse.y + dy;
-        if (nx < box.x + 5 || nx > box.x + box.width - 5 || ny < box.y + 5 || ny > box.y + box.height - 5) {
-          // Out of room: let go of the button, recentre, press again (no motion while up).
-          await page.mouse.up();
-          mouse = { ...centre };
-          await page.mouse.move(mouse.x, mouse.y);
-          await page.mouse.down();
-        } else {
-          mouse = { x: nx, y: ny };
-          await page.mouse.move(mouse.x, mouse.y);
-        }
-      }
-      const wheel = Math.round(-common[1] / METRES_PER_WHEEL);
-      if (Math.abs(wheel) >= 5) await page.mouse.wheel(0, wheel);
-    } else if (mouse !== null && !decision.grip) {
-      await page.mouse.up();
-      mouse = null;
-    }
-    await keys.set(wanted);
-    if (decision.drive.fine && ["w", "a", "s", "d", "q", "e"].some((k) => wanted.has(k))) {
-      await sleep(TAP_MS);
-      for (const k of ["w", "a", "s", "d", "q", "e"]) wanted.delete(k);
-      await keys.set(wanted);
-      const settle = Math.max(SETTLE_MS, operator.lead * 1000); // until the base has stopped
-      await sleep(settle);
-      return TAP_MS + settle;
-    }
-    return 0;
-  };
+  const hands = new DesktopHands(page, box, operator);
+  const keys = hands.keys;
   const run = await deliver(page, artifacts, operator, {
     prefix: "desktop",
     tickMs: TICK_MS,
     debugEveryMs: 500,
     adaptLead: true,
     look: () => page.evaluate(observeJs),
-    act,
-    debug: (decision, _obs, snap) => {
+    act: (decision, obs, snap) => hands.act(decision, obs, snap),
+    debug: (decision, obs, snap) => {
       const sent = snap.teleop?.last_input;
       const drive = JSON.stringify(decision.drive, (_k, v: unknown) => (typeof v === "number" ? Number(v.toFixed(2)) : v));
-      return `drive=${drive} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)}`;
+      return `drive=${drive} keys=${[...keys.down]} stick=${JSON.stringify(sent?.left.stick)}/${JSON.stringify(sent?.right.stick)} ${handErrors(decision, obs)} ${hands.lastCorrection}`;
     },
   });
-  await keys.set(new Set());
-  if (mouse !== null) await page.mouse.up();
+  await hands.release();
   await page.waitForSelector("#end-screen.campaign-end", { timeout: PATIENCE_MS });
   await checkDrawn(page, path.join(artifacts, "end-screen.png"), page.locator("#end-screen"));
   await checkDrawn(page, path.join(artifacts, "view-end.png"));

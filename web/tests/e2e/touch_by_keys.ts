@@ -17,6 +17,8 @@ import { HANDS_TOGETHER, TOLERANCE, YAW_TOLERANCE, approachLeft, handsApart } fr
 const TICK_MS = 40;
 const TAP_MS = 110; // a key tap near the goal...
 const SETTLE_MS = 300; // ...then let the base stop before looking again
+const LONGEST_TAP_MS = 600; // a tap that did not move the base is held twice as long next time, up to this
+const TIME_LIMIT_S = "300"; // the trial's: a loaded machine draws few frames a second
 const STALL_MS = 60000;
 const DRIVE_KEYS = ["w", "a", "s", "d", "q", "e"];
 
@@ -70,7 +72,13 @@ async function hold(keyboard: Keyboard, down: Set<string>, wanted: ReadonlySet<s
 /** Start a practice session of `plan.task` and drive to the HUD's `touched` by keys. */
 export async function touchByKeys(page: Page, url: string, artifacts: string, plan: TouchPlan): Promise<Touched> {
   const { task } = plan;
-  await startSession(page, url, { operatorId: plan.operatorId, query: { quality: "low" }, artifacts, task });
+  await startSession(page, url, {
+    operatorId: plan.operatorId,
+    query: { quality: "low" },
+    artifacts,
+    task,
+    settings: { "task.time_limit_s": TIME_LIMIT_S },
+  });
   const canvas = page.locator("canvas.viewer-canvas");
   const area = await canvas.boundingBox();
   check(area !== null, "no 3D view on the teleop page");
@@ -92,6 +100,8 @@ export async function touchByKeys(page: Page, url: string, artifacts: string, pl
   let movedM = 0;
   let loggedAt = 0;
   let goal: Base | null = null;
+  let tapMs = TAP_MS;
+  let tappedFrom: Base | null = null; // where the base was when the last tap began
   while (last.hud?.stage === "none") {
     const { snap, bodies } = await page.evaluate(lookJs);
     last = snap;
@@ -107,6 +117,13 @@ export async function touchByKeys(page: Page, url: string, artifacts: string, pl
     const base: Base = [basePose[0], basePose[1], yawOf(basePose)];
     startBase ??= [base[0], base[1]];
     movedM = Math.max(movedM, Math.hypot(base[0] - startBase[0], base[1] - startBase[1]));
+    if (tappedFrom !== null) {
+      // A tap the base did not follow (a page drawing few frames, a base leaning on the
+      // table) is held longer next time; one it followed, as short again.
+      const moved = Math.hypot(base[0] - tappedFrom[0], base[1] - tappedFrom[1]) > 0.005 || Math.abs(base[2] - tappedFrom[2]) > 0.005;
+      tapMs = moved ? TAP_MS : Math.min(2 * tapMs, LONGEST_TAP_MS);
+      tappedFrom = null;
+    }
     const wanted = new Set<string>();
     let tap = false;
     if (step === "wait") {
@@ -153,7 +170,8 @@ export async function touchByKeys(page: Page, url: string, artifacts: string, pl
     }
     await hold(keyboard, down, wanted, used);
     if (tap) {
-      await sleep(TAP_MS);
+      tappedFrom = base;
+      await sleep(tapMs);
       for (const key of DRIVE_KEYS) wanted.delete(key);
       await hold(keyboard, down, wanted, used);
       await sleep(SETTLE_MS);

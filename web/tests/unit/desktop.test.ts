@@ -36,6 +36,22 @@ describe("desktop input mapping", () => {
     expect(input.read(1 / 60).left.stick).toEqual([0, 0]);
   });
 
+  it("counts a tap shorter than a frame as held for the next read only", () => {
+    press("KeyS");
+    press("ShiftLeft");
+    press("KeyS", "keyup"); // let go before the page drew a frame
+    press("ShiftLeft", "keyup");
+    expect(input.read(0.3).left.stick).toEqual([0, -0.3]); // slowly backward, once
+    expect(input.read(0.3).left.stick).toEqual([0, 0]);
+    press("KeyW");
+    expect(input.read(0.3).left.stick).toEqual([0, 1]);
+    press("KeyW", "keyup"); // held across a read, then let go: no extra read
+    expect(input.read(0.3).left.stick).toEqual([0, 0]);
+    press("KeyD");
+    press("Escape"); // Esc lets go of everything, taps included
+    expect(input.read(0.3).left.stick).toEqual([0, 0]);
+  });
+
   it("moves a hand only while its grip is held, and springs it back on release", () => {
     const rest = input.read(0.1).left.pose;
     press("KeyG");
