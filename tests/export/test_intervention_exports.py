@@ -9,13 +9,14 @@ from pathlib import Path
 
 import h5py  # type: ignore[import-untyped, unused-ignore]
 import numpy as np
+import pyarrow.parquet as pq  # type: ignore[import-untyped, unused-ignore]
 import pytest
 
 from tests.export.corrected import HAND_BACK_S, TAKE_OVER_S, record_corrected
 from tests.learn_extra import require_learn_extra
 from workcell.export.hdf5_export import export_hdf5
 from workcell.export.lerobot_export import export_lerobot
-from workcell.export.lerobot_layout import INFO_PATH
+from workcell.export.lerobot_layout import INFO_PATH, PROVENANCE_TABLE_PATH
 from workcell.export.options import ExportOptions
 from workcell.record.store import Store
 
@@ -49,6 +50,9 @@ def test_the_lerobot_dataset_marks_each_corrected_frame(
     export_lerobot(store, out, ExportOptions(include_all=True))
     info = json.loads((out / INFO_PATH).read_text())
     assert info["features"]["intervention"] == {"dtype": "bool", "shape": [1], "names": None}
+    # who drove each episode, in the provenance sidecar beside meta/
+    sidecar = pq.read_table(out / PROVENANCE_TABLE_PATH).to_pylist()
+    assert [row["driver"] for row in sidecar] == ["expert"] * len(flags)
     require_learn_extra()
     from lerobot.datasets.lerobot_dataset import (  # type: ignore[import-untyped, import-not-found, unused-ignore]
         LeRobotDataset,
@@ -71,6 +75,10 @@ def test_the_hdf5_demos_carry_a_per_frame_mask(
     )
     with h5py.File(path, "r") as file:
         masks = [file[f"data/demo_{i}/intervention"][:] for i in range(len(flags))]
+        # who drove, with each demo's provenance
+        assert [file[f"data/demo_{i}"].attrs["driver"] for i in range(len(flags))] == [
+            "expert"
+        ] * len(flags)
     for mask, trial in zip(masks, flags, strict=True):
         assert mask.dtype == np.int64
         assert mask.tolist() == (trial == 1.0).astype(int).tolist()

@@ -17,7 +17,7 @@ from tests.learn.test_policy_correction import TINY_ACT
 from tests.learn_extra import require_learn_extra
 from workcell.export.lerobot_export import export_lerobot
 from workcell.export.options import ExportOptions
-from workcell.learn.corrections import aggregate, corrected_runs, plan
+from workcell.learn.corrections import aggregate, corrected_runs, drivers, plan
 from workcell.learn.errors import LearnError
 from workcell.record.store import Store
 
@@ -84,6 +84,29 @@ def test_the_training_dataset_holds_demonstrations_plus_the_corrected_stretches(
                 offset,
             )
             assert read[at + offset]["frame_index"].item() == offset
+
+
+def test_a_policy_rollout_nobody_corrected_is_left_out() -> None:
+    alone, corrected = np.zeros(4, dtype=bool), np.array([0, 1, 1, 0], dtype=bool)
+    episodes = {0: alone, 1: corrected, 2: alone, 3: alone, 4: alone}
+    who = {0: "person", 1: "policy:runs/act", 2: "policy:runs/act", 3: "expert", 4: None}
+    result = plan(episodes, 2, "d", who)
+    assert result.left_out == (2,)  # the policy alone; the person's, expert's, unknown kept
+    assert [(s.episode, s.corrected) for s in result.stretches] == [
+        (0, False),
+        (1, True),
+        (1, True),
+        (3, False),
+        (4, False),
+    ]
+    assert plan(episodes, 2, "d").left_out == ()  # without drivers nothing can be told apart
+
+
+def test_the_export_names_who_drove_each_episode(
+    corrected_export: tuple[Path, list[np.ndarray]],
+) -> None:
+    dataset, flags = corrected_export
+    assert drivers(dataset) == dict.fromkeys(range(len(flags)), "expert")
 
 
 def test_a_dataset_without_corrections_says_so(lerobot_dir: Path, tmp_path: Path) -> None:

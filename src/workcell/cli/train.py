@@ -172,6 +172,12 @@ def _with_corrections(dataset: Path, out: Path, weight: int) -> Path:
         f"written to {built}",
         flush=True,
     )
+    if plan.left_out:
+        print(
+            f"left out {len(plan.left_out)} episode(s) a policy drove that nobody corrected "
+            f"(episode index {', '.join(map(str, plan.left_out))}): not demonstrations",
+            flush=True,
+        )
     return built
 
 

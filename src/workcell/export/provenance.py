@@ -2,8 +2,8 @@
 
 One :class:`Provenance` per episode: its session and trial, its participant, condition
 and study step, outcome and interruption reason, quality flags, inclusion (and the reviewer
-decision behind it), score and frame range. Every dataset format carries the same fields
-(LeRobot: a sidecar table next to ``meta/``; HDF5: attributes of each demo).
+decision behind it), score and frame range, and who drove it. Every dataset format carries
+the same fields (LeRobot: a sidecar table next to ``meta/``; HDF5: attributes of each demo).
 """
 
 from __future__ import annotations
@@ -57,6 +57,11 @@ class Provenance:
     review_at_wall: float | None
     software_version: str
     task: str
+    driver: str | None = None
+    """Who drove the trial: ``person``, ``expert`` or ``policy:<id>`` (the trial's
+    ``driver``; None: recorded before schema version 6). With an autonomous driver the
+    episode is a rollout, corrected where its ``intervention`` frames say a person took
+    over; a policy's rollout nobody took over is not a demonstration."""
 
     @classmethod
     def of(
@@ -104,6 +109,7 @@ class Provenance:
             task=recorded_task(session.parameters).trial_instruction(
                 trial.required_boxes, conditions or {}
             ),
+            driver=trial.driver,
         )
 
     def as_dict(self) -> dict[str, Any]:

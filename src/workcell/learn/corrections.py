@@ -8,14 +8,18 @@ imitated. Every other episode is a demonstration and is kept whole. ``weight`` K
 corrected stretch K times: LeRobot 0.4.4 has no per-sample weights, so repeating the
 stretch's episode is what weighs it (each copy is sampled as often as a demonstration frame).
 
-An episode in which nobody took over is indistinguishable here from a demonstration:
-export the demonstrations and the corrected rollouts (``workcell export --trials``), not
-rollouts the driver ran alone.
+An episode a policy drove with nobody taking over is left out: it is the policy's own
+behaviour, not a demonstration. Who drove each episode is the export's provenance sidecar's
+``driver`` (``meta/workcell_provenance.parquet``, :mod:`workcell.export.provenance`); an
+export from before that column holds no drivers, and there such an episode cannot be told
+from a demonstration: export the demonstrations and the corrected rollouts (``workcell
+export --trials``), not rollouts the policy ran alone.
 """
 
 from __future__ import annotations
 
 import json
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -23,12 +27,15 @@ from typing import Any
 import numpy as np
 from numpy.typing import NDArray
 
+from workcell.export.lerobot_layout import PROVENANCE_TABLE_PATH
 from workcell.learn.errors import LearnError, MissingLearnExtraError
 
 INTERVENTION = "intervention"
 """LeRobot's per-frame boolean feature of a corrected frame (``workcell export``)."""
 MAX_WEIGHT = 100
 _LEROBOT_OWN = ("timestamp", "frame_index", "episode_index", "index", "task_index")
+POLICY_DRIVER = "policy:"
+"""How a trial's ``driver`` names a policy (``policy:<id>``; src/workcell/session/config.py)."""
 
 
 @dataclass(frozen=True)
@@ -49,6 +56,8 @@ class Stretch:
 class CorrectionPlan:
     stretches: tuple[Stretch, ...]
     """In the order they are written: every episode's, each corrected stretch K times."""
+    left_out: tuple[int, ...] = ()
+    """Episodes a policy drove that nobody corrected: not trained on."""
 
     @property
     def demonstration_frames(self) -> int:
@@ -75,18 +84,29 @@ def corrected_runs(intervention: NDArray[np.bool_]) -> list[tuple[int, int]]:
     return [(int(a), int(b)) for a, b in zip(edges[::2], edges[1::2], strict=True)]
 
 
-def plan(episodes: dict[int, NDArray[np.bool_]], weight: int, source: str) -> CorrectionPlan:
-    """The stretches to train on, from each episode's ``intervention`` column."""
+def plan(
+    episodes: dict[int, NDArray[np.bool_]],
+    weight: int,
+    source: str,
+    drivers: Mapping[int, str | None] | None = None,
+) -> CorrectionPlan:
+    """The stretches to train on, from each episode's ``intervention`` column and who
+    drove it (``drivers``, by episode; missing or None: not recorded)."""
     check_weight(weight)
+    drivers = drivers or {}
     stretches: list[Stretch] = []
+    left_out: list[int] = []
     for episode, intervention in sorted(episodes.items()):
         runs = corrected_runs(intervention)
         if not runs:
-            stretches.append(Stretch(episode, 0, len(intervention), corrected=False))
+            if (drivers.get(episode) or "").startswith(POLICY_DRIVER):
+                left_out.append(episode)  # the policy alone: not a demonstration
+            else:
+                stretches.append(Stretch(episode, 0, len(intervention), corrected=False))
             continue
         for start, stop in runs:
             stretches.extend(Stretch(episode, start, stop, corrected=True) for _ in range(weight))
-    result = CorrectionPlan(tuple(stretches))
+    result = CorrectionPlan(tuple(stretches), tuple(left_out))
     if result.corrected_frames == 0:
         raise LearnError(
             f"--dataset {source!r} holds no corrections (no frame with intervention = true): "
@@ -105,6 +125,23 @@ def read_frames(dataset: Path) -> tuple[dict[str, Any], Any]:
     files = sorted((dataset / "data").glob("*/*.parquet"))
     frames = pd.concat([pd.read_parquet(f) for f in files]).sort_values("index")
     return info, frames
+
+
+def drivers(dataset: Path) -> dict[int, str | None]:
+    """Who drove each episode (by episode index), from the export's provenance sidecar;
+    empty for an export without one or from before its ``driver`` column."""
+    import pandas as pd  # type: ignore[import-untyped, unused-ignore]  # noqa: PLC0415
+
+    path = dataset / PROVENANCE_TABLE_PATH
+    if not path.exists():
+        return {}
+    table = pd.read_parquet(path)
+    if "driver" not in table.columns:
+        return {}
+    return {
+        int(episode): None if pd.isna(driver) else str(driver)
+        for episode, driver in zip(table["episode_index"], table["driver"], strict=True)
+    }
 
 
 def aggregated_path(out: Path) -> Path:
@@ -141,6 +178,7 @@ def aggregate(dataset: Path, out: Path, weight: int) -> CorrectionPlan:
         {e: group[INTERVENTION].to_numpy(dtype=bool) for e, group in by_episode.items()},
         weight,
         str(dataset),
+        drivers(dataset),
     )
     _write(
         out,
