@@ -46,3 +46,22 @@ def world_of(worlds: Mapping[WorldName, WorldRanges], section: RandomizationConf
         if randomization(worlds[name]) == section:
             return name
     return CUSTOM
+
+
+NEAR = 0.1
+"""D1's shift (m) of the start and the target and turn (rad) of the start: the shifted
+worlds of ``bench/learn.py``."""
+BROAD = 0.3
+"""D2's: three times D1's."""
+
+
+def shifted_worlds(**broad: float) -> dict[WorldName, WorldRanges]:
+    """The worlds most tasks have: D0 as configured; D1 moves the robot's start and the
+    task's target up to :data:`NEAR` m and turns the start up to :data:`NEAR` rad; D2 widens
+    those to :data:`BROAD` and adds ``broad`` (the objects' size, mass, colour, the feed)."""
+    near = {"start_shift": NEAR, "target_shift": NEAR, "start_yaw": NEAR}
+    return {
+        "D0": {},
+        "D1": near,
+        "D2": {**dict.fromkeys(near, BROAD), **broad},
+    }

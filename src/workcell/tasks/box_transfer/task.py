@@ -14,17 +14,10 @@ from workcell.tasks.box_transfer.scene import BoxTransferScene
 from workcell.tasks.box_transfer.stages import TASK_STAGES
 from workcell.tasks.elements.expert import ExpertOperator
 from workcell.tasks.task import Task
-from workcell.tasks.worlds import WorldName, WorldRanges
+from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ONE_BOX = "Carry the box from the conveyor to the delivery table."
 BOXES = "Carry {n} boxes from the conveyor to the delivery table."
-
-D1_SHIFT = 0.1
-"""D1 moves the robot's start and the delivery zone up to 0.1 m and turns the start up to
-0.1 rad: the shifted worlds of ``bench/learn.py``."""
-D2_SHIFT = 0.3
-"""D2 widens D1's ranges three times (0.3 m, 0.3 rad) and varies the boxes and the feed
-too."""
 
 
 class BoxTransfer(Task):
@@ -33,20 +26,15 @@ class BoxTransfer(Task):
         "carry boxes from the conveyor to the delivery table, one at a time, with both hands"
     )
     stages: ClassVar[tuple[str, ...]] = TASK_STAGES
-    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
-        "D0": {},
-        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
-        "D2": {
-            "start_shift": D2_SHIFT,
-            "target_shift": D2_SHIFT,
-            "start_yaw": D2_SHIFT,
-            "box_size": 0.15,
-            "box_mass": 0.3,
-            "box_colour": 0.2,
-            "conveyor_speed": 0.25,
-            "release_interval": 0.25,
-        },
-    }
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = shifted_worlds(
+        box_size=0.15,
+        box_mass=0.3,
+        box_colour=0.2,
+        conveyor_speed=0.25,
+        release_interval=0.25,
+    )
+    """D1 moves the robot's start and the delivery zone (the target) up to 0.1 m and turns
+    the start up to 0.1 rad; D2 widens that to 0.3 and varies the boxes and the feed."""
 
     goal_names: ClassVar[tuple[str, ...]] = ("goal_x", "goal_y")
     """The delivery zone's centre in the world (m): where this trial's boxes go."""

@@ -15,16 +15,10 @@ from workcell.tasks.shelve.scene import ShelveScene
 from workcell.tasks.shelve.shelf import ShelfLayout
 from workcell.tasks.shelve.stages import SHELVE_STAGES
 from workcell.tasks.task import Task
-from workcell.tasks.worlds import WorldName, WorldRanges
+from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ASKED = "Put the box from the table on the {shelf} shelf."
 ANY_SHELF = "Put the box from the table on the shelf asked for: the bottom, middle or top one."
-
-D1_SHIFT = 0.1
-"""D1 moves the robot's start, the table and the shelf up to 0.1 m and turns the start up
-to 0.1 rad."""
-D2_SHIFT = 0.3
-"""D2 widens D1's ranges three times and varies the box's size, mass and colour."""
 
 
 class Shelve(Task):
@@ -33,18 +27,13 @@ class Shelve(Task):
         "put a box from the table on the shelf the instruction names (bottom, middle or top)"
     )
     stages: ClassVar[tuple[str, ...]] = SHELVE_STAGES
-    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
-        "D0": {},
-        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
-        "D2": {
-            "start_shift": D2_SHIFT,
-            "target_shift": D2_SHIFT,
-            "start_yaw": D2_SHIFT,
-            "box_size": 0.15,
-            "box_mass": 0.3,
-            "box_colour": 0.2,
-        },
-    }
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = shifted_worlds(
+        box_size=0.15,
+        box_mass=0.3,
+        box_colour=0.2,
+    )
+    """The target is the table and the shelf: D1 moves them and the start up to 0.1 m; D2
+    widens that to 0.3 and varies the box's size, mass and colour."""
     goal_names: ClassVar[tuple[str, ...]] = ("shelf_x", "shelf_y", "shelf_height")
     """The asked board's centre in the world and its top's height (m)."""
 

@@ -17,7 +17,7 @@ from workcell.tasks.sort.layout import SortLayout, sorting_table_center
 from workcell.tasks.sort.scene import SortScene
 from workcell.tasks.sort.stages import SORT_STAGES
 from workcell.tasks.task import ObjectLook, Task
-from workcell.tasks.worlds import WorldName, WorldRanges
+from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ONE_BOX = "Sort the box from the conveyor onto the table whose zone has its colour."
 BOXES = "Sort {n} boxes from the conveyor: each onto the table whose zone has its colour."
@@ -28,11 +28,6 @@ SORTED_BOXES = 4
 NO_BOX = -1.0
 """The goal's table for a pool index the trial's pool does not have."""
 
-D1_SHIFT = 0.1
-"""D1 moves the start and both tables up to 0.1 m and turns the start up to 0.1 rad."""
-D2_SHIFT = 0.3
-"""D2 widens D1's ranges three times and varies the boxes' size and mass and the feed."""
-
 
 class Sort(Task):
     name: ClassVar[str] = "sort"
@@ -40,19 +35,14 @@ class Sort(Task):
         "sort boxes of two kinds from the conveyor, each kind onto its own table"
     )
     stages: ClassVar[tuple[str, ...]] = SORT_STAGES
-    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = {
-        "D0": {},
-        "D1": {"start_shift": D1_SHIFT, "target_shift": D1_SHIFT, "start_yaw": D1_SHIFT},
-        "D2": {
-            "start_shift": D2_SHIFT,
-            "target_shift": D2_SHIFT,
-            "start_yaw": D2_SHIFT,
-            "box_size": 0.15,
-            "box_mass": 0.3,
-            "conveyor_speed": 0.25,
-            "release_interval": 0.25,
-        },
-    }
+    worlds: ClassVar[Mapping[WorldName, WorldRanges]] = shifted_worlds(
+        box_size=0.15,
+        box_mass=0.3,
+        conveyor_speed=0.25,
+        release_interval=0.25,
+    )
+    """The target is both tables: D1 moves them and the start up to 0.1 m; D2 widens that
+    to 0.3 and varies the boxes' size and mass and the feed."""
     goal_names: ClassVar[tuple[str, ...]] = (
         "delivery_table_x",
         "delivery_table_y",
