@@ -54,6 +54,7 @@ const ARM_REACH = 0.65;
 const DEAD_ZONE = 0.15;
 const SETTLE_AFTER_S = 10; // on the last leg to the table this long (sim time)...
 const SETTLED_TOLERANCE = 0.06; // ...close enough is this close (m)
+const REST_S = 0.4; // a box still for this long (trial time) rests
 
 export interface OperatorOptions {
   slowDrive?: boolean;
@@ -85,6 +86,7 @@ export class ScriptedOperator {
   lastT: number | null = null;
   private candidate: string | null = null;
   private candidatePos: Vec3 = [0, 0, 0];
+  private candidateSince = 0; // trial time the candidate was first seen where it is
   private lifted: number | null = null;
   private lowering: number | null = null;
   private legStart: number | null = null;
@@ -207,12 +209,17 @@ export class ScriptedOperator {
         this.driveTo(obs, [1.0, 0, Math.PI]);
         if (resting.length > 0 && obs.phase === "running") {
           const candidate = resting.sort((a, b) => b.pos[0] - a.pos[0])[0]!;
-          if (this.candidate === candidate.name && norm(sub(candidate.pos, this.candidatePos)) < 0.003) {
+          // At rest: within 3 mm of where it was first seen for REST_S of trial time (two
+          // looks a loaded page answers from the same state would agree on a moving box).
+          const still = this.candidate === candidate.name && norm(sub(candidate.pos, this.candidatePos)) < 0.003;
+          if (!still) {
+            this.candidate = candidate.name;
+            this.candidatePos = candidate.pos;
+            this.candidateSince = t;
+          } else if (t - this.candidateSince >= REST_S) {
             this.box = candidate.name;
             this.enter("approach", t);
           }
-          this.candidate = candidate.name;
-          this.candidatePos = candidate.pos;
         }
         break;
       }

@@ -12,19 +12,25 @@ import { standAtBeltEnd } from "./approach.js";
 import { touchByKeys, touchedResult } from "./touch_by_keys.js";
 
 const BELT_END_X = -0.5; // a box past this x has reached the end of the belt
-const RESTING_M = 0.003; // ...and rests once it moves less than this between two looks
+const RESTING_M = 0.003; // ...and rests once it stays within this of where it was seen...
+const REST_S = 0.4; // ...for this long (trial time: a loaded page may answer two looks from one state)
 
 await runScript("sort_desktop", async ({ url, page, artifacts }) => {
-  let seen: Pose | null = null;
+  let seen: { pose: Pose; t: number } | null = null;
   const run = await touchByKeys(page, url, artifacts, {
     task: "sort",
     operatorId: "e2e-sort",
-    boxToReach: (bodies) => {
+    boxToReach: (bodies, t) => {
       const first = bodies["box_0"] ?? null; // the first box the feeder releases
-      const resting =
-        first !== null && seen !== null && first[0] > BELT_END_X && Math.hypot(first[0] - seen[0], first[1] - seen[1]) < RESTING_M;
-      seen = first;
-      return resting ? first : null;
+      if (first === null || first[0] <= BELT_END_X) {
+        seen = null;
+        return null;
+      }
+      if (seen === null || Math.hypot(first[0] - seen.pose[0], first[1] - seen.pose[1]) >= RESTING_M) {
+        seen = { pose: first, t };
+        return null;
+      }
+      return t - seen.t >= REST_S ? first : null;
     },
     standFor: standAtBeltEnd,
   });

@@ -18,6 +18,7 @@ const TICK_MS = 40;
 const TAP_MS = 110; // a key tap near the goal...
 const SETTLE_MS = 300; // ...then let the base stop before looking again
 const LONGEST_TAP_MS = 600; // a tap that did not move the base is held twice as long next time, up to this
+const LOWER_FOR_S = 20; // trial time the hands may go down without a touch before the script gives up
 const TIME_LIMIT_S = "300"; // the trial's: a loaded machine draws few frames a second
 const STALL_MS = 60000;
 const DRIVE_KEYS = ["w", "a", "s", "d", "q", "e"];
@@ -100,6 +101,7 @@ export async function touchByKeys(page: Page, url: string, artifacts: string, pl
   let movedM = 0;
   let loggedAt = 0;
   let goal: Base | null = null;
+  let loweringSince: number | null = null;
   let tapMs = TAP_MS;
   let tappedFrom: Base | null = null; // where the base was when the last tap began
   while (last.hud?.stage === "none") {
@@ -163,6 +165,13 @@ export async function touchByKeys(page: Page, url: string, artifacts: string, pl
     }
     if (step === "lower") {
       wanted.add("g").add("h").add("v"); // down until a pad meets the box's top
+      loweringSince ??= t;
+      const [left, right] = snap.state?.tcp_targets ?? [null, null];
+      check(
+        t - loweringSince < LOWER_FOR_S,
+        `the hands went down for ${LOWER_FOR_S} s without touching the box (the base went to ${JSON.stringify(goal)}; ` +
+          `arm targets ${JSON.stringify(left?.slice(0, 3))} / ${JSON.stringify(right?.slice(0, 3))})`,
+      );
     }
     if (Date.now() - loggedAt > 2000) {
       loggedAt = Date.now();
