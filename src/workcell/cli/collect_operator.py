@@ -15,8 +15,10 @@ from typing import TYPE_CHECKING
 from workcell.session.config import SessionConfig
 
 if TYPE_CHECKING:
+    from workcell.intervene.corrector import ScriptedCorrector
     from workcell.learn.checkpoint import PolicyCheckpoint
     from workcell.recording.drivers import Driver
+    from workcell.recording.recorded_session import RecordedSession
 
 POLICY_PREFIX = "policy:"
 DEFAULT_OPERATOR_ID = SessionConfig().operator_id
@@ -46,11 +48,35 @@ def with_operator_id(
 
 
 def driver(args: argparse.Namespace, checkpoint: PolicyCheckpoint | None) -> Driver:
-    """Who ``--operator`` (and ``--skill``) name, as the recorded session builds it."""
-    from workcell.recording.drivers import ExpertDriver, PolicyDriver  # noqa: PLC0415
+    """Who ``--operator`` (and ``--skill``) name, as the recorded session builds it; with
+    ``--corrector expert`` the task's expert stands by to take over."""
+    from workcell.recording.drivers import (  # noqa: PLC0415
+        ExpertDriver,
+        InterveningDriver,
+        PolicyDriver,
+    )
 
+    autonomous: ExpertDriver | PolicyDriver
     if checkpoint is None:
         from workcell.expert.skill import ExpertConfig  # noqa: PLC0415
 
-        return ExpertDriver(ExpertConfig(skill=args.skill))
-    return PolicyDriver(checkpoint, verbose=args.verbose)
+        autonomous = ExpertDriver(ExpertConfig(skill=args.skill))
+    else:
+        autonomous = PolicyDriver(checkpoint, verbose=args.verbose)
+    if args.corrector is None:
+        return autonomous
+    return InterveningDriver(autonomous, corrector=ExpertDriver())
+
+
+def corrector(args: argparse.Namespace, session: RecordedSession) -> ScriptedCorrector | None:
+    """The scripted corrector watching ``session`` (``--corrector``), or None."""
+    if args.corrector is None:
+        return None
+    from workcell.intervene.corrector import ScriptedCorrector  # noqa: PLC0415
+    from workcell.intervene.operator import InterveningOperator  # noqa: PLC0415
+    from workcell.intervene.rules import CorrectorRules  # noqa: PLC0415
+
+    operator = session.operator
+    assert isinstance(operator, InterveningOperator)
+    rules = CorrectorRules() if args.stall_s is None else CorrectorRules(stall_s=args.stall_s)
+    return ScriptedCorrector(operator, session.runner, rules)
