@@ -36,6 +36,7 @@ import math
 import shutil
 import subprocess
 import sys
+from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
@@ -99,11 +100,25 @@ def limit(settings: Settings) -> list[str]:
     return [] if t is None else ["--set", f"task.time_limit_s={t:g}"]
 
 
+def recorded(store: Path, record: Callable[[], object]) -> None:
+    """``record()`` into ``store`` unless a finished run did (``store``.done); what a run cut
+    short left is removed first."""
+    done = store.with_name(store.name + ".done")
+    if done.exists():
+        return
+    for leftover in store.parent.glob(store.name + "*"):
+        leftover.unlink()
+    record()
+    done.touch()
+
+
 def collect(settings: Settings, store: Path, *args: str) -> None:
-    if not store.exists():
+    def run() -> None:
         print(f"collecting {store.name} ...", flush=True)
         workcell(settings.work, "collect", "--mode", "collection", "--writer", "inline",
                  "--store", str(store), *args)  # fmt: skip
+
+    recorded(store, run)
 
 
 def frames(stores: list[Path]) -> tuple[int, int, int]:
@@ -124,7 +139,8 @@ def dataset(settings: Settings, name: str, stores: list[Path]) -> Path:
     out = settings.work / f"{name}-export"
     if not (out / "meta" / "info.json").exists():
         merged = settings.work / f"{name}.sqlite"
-        merged.unlink(missing_ok=True)
+        for leftover in settings.work.glob(merged.name + "*"):
+            leftover.unlink()
         workcell(settings.work, "merge", "--out", str(merged), *map(str, stores))
         shutil.rmtree(out, ignore_errors=True)
         workcell(settings.work, "export", "--format", "lerobot", "--store", str(merged),
@@ -133,24 +149,30 @@ def dataset(settings: Settings, name: str, stores: list[Path]) -> Path:
 
 
 def train(settings: Settings, name: str, data: Path, *args: str) -> Path:
+    """The last checkpoint of a policy trained on ``data``; a training cut short (no
+    ``name``.done) starts again."""
     out = settings.work / name
-    checkpoint = out / "checkpoints" / "last" / "pretrained_model"
-    if not checkpoint.exists():
+    done = settings.work / f"{name}.done"
+    if not done.exists():
         print(f"training {name} ({settings.steps} steps) ...", flush=True)
-        shutil.rmtree(out, ignore_errors=True)  # a training cut short starts again
+        shutil.rmtree(out, ignore_errors=True)
         shutil.rmtree(Path(f"{out}-dataset"), ignore_errors=True)
         workcell(settings.work, "train", "--dataset", str(data), "--out", str(out), "--steps",
                  str(settings.steps), "--threads", str(settings.threads), *args)  # fmt: skip
-    return checkpoint
+        done.touch()
+    return out / "checkpoints" / "last" / "pretrained_model"
 
 
 def evaluate(settings: Settings, name: str, policy: Path) -> Rung:
     store = settings.work / f"eval-{name}.sqlite"
-    if not store.exists():
+
+    def run() -> None:
         print(f"evaluating {name} in D1 ({settings.rollouts} rollouts) ...", flush=True)
         workcell(settings.work, "evaluate", "--policy", str(policy), "--world", "D1",
                  "--rollouts", str(settings.rollouts), "--seed", str(EVAL_SEED),
                  "--store", str(store), *limit(settings))  # fmt: skip
+
+    recorded(store, run)
     source = StoreSource(store)
     try:
         sessions = {s.session_id for s in source.sessions()}
@@ -223,7 +245,7 @@ def run(settings: Settings) -> list[Point]:
         corrections.append(chunk)
         done = r
         _, _, corrected = frames(corrections)
-        minutes = corrected / fps
+        minutes = corrected / fps / 60
         demos = fresh_demos(settings, minutes, demos, fps)
         demo_trials, demo_frames, _ = frames(demos)
         k = str(settings.correction_weight)
@@ -236,7 +258,7 @@ def run(settings: Settings) -> list[Point]:
         data = dataset(settings, f"demos-{r}", [base_store, *demos])
         rung = evaluate(settings, f"demos-{r}", train(settings, f"demos-{r}", data))
         added = f"{demo_trials} D1 demos"
-        points.append(point(f"demos-{r}", added, demo_frames / fps, rung, base_rung))
+        points.append(point(f"demos-{r}", added, demo_frames / fps / 60, rung, base_rung))
         print(line(points[-1]), flush=True)
     return points
 
