@@ -65,6 +65,8 @@ class Settings:
     correction_weight: int
     stall_s: float
     time_limit_s: float | None
+    workers: int = 1
+    """Evaluation processes per policy (``workcell evaluate --workers``)."""
 
 
 @dataclass(frozen=True)
@@ -134,11 +136,12 @@ def frames(stores: list[Path]) -> tuple[int, int, int]:
 
 
 def dataset(settings: Settings, name: str, stores: list[Path]) -> Path:
-    """The LeRobot export of ``stores`` merged (``name``.sqlite, ``name``-export; not
-    ``name``-dataset, where ``workcell train --correction-weight`` writes its aggregate)."""
+    """The LeRobot export of ``stores`` merged (``merged-NAME``.sqlite, ``NAME``-export;
+    not ``NAME``-dataset, where ``workcell train --correction-weight`` writes its
+    aggregate)."""
     out = settings.work / f"{name}-export"
     if not (out / "meta" / "info.json").exists():
-        merged = settings.work / f"{name}.sqlite"
+        merged = settings.work / f"merged-{name}.sqlite"
         for leftover in settings.work.glob(merged.name + "*"):
             leftover.unlink()
         workcell(settings.work, "merge", "--out", str(merged), *map(str, stores))
@@ -170,7 +173,8 @@ def evaluate(settings: Settings, name: str, policy: Path) -> Rung:
         print(f"evaluating {name} in D1 ({settings.rollouts} rollouts) ...", flush=True)
         workcell(settings.work, "evaluate", "--policy", str(policy), "--world", "D1",
                  "--rollouts", str(settings.rollouts), "--seed", str(EVAL_SEED),
-                 "--store", str(store), *limit(settings))  # fmt: skip
+                 "--store", str(store), "--workers", str(settings.workers),
+                 *limit(settings))  # fmt: skip
 
     recorded(store, run)
     source = StoreSource(store)
@@ -216,7 +220,7 @@ def fresh_demos(settings: Settings, minutes: float, have: list[Path], fps: float
         if need_s <= 0:
             return stores
         mean_s = total / fps / trials if trials else EXPERT_DEMO_S
-        chunk = settings.work / f"demos-{len(stores)}.sqlite"
+        chunk = settings.work / f"fresh-{len(stores)}.sqlite"
         collect(settings, chunk, "--world", "D1", "--seed", str(DEMO_SEED + len(stores)),
                 "--trials", str(max(1, math.ceil(need_s / mean_s))))  # fmt: skip
         stores.append(chunk)
@@ -301,6 +305,7 @@ def parse(argv: list[str] | None) -> Settings:
     parser.add_argument("--correction-weight", type=int, default=1, metavar="K")
     parser.add_argument("--stall-s", type=float, default=8.0, help="the corrector's stall rule")
     parser.add_argument("--time-limit", type=float, default=60.0, help="policy rollouts, s")
+    parser.add_argument("--workers", type=int, default=1, help="evaluation processes")
     parser.add_argument("--smoke", action="store_true", help="tiny: the pipeline, not a result")
     args = parser.parse_args(argv)
     try:
@@ -310,7 +315,8 @@ def parse(argv: list[str] | None) -> Settings:
     if not rollouts or list(rollouts) != sorted(set(rollouts)) or rollouts[0] < 1:
         parser.error("--correction-rollouts: must be increasing whole numbers from 1")
     if args.smoke:
-        return Settings(args.work, 2, 2, args.threads, 2, (1, 2), args.correction_weight, 2.0, 20.0)
+        smoke = (2, 2, args.threads, 2, (1, 2), args.correction_weight, 2.0, 20.0, args.workers)
+        return Settings(args.work, *smoke)
     return Settings(
         args.work,
         args.base_demos,
@@ -321,6 +327,7 @@ def parse(argv: list[str] | None) -> Settings:
         args.correction_weight,
         args.stall_s,
         args.time_limit,
+        args.workers,
     )
 
 
