@@ -3,6 +3,7 @@ session, and bad values are refused before anything runs, one line each."""
 
 from __future__ import annotations
 
+import json
 from pathlib import Path
 
 import numpy as np
@@ -12,7 +13,9 @@ from workcell.cli.main import main
 from workcell.record.store import Store
 
 
-def test_collect_with_a_corrector_records_its_corrections(tmp_path: Path) -> None:
+def test_collect_with_a_corrector_records_its_corrections_as_a_live_session(
+    tmp_path: Path,
+) -> None:
     store = tmp_path / "c.sqlite"
     # the expert at skill 0 still waits for the box to settle on the belt: it stalls at none
     args = ["collect", "--mode", "collection", "--trials", "1", "--skill", "0", "--corrector",
@@ -30,6 +33,12 @@ def test_collect_with_a_corrector_records_its_corrections(tmp_path: Path) -> Non
     assert trial.driver == "expert"
     assert switches[0] == ("take_over", "stalled 0.5 s at none", "expert")
     assert flags[0] == 0.0 and flags[-1] == 1.0  # the corrector still drives at the end
+    # the audit counts the corrections as the corrector's, as a watching person's
+    out = tmp_path / "audit"
+    assert main(["audit", "--store", str(store), "--out", str(out)]) == 0
+    groups = json.loads((out / "summary.json").read_text())["interventions"]["groups"]
+    watched = {(g["driver"], g["person"]): g["take_overs"] for g in groups}
+    assert watched == {("expert", ""): 1, ("expert", "expert"): 1}
 
 
 @pytest.mark.parametrize(

@@ -72,7 +72,7 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--operator-id",
         help="operator id stored with the session (default: expert, expert-skill<X>, or the "
-        "policy's type, run and weights hash)",
+        "policy's type, run and weights hash; with --corrector, the corrector: who watched)",
     )
     parser.add_argument(
         "--condition",

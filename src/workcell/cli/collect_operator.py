@@ -3,7 +3,9 @@
 A session records its operator's id. Unless one is given (``--operator-id`` or the
 configuration), it is ``expert`` (``expert-skill<X>`` below full skill) or the policy's
 :attr:`~workcell.learn.checkpoint.PolicyCheckpoint.operator_id`: its type, training run
-and weights hash, so the audit groups sessions by who drove them.
+and weights hash, so the audit groups sessions by who drove them. With ``--corrector`` it
+is the corrector's (who watched, as in a live session a person corrects; the trials record
+who drove).
 """
 
 from __future__ import annotations
@@ -37,10 +39,16 @@ def policy_checkpoint(args: argparse.Namespace) -> PolicyCheckpoint | None:
 def with_operator_id(
     config: SessionConfig, args: argparse.Namespace, checkpoint: PolicyCheckpoint | None
 ) -> SessionConfig:
-    """``config`` with the operator's own id, unless the user chose one."""
+    """``config`` with the operator's own id, unless the user chose one. With a scripted
+    corrector the session is recorded as a live one a person watches: its ``driver``
+    setting is ``--operator`` and its operator (who watched) the corrector, ``expert``."""
+    if args.corrector is not None:
+        config = dataclasses.replace(config, driver=args.operator)
     if args.operator_id is not None or config.operator_id != DEFAULT_OPERATOR_ID:
         return config
-    if checkpoint is not None:
+    if args.corrector is not None:
+        name = args.corrector
+    elif checkpoint is not None:
         name = checkpoint.operator_id
     else:
         name = "expert" if args.skill >= 1.0 else f"expert-skill{args.skill:g}"
