@@ -18,9 +18,10 @@ from workcell.recording.drivers import ExpertDriver, InterveningDriver
 from workcell.session.config import SessionConfig
 from workcell.tasks.elements.expert import ExpertOperator
 from workcell.tasks.registry import load_task
+from workcell.teleop.operator import TeleopOperator
 
 
-def _built() -> tuple[Simulation, InterveningOperator]:
+def _built() -> tuple[Simulation, InterveningOperator[TeleopOperator]]:
     config = SessionConfig(driver="expert")
     sim = Simulation(config.world, load_task(config.task.kind).scene())
     operator = InterveningDriver(ExpertDriver()).build(config, sim).operator

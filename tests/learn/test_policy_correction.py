@@ -15,6 +15,7 @@ import pytest
 
 from tests.learn_extra import require_learn_extra
 from tests.server.harness import client, hand, running_server
+from workcell.cli.main import main
 from workcell.learn.checkpoint import PolicyCheckpoint
 from workcell.protocol import messages as m
 from workcell.record.store import Store
@@ -88,3 +89,36 @@ def test_the_person_takes_over_from_a_policy_and_hands_back(
     corrected = np.flatnonzero(flags == 1.0)
     assert len(corrected) > 0 and flags[-1] == 0.0  # the policy drove again to the end
     assert kinds == ["take_over", "hand_back"]
+
+
+@pytest.mark.slow
+def test_the_scripted_corrector_takes_over_from_a_policy_and_hands_back(
+    tiny_policy: Path, tmp_path: Path
+) -> None:
+    """``workcell collect --operator policy:PATH --corrector expert``: the policy (2 steps
+    trained) stalls, the expert takes over, brings the box to its next stage and hands back;
+    the policy drives again from there (its queued actions dropped)."""
+    store = tmp_path / "corrected.sqlite"
+    args = ["collect", "--operator", f"policy:{tiny_policy}", "--corrector", "expert",
+            "--stall-s", "1", "--mode", "collection", "--trials", "1", "--set",
+            "task.time_limit_s=25", "--set", "task.countdown_s=0", "--writer", "inline",
+            "--store", str(store)]  # fmt: skip
+    assert main(args) == 0
+    operator_id = PolicyCheckpoint.locate(tiny_policy).operator_id
+    with Store.open(store, writer=False) as reader:
+        (trial,) = reader.trials()
+        flags = np.asarray(reader.frames(trial.trial_id)["intervention"])
+        switches = [
+            (e.kind, e.payload["reason"], e.payload["operator_id"], e.payload["driver"])
+            for e in reader.events(trial.trial_id)
+            if e.kind in ("take_over", "hand_back")
+        ]
+    driver = f"policy:{operator_id}"
+    assert trial.driver == driver
+    assert switches[0] == ("take_over", "stalled 1 s at none", "expert", driver)
+    assert switches[1][0] == "hand_back" and switches[1][1].startswith("reached ")
+    # one stretch of corrected frames per take-over, the policy's frames between them
+    starts = np.flatnonzero(np.diff(flags) == 1.0)
+    assert flags[0] == 0.0 and len(starts) == [s[0] for s in switches].count("take_over")
+    ends = np.flatnonzero(np.diff(flags) == -1.0)
+    assert len(ends) == [s[0] for s in switches].count("hand_back")

@@ -10,12 +10,14 @@ from typing import TYPE_CHECKING, Any
 from workcell import checks
 from workcell.cli.collect_operator import (
     POLICY_PREFIX,
+    corrector,
     driver,
     policy_checkpoint,
     with_operator_id,
 )
 from workcell.cli.task_options import add_task_arguments, task_flags
 from workcell.errors import ConfigError, WorkcellError
+from workcell.intervene.rules import CORRECTORS, CorrectorRules
 
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
@@ -42,6 +44,21 @@ def register(subparsers: Subparsers) -> None:
         help="who drives: the scripted expert (default), or the LeRobot policy at PATH "
         "(a pretrained_model directory, or a 'workcell train' output)",
     )
+    parser.add_argument(
+        "--corrector",
+        choices=CORRECTORS,
+        help="a scripted corrector stands in for a person watching --operator: the task's "
+        "expert takes over when the trial's stage stalls or a grasped box is dropped, drives "
+        "to the next stage and hands back, recorded as a live correction "
+        "(docs/intervention.md)",
+    )
+    parser.add_argument(
+        "--stall-s",
+        type=float,
+        metavar="S",
+        help=f"with --corrector: take over after S s without a new stage (default: "
+        f"{CorrectorRules().stall_s:g})",
+    )
     add_task_arguments(parser)
     parser.add_argument("--mode", choices=("practice", "collection", "challenge"))
     parser.add_argument(
@@ -55,7 +72,7 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument(
         "--operator-id",
         help="operator id stored with the session (default: expert, expert-skill<X>, or the "
-        "policy's type, run and weights hash)",
+        "policy's type, run and weights hash; with --corrector, the corrector: who watched)",
     )
     parser.add_argument(
         "--condition",
@@ -139,6 +156,14 @@ def _check(args: argparse.Namespace) -> list[str]:
         problems.append(f"--operator = {args.operator!r}: must be expert or policy:PATH")
     if args.operator.startswith(POLICY_PREFIX) and (args.workers > 1 or args.ray):
         problems.append("--operator policy:PATH: runs in this process; drop --workers/--ray")
+    if args.corrector is not None and (args.workers > 1 or args.ray):
+        problems.append("--corrector: watches the session in this process; drop --workers/--ray")
+    if args.stall_s is not None and args.corrector is None:
+        problems.append("--stall-s: the corrector's rule; it needs --corrector expert")
+    if args.stall_s is not None and not (
+        math.isfinite(args.stall_s) and 0.1 <= args.stall_s <= 3600
+    ):
+        problems.append(f"--stall-s = {args.stall_s:g}: must be 0.1 to 3600 seconds")
     if args.trials is not None and not 1 <= args.trials <= 100_000:
         problems.append(f"--trials = {args.trials}: must be 1 to 100000")
     if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):
@@ -229,9 +254,14 @@ def run(args: argparse.Namespace) -> int:
         printer = TrialPrinter(args.json)
         printer.header()
         runner = session.runner
-        signal_name = run_headless(
-            session, printer.row, lambda: printer.progress(runner), printer.check_output
-        )
+        watch = corrector(args, session)
+
+        def after_step() -> None:
+            if watch is not None:
+                watch.after_step()
+            printer.progress(runner)
+
+        signal_name = run_headless(session, printer.row, after_step, printer.check_output)
         printer.summary(runner)
         if session.recorder is not None and session.failure is None:
             printer.stored(args.store, session.session_id, session.frames_written)

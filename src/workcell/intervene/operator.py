@@ -13,18 +13,23 @@ The switch happens on the simulation thread, between two control periods
 - hand-back: the driver goes on from the state it finds (:meth:`Resumable.resume`: the
   scripted expert re-plans, a policy drops its queued actions).
 
+The ``person`` is the person at a browser or headset (a
+:class:`~workcell.teleop.operator.TeleopOperator`, as above) or a scripted stand-in that is
+itself :class:`Resumable` (:mod:`workcell.intervene.corrector`: the task's expert), which at
+a take-over goes on from the world as the driver left it, as the driver does at a hand-back.
+
 Each trial begins with the driver driving.
 """
 
 from __future__ import annotations
 
 import dataclasses
-from typing import Protocol
+from typing import Generic, Protocol, TypeVar
 
 from workcell.control.command import Command
 from workcell.recording.frame_capture import OperatorInput
 from workcell.sim.world import World
-from workcell.teleop.operator import TcpSource, TeleopOperator
+from workcell.teleop.operator import TeleopOperator
 
 GRIPPER_CATCH = 0.15
 """How close (0..1) the person's trigger must come to the closure a gripper was left at
@@ -44,18 +49,19 @@ class Resumable(Protocol):
         person's)."""
 
 
-class InterveningOperator:
+Person = TypeVar("Person", bound=TeleopOperator | Resumable)
+"""Who takes over: the person at a browser or headset, or a scripted stand-in."""
+
+
+class InterveningOperator(Generic[Person]):
     """Implements the task's Operator protocol: ``driver`` drives until :meth:`take_over`,
     ``person`` until :meth:`hand_back` (both on the simulation thread)."""
 
-    def __init__(
-        self, driver: Resumable, person: TeleopOperator, tcp_source: TcpSource, driver_name: str
-    ) -> None:
+    def __init__(self, driver: Resumable, person: Person, driver_name: str) -> None:
         self.driver = driver
         self.person = person
         self.driver_name = driver_name
         """The driver as recorded (``expert``, ``policy:<id>``)."""
-        self._tcp_source = tcp_source
         self.person_drives = False
         """Whether the person has control (frames are corrections while they do)."""
         self.last = Command()
@@ -93,12 +99,17 @@ class InterveningOperator:
         """The person drives from the next control period on; False when they already do."""
         if self.person_drives:
             return False
-        for side, clutch in self.person.clutches.items():
-            clutch.reset()
-            clutch.target = self._tcp_source(world, side)
-        self.person.snap = None
-        self._held_grippers = (self.last.close_left, self.last.close_right)
-        self._caught = [False, False]
+        person = self.person
+        if isinstance(person, TeleopOperator):
+            for side, clutch in person.clutches.items():
+                clutch.reset()
+                clutch.target = person.tcp_source(world, side)
+            person.snap = None
+            self._held_grippers = (self.last.close_left, self.last.close_right)
+            self._caught = [False, False]
+        else:  # a scripted stand-in goes on from the world as the driver left it
+            person.resume(world, self.last)
+            self._caught = [True, True]
         self.person_drives = True
         return True
 
@@ -114,8 +125,12 @@ class InterveningOperator:
 
     def operator_input(self) -> OperatorInput | None:
         """The person's device while they drive; None while the driver does (its frames'
-        grip and trigger read from its commands, as any command-only operator's)."""
-        return self.person.operator_input() if self.person_drives else None
+        grip and trigger read from its commands, as any command-only operator's) and while a
+        scripted stand-in does (it has no device)."""
+        person = self.person
+        if self.person_drives and isinstance(person, TeleopOperator):
+            return person.operator_input()
+        return None
 
     def intervention(self) -> bool:
         return self.person_drives

@@ -3,13 +3,15 @@ trial records who took or gave control, the driver and the person's reason."""
 
 from __future__ import annotations
 
+from typing import Any
+
 from workcell.intervene.operator import InterveningOperator
 from workcell.task import events as ev
 from workcell.task.runner import SessionRunner
 
 
 def switch(
-    operator: InterveningOperator,
+    operator: InterveningOperator[Any],
     runner: SessionRunner,
     person: bool,
     operator_id: str,

@@ -12,7 +12,7 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
-from typing import TYPE_CHECKING
+from typing import TYPE_CHECKING, Protocol
 
 from workcell.expert.skill import ExpertConfig
 
@@ -111,27 +111,40 @@ class GeneratedDriver:
         return Driving(GeneratedOperator(self.plan), name="generated")
 
 
+class Autonomous(Protocol):
+    """A driver whose operator can go on from a state someone else left
+    (:class:`~workcell.intervene.operator.Resumable`): the expert, a policy."""
+
+    def build(self, config: SessionConfig, sim: Simulation) -> Driving: ...
+
+
 @dataclass(frozen=True)
 class InterveningDriver:
     """``autonomous`` drives while a person at a browser watches and may take over and
     hand back (:class:`~workcell.intervene.operator.InterveningOperator`); the recorded
-    device input is the person's while they drive."""
+    device input is the person's while they drive. With a ``corrector`` (the task's expert)
+    no person is at a browser: the corrector takes over instead, when a
+    :class:`~workcell.intervene.corrector.ScriptedCorrector` watching the session says so."""
 
-    autonomous: ExpertDriver | PolicyDriver
+    autonomous: Autonomous
+    corrector: ExpertDriver | None = None
 
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
-        from workcell.intervene.operator import InterveningOperator  # noqa: PLC0415
+        from workcell.intervene.operator import InterveningOperator, Resumable  # noqa: PLC0415
         from workcell.teleop.operator import TeleopOperator  # noqa: PLC0415
 
-        person = TeleopDriver().build(config, sim)
+        person: TeleopOperator | Resumable
+        if self.corrector is None:
+            teleop = TeleopDriver().build(config, sim).operator
+            assert isinstance(teleop, TeleopOperator)
+            person = teleop
+        else:
+            person = self.corrector.build(config, sim).operator  # type: ignore[assignment]
         sim.controller.solve_held_arms = True  # the driver's arms are solved every period
         driving = self.autonomous.build(config, sim)
-        teleop = person.operator
-        assert isinstance(teleop, TeleopOperator)
         operator = InterveningOperator(
             driving.operator,  # type: ignore[arg-type]  # expert and policy can resume
-            teleop,
-            teleop.tcp_source,
+            person,
             driving.name,
         )
         return Driving(operator, operator.operator_input, driving.name, operator.intervention)

@@ -157,7 +157,7 @@ class LiveSession:
         assert self._session is not None
         operator = self._session.operator
         if isinstance(operator, InterveningOperator):
-            return operator.person
+            operator = operator.person
         assert isinstance(operator, TeleopOperator)
         return operator
 

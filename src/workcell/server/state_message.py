@@ -50,7 +50,7 @@ class StateBuilder:
         self,
         runner: SessionRunner,
         operator: TeleopOperator,
-        intervening: InterveningOperator | None = None,
+        intervening: InterveningOperator[TeleopOperator] | None = None,
     ) -> None:
         self.runner = runner
         self.operator = operator
