@@ -172,7 +172,9 @@ def test_a_checkpoint_is_found_from_the_training_output(tmp_path: Path) -> None:
 
 def test_sessions_are_named_after_their_operator() -> None:
     def named(operator_id: str | None, skill: float = 1.0, config_id: str = "anonymous") -> str:
-        args = argparse.Namespace(operator_id=operator_id, skill=skill)
+        args = argparse.Namespace(
+            operator="expert", operator_id=operator_id, skill=skill, corrector=None
+        )
         config = SessionConfig(operator_id=config_id)
         return with_operator_id(config, args, None).operator_id
 
@@ -180,6 +182,13 @@ def test_sessions_are_named_after_their_operator() -> None:
     assert named(None, 0.25) == "expert-skill0.25"
     assert named("alice", config_id="alice") == "alice"  # chosen with --operator-id
     assert named(None, config_id="bob") == "bob"  # chosen in the configuration
+    # with a scripted corrector: a session the corrector watches, the policy its driver
+    corrected = with_operator_id(
+        SessionConfig(),
+        argparse.Namespace(operator="policy:act", operator_id=None, skill=1.0, corrector="expert"),
+        None,
+    )
+    assert (corrected.operator_id, corrected.driver) == ("expert", "policy:act")
 
 
 def test_collect_refuses_a_policy_that_is_not_there(
