@@ -24,8 +24,8 @@ with matplotlib). Everything runs through the README's commands (``workcell coll
 ``merge``, ``export``, ``train``, ``evaluate``), logged to ``WORK/commands.log``; a step
 whose output is there is not run again.
 
-    .venv/bin/python bench/intervene.py --work /tmp/intervene              # hours of CPU
-    .venv/bin/python bench/intervene.py --work /tmp/intervene-smoke --smoke  # the pipeline
+    .venv/bin/python -m bench.intervene --work /tmp/intervene              # hours of CPU
+    .venv/bin/python -m bench.intervene --work /tmp/intervene-smoke --smoke  # the pipeline
 """
 
 from __future__ import annotations
@@ -34,12 +34,11 @@ import argparse
 import json
 import math
 import shutil
-import subprocess
-import sys
 from collections.abc import Callable
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
+from bench.learn_d1 import workcell
 from workcell.audit.ladder import Rung
 from workcell.audit.store_source import StoreSource
 from workcell.evaluate.table import recorded_rungs
@@ -84,17 +83,6 @@ class Point:
     gain_per_minute: float | None
     """Success gained over the base per added minute (fraction per minute)."""
     stages: dict[str, int]
-
-
-def workcell(work: Path, *args: str) -> str:
-    """Run ``workcell ARGS`` (this interpreter), its output appended to ``work/commands.log``."""
-    command = [sys.executable, "-m", "workcell", *args]
-    done = subprocess.run(command, capture_output=True, text=True, check=False)
-    with (work / "commands.log").open("a") as out:
-        out.write(f"$ workcell {' '.join(args)}\n{done.stdout}{done.stderr}\n")
-    if done.returncode != 0:
-        raise SystemExit(f"workcell {' '.join(args)} failed ({done.returncode}); see commands.log")
-    return done.stdout
 
 
 def limit(settings: Settings) -> list[str]:

@@ -17,7 +17,7 @@ from workcell.cli.collect_operator import (
 )
 from workcell.cli.task_options import add_task_arguments, task_flags
 from workcell.errors import ConfigError, WorkcellError
-from workcell.intervene.rules import CORRECTORS, CorrectorRules
+from workcell.intervene.rules import CORRECTORS, SECONDS, CorrectorRules, within_seconds
 
 if TYPE_CHECKING:
     from workcell.cli.command import Subparsers
@@ -160,10 +160,9 @@ def _check(args: argparse.Namespace) -> list[str]:
         problems.append("--corrector: watches the session in this process; drop --workers/--ray")
     if args.stall_s is not None and args.corrector is None:
         problems.append("--stall-s: the corrector's rule; it needs --corrector expert")
-    if args.stall_s is not None and not (
-        math.isfinite(args.stall_s) and 0.1 <= args.stall_s <= 3600
-    ):
-        problems.append(f"--stall-s = {args.stall_s:g}: must be 0.1 to 3600 seconds")
+    if args.stall_s is not None and not within_seconds(args.stall_s):
+        low, high = SECONDS
+        problems.append(f"--stall-s = {args.stall_s:g}: must be {low:g} to {high:g} seconds")
     if args.trials is not None and not 1 <= args.trials <= 100_000:
         problems.append(f"--trials = {args.trials}: must be 1 to 100000")
     if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):

@@ -10,6 +10,8 @@ from workcell.errors import ConfigError
 
 CORRECTORS = ("expert",)
 """Who may stand in for the person (``workcell collect --corrector``)."""
+SECONDS = (0.1, 3600.0)
+"""The least and the most a rule's time may be (s)."""
 DROP_STAGES = ("grasped", "lifted")
 """The stages at which a box no longer held has been dropped on its way."""
 
@@ -27,9 +29,15 @@ class CorrectorRules:
 
     def __post_init__(self) -> None:
         problems = [
-            f"{name} = {value:g}: must be a finite number of seconds between 0.1 and 3600"
+            f"{name} = {value:g}: must be a finite number of seconds between "
+            f"{SECONDS[0]:g} and {SECONDS[1]:g}"
             for name, value in (("stall_s", self.stall_s), ("drop_s", self.drop_s))
-            if not (math.isfinite(value) and 0.1 <= value <= 3600.0)
+            if not within_seconds(value)
         ]
         if problems:
             raise ConfigError(problems)
+
+
+def within_seconds(value: float) -> bool:
+    """Whether ``value`` is a time a rule may have (:data:`SECONDS`)."""
+    return math.isfinite(value) and SECONDS[0] <= value <= SECONDS[1]

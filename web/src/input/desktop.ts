@@ -128,11 +128,8 @@ export class DesktopInput {
     const pad = readGamepad();
     const now = performance.now();
     if (pad?.active === true) this.lastPadActive = now;
-    const held = new Set([...this.down, ...this.tapped]);
-    this.unread.clear();
-    this.tapped.clear();
-    const key = (code: string): number => (held.has(code) ? 1 : 0);
-    const slow = held.has("ShiftLeft") || held.has("ShiftRight") ? SLOW : 1;
+    const key = (code: string): number => (this.down.has(code) || this.tapped.has(code) ? 1 : 0);
+    const slow = key("ShiftLeft") + key("ShiftRight") > 0 ? SLOW : 1;
 
     const grip: [number, number] = [
       Math.max(key("KeyG"), this.latchedGrip ? 1 : 0, pad?.grip[0] ?? 0),
@@ -171,6 +168,8 @@ export class DesktopInput {
     });
 
     const source = now - this.lastPadActive < 2000 ? "gamepad" : "desktop";
+    this.unread.clear(); // this read saw every key pressed or tapped since the last
+    this.tapped.clear();
     return {
       source,
       headset: this.headsetPose(),
