@@ -40,7 +40,8 @@ def test_layout_is_robomimics(hdf5_path: Path, recorded: Stores) -> None:
             assert demo["rewards"].shape == demo["dones"].shape == (n,)
             assert demo["dones"][-1] == 1 and demo["dones"][:-1].sum() == 0
             assert demo["obs/state"].shape == (n, 39)
-            assert demo["obs/environment_state"].shape == (n, 32 + 2)  # boxes, then the goal
+            # boxes, the goal, then both relative to the robot (9 per box, the goal's point)
+            assert demo["obs/environment_state"].shape == (n, 32 + 2 + 36 + 2)
             model = mujoco.MjModel.from_xml_string(demo.attrs["model_file"])
             assert demo["states"].shape == (n, model.nq + model.nv)
 

@@ -57,9 +57,16 @@ def test_info_describes_a_v30_dataset(lerobot_dir: Path) -> None:
     assert features["observation.state"]["shape"] == [39]
     assert features["action"]["names"] == list(ACTION_NAMES)
     assert features["action"]["shape"] == [23]
-    # every box, then the task's goal: the delivery zone's centre
-    environment = [*box_feature_names(4), "goal_x", "goal_y"]
-    assert features["observation.environment_state"]["names"] == environment
+    # every box, then the task's goal (the delivery zone's centre), then both as the robot
+    # sees them
+    names = features["observation.environment_state"]["names"]
+    assert names[:34] == [*box_feature_names(4), "goal_x", "goal_y"]
+    assert names[34:43] == [
+        "box0_in_base_x", "box0_in_base_y", "box0_in_base_yaw",
+        "box0_from_tcp_l_x", "box0_from_tcp_l_y", "box0_from_tcp_l_z",
+        "box0_from_tcp_r_x", "box0_from_tcp_r_y", "box0_from_tcp_r_z",
+    ]  # fmt: skip
+    assert names[-2:] == ["goal_in_base_x", "goal_in_base_y"] and len(names) == 34 + 36 + 2
     for key in ("next.reward", "timestamp"):
         assert features[key] == {"dtype": "float32", "shape": [1], "names": None}
     for key in ("next.done", "next.success"):

@@ -73,7 +73,8 @@ def test_sequence_dataset_loads_every_demo_with_next_obs(hdf5_path: Path) -> Non
     assert len(dataset) == total
     item = dataset[3]  # demo_0 comes first
     assert item["obs"]["state"].shape == (1, 39)
-    assert item["next_obs"]["environment_state"].shape == (1, 32 + 2)  # boxes, then the goal
+    # boxes, the goal, then both relative to the robot (9 per box, the goal's point)
+    assert item["next_obs"]["environment_state"].shape == (1, 32 + 2 + 36 + 2)
     assert item["actions"].shape == (1, 23)
     np.testing.assert_array_equal(item["obs"]["state"][0], state[3])
     np.testing.assert_array_equal(item["next_obs"]["state"][0], next_state[3])

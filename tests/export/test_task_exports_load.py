@@ -18,6 +18,7 @@ import pytest
 
 from tests.learn_extra import require_learn_extra
 from workcell.cli.main import main
+from workcell.export.boxes import environment_names, goal_slice
 from workcell.export.hdf5_export import HDF5_NAME
 from workcell.record import Store
 from workcell.tasks.registry import load_task
@@ -73,7 +74,9 @@ def test_lerobot_loads_each_task_with_its_instruction(exported: Any) -> None:
     assert dataset.meta.total_episodes == 1 and len(dataset) == n_frames
     names = dataset.meta.features["observation.environment_state"]["names"]
     goal = load_task(task).goal_names
-    assert tuple(names[-len(goal) :]) == goal and (len(names) - len(goal)) % 8 == 0
+    pool = len([n for n in names if n.endswith("_state") and n.startswith("box")])
+    assert tuple(names) == environment_names(pool, goal)
+    assert tuple(names[goal_slice(pool, goal)]) == goal
     for index in (0, n_frames - 1):
         item = dataset[index]
         assert item["task"] == instruction
@@ -99,7 +102,8 @@ def test_robomimic_loads_each_task(exported: Any) -> None:
     last = dataset[n_frames - 1]
     np.testing.assert_array_equal(last["obs"]["environment_state"][0], environment[-1])
     goal = load_task(task).goal_names
-    assert environment.shape[1] == len(names) and tuple(names[-len(goal) :]) == goal
+    pool = len([n for n in names if n.endswith("_state") and n.startswith("box")])
+    assert environment.shape[1] == len(names) and tuple(names) == environment_names(pool, goal)
 
 
 def test_rerun_draws_each_box_as_the_trial_drew_it(exported: Any) -> None:

@@ -19,6 +19,7 @@ from workcell.envs.box_transfer import BoxTransferEnv
 from workcell.envs.config import BoxTransferConfig
 from workcell.errors import ConfigError
 from workcell.expert.skill import ExpertConfig
+from workcell.export.boxes import goal_slice
 from workcell.recording.drivers import ExpertDriver
 from workcell.recording.headless import run_headless
 from workcell.recording.recorded_session import RecordedSession, RecordedSessionConfig
@@ -142,7 +143,8 @@ def test_the_goal_is_observed_and_exported_where_the_trial_put_the_zone(tmp_path
     for seed in (1, 2):
         observation, _ = env.reset(seed=seed)
         center = env.sim.world.conditions.target_center
-        goal = observation["environment_state"][-2:]
+        pool = env.sim.config.feeder.pool_size
+        goal = observation["environment_state"][goal_slice(pool, BoxTransfer.goal_names)]
         assert goal.tolist() == pytest.approx(center, abs=1e-6)
         seen.add(tuple(goal.tolist()))
     env.close()
@@ -159,7 +161,7 @@ def test_the_goal_is_observed_and_exported_where_the_trial_put_the_zone(tmp_path
     table = pq.read_table(out / "data/chunk-000/file-000.parquet").to_pydict()
     for episode, center in enumerate(centers):
         rows = [
-            state[-2:]
+            state[goal_slice(4, BoxTransfer.goal_names)]
             for state, index in zip(
                 table["observation.environment_state"], table["episode_index"], strict=True
             )

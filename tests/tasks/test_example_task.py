@@ -43,6 +43,7 @@ def test_the_example_task_is_collected_audited_and_exported(
     out = tmp_path / "lerobot"
     assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
     info = json.loads((out / "meta" / "info.json").read_text())
-    assert info["features"]["observation.environment_state"]["names"][-1] == "lift_m"
+    names = info["features"]["observation.environment_state"]["names"]
+    assert "lift_m" in names and names[-1].startswith("box")  # no goal point to relate
     tasks = (out / "meta" / "tasks.parquet").read_bytes()
     assert b"Lift the box off the conveyor and hold it up." in tasks

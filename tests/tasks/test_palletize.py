@@ -19,6 +19,7 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.envs.box_transfer import BoxTransferEnv
 from workcell.expert.skill import ExpertConfig
+from workcell.export.boxes import goal_slice
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.sim.boxes import BoxState
 from workcell.sim.config import WorldConfig
@@ -193,7 +194,9 @@ def test_collected_in_d2_audited_and_exported_with_its_instruction(
     assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
     info = json.loads((out / "meta" / "info.json").read_text())
     names = info["features"]["observation.environment_state"]["names"]
-    assert names[-8:] == list(Palletize.goal_names)
+    start = names.index("slot_1_x")
+    assert names[start : start + 8] == list(Palletize.goal_names)
+    assert names[-8:] == [f"slot_{i}_in_base_{a}" for i in range(1, 5) for a in "xy"]
     assert INSTRUCTION.encode() in (out / "meta" / "tasks.parquet").read_bytes()
 
 
@@ -206,6 +209,7 @@ def test_its_environment_passes_gymnasiums_checker() -> None:
     observation, info = unwrapped.reset(seed=2)
     assert info["stage"] == "none"
     layout = PalletLayout.of(unwrapped.sim.world.conditions.as_dict(), unwrapped.sim.config)
-    goal = observation["environment_state"][-8:]
+    pool = unwrapped.sim.config.feeder.pool_size
+    goal = observation["environment_state"][goal_slice(pool, Palletize.goal_names)]
     assert goal.tolist() == pytest.approx([v for c in layout.slot_centers() for v in c], abs=1e-5)
     env.close()

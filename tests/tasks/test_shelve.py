@@ -22,6 +22,7 @@ from workcell.cli.main import main
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.expert.skill import ExpertConfig
+from workcell.export.boxes import goal_slice
 from workcell.session.config import SessionConfig, TaskConfig
 from workcell.sim.config import WorldConfig
 from workcell.sim.events import BoxReleased
@@ -190,7 +191,8 @@ def test_the_environment_passes_gymnasiums_checker_and_observes_the_goal() -> No
     sim = env.sim  # type: ignore[attr-defined]
     layout = ShelfLayout.from_recorded(sim.world.conditions.task_values)
     goal = (*layout.board_center(layout.asked), BOARD_TOPS[layout.asked])
-    assert obs["environment_state"][-3:] == pytest.approx(goal, abs=1e-5)
+    where = goal_slice(sim.config.feeder.pool_size, Shelve.goal_names)
+    assert obs["environment_state"][where] == pytest.approx(goal, abs=1e-5)
     env.close()
 
 
@@ -207,14 +209,16 @@ def test_collected_audited_and_exported_with_each_trials_instruction(
     assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
     info = json.loads((out / "meta" / "info.json").read_text())
     names = info["features"]["observation.environment_state"]["names"]
-    assert names[-3:] == ["shelf_x", "shelf_y", "shelf_height"]
+    height, shelf_y = names.index("shelf_height"), names.index("shelf_y")
+    assert names[height - 2 : height + 1] == ["shelf_x", "shelf_y", "shelf_height"]
+    assert names[-2:] == ["shelf_in_base_x", "shelf_in_base_y"]  # the goal's point, robot-relative
     provenance = pq.read_table(out / "meta" / "workcell_provenance.parquet").to_pylist()
     tasks = {row["task"] for row in provenance}
     assert all(t.startswith("Put the box from the table on the ") for t in tasks)
     frames = pq.read_table(out / "data" / "chunk-000" / "file-000.parquet").to_pylist()
-    heights = {round(row["observation.environment_state"][-1], 3) for row in frames}
+    heights = {round(row["observation.environment_state"][height], 3) for row in frames}
     named = {t.split(" on the ")[1].split()[0] for t in tasks}
     assert {SHELF_NAMES[BOARD_TOPS.index(h)] for h in heights} == named
     table = pq.read_table(out / "meta" / "tasks.parquet").to_pandas()
     assert set(table.index) == tasks
-    assert not math.isnan(frames[0]["observation.environment_state"][-2])
+    assert not math.isnan(frames[0]["observation.environment_state"][shelf_y])

@@ -21,6 +21,7 @@ from workcell.envs.box_transfer import BoxTransferEnv
 from workcell.envs.config import BoxTransferConfig
 from workcell.errors import ConfigError
 from workcell.expert.skill import ExpertConfig
+from workcell.export.boxes import goal_slice
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.config import TargetConfig, WorldConfig
 from workcell.tasks.box_transfer.task import BoxTransfer
@@ -178,7 +179,8 @@ def test_the_expert_sorts_four_boxes_through_the_stages_in_order(world: str, see
     observation, info = env.reset(seed=seed)
     world_state = env.sim.world
     conditions = world_state.conditions.as_dict()
-    goal = observation["environment_state"][-len(Sort.goal_names) :]
+    pool = world_state.config.feeder.pool_size
+    goal = observation["environment_state"][goal_slice(pool, Sort.goal_names)]
     assert goal.tolist() == pytest.approx(Sort().goal(conditions, world_state.config), abs=1e-6)
     expert = Sort().expert(ExpertConfig())
     expert.start_trial(seed)
@@ -205,7 +207,8 @@ def test_the_environment_passes_gymnasiums_checker() -> None:
     check_env(env.unwrapped)
     pool = env.unwrapped.config.session.world.feeder.pool_size
     state = env.unwrapped.observation_space["environment_state"]
-    assert state.shape == (8 * pool + len(Sort.goal_names),)  # each box, then the goal
+    # each box, the goal, then each box robot-relative and the two tables' centres
+    assert state.shape == (8 * pool + len(Sort.goal_names) + 9 * pool + 2 * 2,)
     env.close()
 
 
@@ -224,7 +227,8 @@ def test_collect_in_d2_audit_and_export_carry_the_sort_instruction(
     assert main(["export", "--format", "lerobot", "--store", str(store), "--out", str(out)]) == 0
     info = json.loads((out / "meta" / "info.json").read_text())
     names = info["features"]["observation.environment_state"]["names"]
-    assert names[-len(Sort.goal_names) :] == list(Sort.goal_names)
+    pool = sum(1 for name in names if name.startswith("box") and name.endswith("_state"))
+    assert names[goal_slice(pool, Sort.goal_names)] == list(Sort.goal_names)
     asked = BOXES.format(n=SORTED_BOXES)  # every trial sorts its four boxes
     assert asked.encode() in (out / "meta" / "tasks.parquet").read_bytes()
 

@@ -4,8 +4,10 @@ An observation is a dict, as gym-aloha's and gym-pusht's are:
 
 - ``agent_pos`` (float32, 39): the robot, the export's ``observation.state``
   (:data:`workcell.export.features.STATE_NAMES`);
-- ``environment_state`` (float32, 8 per box and the task's goal): every box, then what the
-  trial asks (box transfer: its target zone's centre), the export's
+- ``environment_state`` (float32, 8 per box, the task's goal, then both relative to the
+  robot): every box, then what the trial asks (box transfer: its target zone's centre),
+  then the boxes and the goal's points in the base frame and the boxes from each gripper
+  (:mod:`workcell.export.relative`), the export's
   ``observation.environment_state`` (:func:`workcell.export.boxes.environment_names`);
 - ``pixels`` (only with cameras): ``{camera: uint8 (height, width, 3)}``, channel last,
   the export's ``observation.images.<camera>`` before LeRobot scales it to [0, 1] CHW.
@@ -30,6 +32,7 @@ from workcell.control.simulation import Simulation
 from workcell.export.boxes import parse_boxes
 from workcell.export.features import STATE_NAMES
 from workcell.export.options import ImageSize
+from workcell.export.relative import relative_features
 from workcell.recording.frame_format import FrameReader
 from workcell.render.quality import CAMERA_QUALITY
 from workcell.render.renderer import OffscreenRenderer
@@ -61,23 +64,27 @@ class ObservationBuilder:
         self.pool_size = sim.config.feeder.pool_size
         self._reader = FrameReader(sim.world, sim.controller)
         self._renderer: OffscreenRenderer | None = None
-        self._goal = np.zeros(len(task.goal_names), dtype=np.float32)
+        self._goal = np.zeros(len(task.goal_names))
 
     def restart(self) -> None:
         """The next observation is the first of a new episode (whose world was reset: its
         goal is read from the trial's conditions now)."""
         self._reader.restart()
         conditions = self.sim.world.conditions.as_dict()
-        self._goal = np.array(self.task.goal(conditions, self.sim.config), dtype=np.float32)
+        self._goal = np.array(self.task.goal(conditions, self.sim.config), dtype=np.float64)
 
     def observe(self, command: Command) -> Observation:
         """The observation of the world now; ``command`` is the latest one given (it is
         part of a recorded frame, not of the observation)."""
         row = self._reader.read(command, None, t_sim=0.0, t_wall=0.0, step_wall_ms=0.0)
-        state = np.array([row[name] for name in STATE_NAMES], dtype=np.float32)
-        boxes = parse_boxes([row["boxes"]], self.pool_size).features()[0].astype(np.float32)
-        environment = np.concatenate([boxes, self._goal])
-        observation: Observation = {AGENT_POS: state, ENVIRONMENT_STATE: environment}
+        state = np.array([[row[name] for name in STATE_NAMES]], dtype=np.float64)
+        boxes = parse_boxes([row["boxes"]], self.pool_size)
+        relative = relative_features(state, boxes.poses, self._goal[None, :], self.task.goal_names)
+        environment = np.concatenate([boxes.features()[0], self._goal, relative[0]])
+        observation: Observation = {
+            AGENT_POS: state[0].astype(np.float32),
+            ENVIRONMENT_STATE: environment.astype(np.float32),
+        }
         if self.cameras:
             observation[PIXELS] = self._images()
         return observation

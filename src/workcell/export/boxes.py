@@ -16,6 +16,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.export.errors import IncompatibleSessionsError
+from workcell.export.relative import relative_names
 
 BOX_STATE_CODES: dict[str, int] = {"parked": 0, "active": 1, "delivered": 2}
 """A box's state as a number: parked (out of play), active (released), delivered."""
@@ -31,7 +32,20 @@ def box_feature_names(pool_size: int) -> tuple[str, ...]:
 
 def environment_names(pool_size: int, goal_names: Sequence[str]) -> tuple[str, ...]:
     """``observation.environment_state``'s names: every box (:func:`box_feature_names`),
-    then the task's goal (:attr:`workcell.tasks.Task.goal_names`)."""
+    then the task's goal (:attr:`workcell.tasks.Task.goal_names`), then both as the robot
+    sees them (:func:`workcell.export.relative.relative_names`)."""
+    return (*world_environment_names(pool_size, goal_names), *relative_names(pool_size, goal_names))
+
+
+def goal_slice(pool_size: int, goal_names: Sequence[str]) -> slice:
+    """Where the task's goal sits in ``observation.environment_state``: after the boxes."""
+    start = pool_size * len(BOX_FIELDS)
+    return slice(start, start + len(goal_names))
+
+
+def world_environment_names(pool_size: int, goal_names: Sequence[str]) -> tuple[str, ...]:
+    """The world-frame part of ``observation.environment_state``: every box, then the goal
+    (all there was before the relative features: what an older policy reads)."""
     return (*box_feature_names(pool_size), *goal_names)
 
 

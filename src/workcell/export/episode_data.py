@@ -33,6 +33,7 @@ from workcell.export.features import (
     column_matrix,
     continuous_state,
 )
+from workcell.export.relative import relative_features
 
 CONVENTIONS: dict[str, str] = {
     "action": "row t holds the command given after observing frame t (recorded with frame "
@@ -86,21 +87,25 @@ def episode_arrays(
     frames: Mapping[str, Sequence[Any] | NDArray[Any]],
     outcome: str | None,
     pool_size: int,
-    goal: Sequence[float] = (),
+    goal: Sequence[float],
+    goal_names: Sequence[str],
 ) -> EpisodeArrays:
     """The episode of one trial's frame columns (``Store.frames``); ``goal`` (the trial's
-    task goal, :meth:`workcell.tasks.Task.goal`) follows the boxes in every row's
-    environment state."""
+    task goal, :meth:`workcell.tasks.Task.goal`, named ``goal_names``) follows the boxes in
+    every row's environment state, then both as the robot sees them
+    (:mod:`workcell.export.relative`)."""
     boxes = parse_boxes(frames["boxes"], pool_size)
     n = len(boxes.states)
     goals = np.tile(np.asarray(goal, dtype=np.float64), (n, 1))
+    state = continuous_state(column_matrix(frames, STATE_NAMES))
+    relative = relative_features(state, boxes.poses, goals, goal_names)
     done = np.zeros(n, dtype=bool)
     done[-1:] = True
     success = done & (outcome == "success")
     return EpisodeArrays(
-        state=continuous_state(column_matrix(frames, STATE_NAMES)),
+        state=state,
         action=next_commands(column_matrix(frames, ACTION_NAMES)),
-        environment=np.hstack([boxes.features(), goals]),
+        environment=np.hstack([boxes.features(), goals, relative]),
         reward=boxes.deliveries(),
         done=done,
         success=success,

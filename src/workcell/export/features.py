@@ -9,8 +9,9 @@ dataset value traces back to its recorded column:
 - ``action`` (23): the operator's command: base twist (base frame), both TCP targets (base
   frame), both follow flags (0/1), both gripper commands (0 open .. 1 closed), head pan and
   tilt;
-- ``observation.environment_state`` (8 per box): every box's pose and state code, see
-  :mod:`workcell.export.boxes`.
+- ``observation.environment_state``: every box's pose and state code (8 per box, see
+  :mod:`workcell.export.boxes`), the task's goal, then both as the robot sees them (9 per
+  box, 2 per goal point, see :mod:`workcell.export.relative`).
 """
 
 from __future__ import annotations

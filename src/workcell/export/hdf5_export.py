@@ -14,7 +14,7 @@
         actions          (n, 23)   rewards (n,)   dones (n,)
         intervention     (n,) 1 on the rows a person who took over from the trial's driver
                          drove (a correction), else 0: the per-frame correction mask
-        obs/state        (n, 39)   obs/environment_state (n, 8 per box + the goal)
+        obs/state        (n, 39)   obs/environment_state (n, boxes, goal, relative)
         obs/<camera>_image  (n, height, width, 3) uint8, when cameras are asked for: the
                          trial's recorded video decoded, or rendered from its states
                          (attribute camera_sources says which, and why)

@@ -60,7 +60,7 @@ def load_episodes(
         frames = store.frames(trial.trial_id)
         goal = source.goal(store, episode)
         conditions = source.conditions(store, episode)
-        arrays = episode_arrays(frames, trial.outcome, source.pool_size, goal)
+        arrays = episode_arrays(frames, trial.outcome, source.pool_size, goal, source.goal_names)
         states = RecordedStates.from_frames(frames, arrays.boxes)
         world = None
         if worlds is not None:

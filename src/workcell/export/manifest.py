@@ -12,7 +12,7 @@ from collections.abc import Mapping, Sequence
 from typing import Any
 
 from workcell import __version__
-from workcell.export.boxes import BOX_STATE_CODES, box_feature_names
+from workcell.export.boxes import BOX_STATE_CODES, environment_names
 from workcell.export.episode_data import CONVENTIONS
 from workcell.export.features import ACTION_NAMES, STATE_NAMES
 from workcell.export.options import ExportOptions
@@ -21,7 +21,10 @@ from workcell.export.source import ExportSource
 from workcell.record.study_tags import StudyTags
 
 FORMAT = "workcell-dataset-provenance"
-FORMAT_VERSION = 1
+FORMAT_VERSION = 2
+"""2: ``names.environment_state`` lists every number of ``observation.environment_state``
+(the boxes, the task's goal, then both relative to the robot, :mod:`workcell.export.relative`);
+version 1 listed the boxes only."""
 
 
 def provenance_document(
@@ -64,7 +67,7 @@ def provenance_document(
         "names": {
             "state": list(STATE_NAMES),
             "action": list(ACTION_NAMES),
-            "environment_state": list(box_feature_names(source.pool_size)),
+            "environment_state": list(environment_names(source.pool_size, source.goal_names)),
             "box_state_codes": BOX_STATE_CODES,
         },
         "sessions": {

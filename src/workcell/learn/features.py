@@ -32,29 +32,41 @@ class PolicyInputs:
 
     cameras: tuple[str, ...]
     image_size: ImageSize | None
+    environment_size: int
+    """How many leading numbers of ``observation.environment_state`` the policy reads: all
+    of them, or only the world-frame boxes and goal of a policy trained before the relative
+    features (:mod:`workcell.export.relative`) were exported."""
 
 
 def policy_inputs(
-    checkpoint: PolicyCheckpoint, config: Any, environment: Sequence[str]
+    checkpoint: PolicyCheckpoint,
+    config: Any,
+    environment: Sequence[str],
+    world_environment: Sequence[str],
 ) -> PolicyInputs:
     """Check the policy ``config`` (a LeRobot ``PreTrainedConfig``) against a session whose
     ``observation.environment_state`` has the names ``environment`` (every box of its pool,
-    then its task's goal: :func:`workcell.export.boxes.environment_names`); its cameras and
-    image size."""
+    then its task's goal, then both relative to the robot:
+    :func:`workcell.export.boxes.environment_names`), of which a policy trained on an older
+    export reads the leading ``world_environment``; its cameras and image size."""
     inputs: Mapping[str, Any] = config.input_features or {}
     outputs: Mapping[str, Any] = config.output_features or {}
     vectors = {
-        STATE_KEY: (len(STATE_NAMES),),
-        ENVIRONMENT_KEY: (len(environment),),
+        STATE_KEY: ((len(STATE_NAMES),),),
+        ENVIRONMENT_KEY: ((len(environment),), (len(world_environment),)),
     }
     problems = []
     cameras: list[str] = []
     sizes: set[tuple[int, int]] = set()
+    environment_size = len(environment)
     for key, feature in inputs.items():
         shape = tuple(int(v) for v in feature.shape)
         if key in vectors:
-            if shape != vectors[key]:
-                problems.append(f"{key} of shape {shape}, where this session has {vectors[key]}")
+            if shape not in vectors[key]:
+                allowed = " or ".join(str(v) for v in vectors[key])
+                problems.append(f"{key} of shape {shape}, where this session has {allowed}")
+            elif key == ENVIRONMENT_KEY:
+                environment_size = shape[0]
         elif key.startswith(IMAGE_PREFIX) and key[len(IMAGE_PREFIX) :] in ROBOT_CAMERAS:
             if len(shape) != 3 or shape[0] != 3:
                 problems.append(f"{key} of shape {shape}: images are (3, height, width)")
@@ -80,4 +92,4 @@ def policy_inputs(
     if sizes:
         width, height = sizes.pop()
         size = ImageSize(width, height)
-    return PolicyInputs(tuple(cameras), size)
+    return PolicyInputs(tuple(cameras), size, environment_size)

@@ -23,9 +23,9 @@ from workcell.control.command import Command
 from workcell.control.simulation import Simulation
 from workcell.envs.actions import command_from_action
 from workcell.envs.config import BoxTransferConfig
-from workcell.envs.observation import ObservationBuilder
+from workcell.envs.observation import ENVIRONMENT_STATE, ObservationBuilder
 from workcell.envs.spaces import action_space
-from workcell.export.boxes import environment_names
+from workcell.export.boxes import environment_names, world_environment_names
 from workcell.export.options import ImageSize
 from workcell.learn.checkpoint import PolicyCheckpoint
 from workcell.learn.errors import LearnError, MissingLearnExtraError
@@ -63,9 +63,12 @@ class PolicyOperator:
             self._torch = torch
             self._policy, self._preprocessor, self._postprocessor = _load(checkpoint, self.device)
         task = load_task(config.task.kind)
-        environment_state = environment_names(config.world.feeder.pool_size, task.goal_names)
+        pool = config.world.feeder.pool_size
         self.inputs: PolicyInputs = policy_inputs(
-            checkpoint, self._policy.config, environment_state
+            checkpoint,
+            self._policy.config,
+            environment_names(pool, task.goal_names),
+            world_environment_names(pool, task.goal_names),
         )
         environment = BoxTransferConfig(session=config)  # checks that frames are whole steps
         self.control_steps_per_frame = environment.control_steps_per_frame
@@ -110,6 +113,8 @@ class PolicyOperator:
         from lerobot.envs.utils import preprocess_observation  # noqa: PLC0415
 
         observation = self._observations.observe(self._command)
+        read = self.inputs.environment_size
+        observation[ENVIRONMENT_STATE] = observation[ENVIRONMENT_STATE][:read]
         batch: dict[str, Any] = preprocess_observation(observation)
         batch["task"] = [self._task]
         batch = self._preprocessor(batch)
