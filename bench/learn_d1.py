@@ -20,6 +20,16 @@ is there is not run again.
     .venv/bin/python bench/learn_d1.py --work /tmp/learn-d1
     .venv/bin/python bench/learn_d1.py --work /tmp/learn-d1 --checkpoint 003000 --time-limit 60
 
+What the policy observes is what the export gives it (``observation.state`` and
+``observation.environment_state``). To compare observations on the same demonstrations
+and seeds, run the bench from two checkouts with the same demonstration store copied into
+each work directory, e.g. before (ee99439: the world-frame boxes and goal only) and after
+(the robot-relative features of :mod:`workcell.export.relative` added)::
+
+    git worktree add --detach /tmp/before ee99439
+    mkdir /tmp/d1-before && cp /tmp/learn-d1/demos.sqlite /tmp/d1-before/
+    PYTHONPATH=/tmp/before/src .venv/bin/python /tmp/before/bench/learn_d1.py --work /tmp/d1-before
+
 ``--checkpoint`` evaluates an earlier checkpoint of the training (it writes one every
 1,000 steps); ACT's learning rate is constant in LeRobot, so step N of a 10,000-step run is
 what an N-step run gives. ``--time-limit`` cuts every rollout (the expert's and the

@@ -11,10 +11,7 @@ ROOT = Path(__file__).resolve().parents[1]
 LIMIT = 400
 SOURCE_SUFFIXES = (".py", ".ts")
 GENERATED = frozenset({"web/src/protocol.ts"})
-NOT_YET_SPLIT = {
-    "src/workcell/record/store.py": 407,
-    "src/workcell/recording/store_process.py": 412,
-}
+NOT_YET_SPLIT: dict[str, int] = {}
 """Files over the limit still waiting for their split, at the lines they have: none may
 grow, and each leaves this list once it is split."""
 

@@ -10,7 +10,7 @@ from pathlib import Path
 
 import pytest
 
-import workcell.record.store
+import workcell.record.running
 from tests.record import synthetic
 from workcell.cli.main import main
 from workcell.record import RecordError, Store, StoreError, rowio
@@ -224,7 +224,7 @@ def test_a_version_2_store_is_migrated_with_every_checksum_and_chain_kept(
 ) -> None:
     path = tmp_path / "v2.db"
     with monkeypatch.context() as recorded_by_version_2:
-        recorded_by_version_2.setattr(workcell.record.store, "SCHEMA_VERSION", 2)
+        recorded_by_version_2.setattr(workcell.record.running, "SCHEMA_VERSION", 2)
         synthetic.fill_store(path, filtered=False)
     _as_version_2(path)
     conn = sqlite3.connect(path)
@@ -280,7 +280,7 @@ def test_a_version_4_store_is_migrated_with_every_row_checksum_and_link_kept(
 ) -> None:
     path = tmp_path / "v4.db"
     with monkeypatch.context() as recorded_by_version_4:
-        recorded_by_version_4.setattr(workcell.record.store, "SCHEMA_VERSION", 4)
+        recorded_by_version_4.setattr(workcell.record.running, "SCHEMA_VERSION", 4)
         ids = synthetic.fill_store(path, task=False)
     _as_version_4(path)
     conn = sqlite3.connect(path)
@@ -350,7 +350,7 @@ def test_a_version_5_store_is_migrated_with_every_row_kept_and_takes_drivers(
 ) -> None:
     path = tmp_path / "v5.db"
     with monkeypatch.context() as recorded_by_version_5:
-        recorded_by_version_5.setattr(workcell.record.store, "SCHEMA_VERSION", 5)
+        recorded_by_version_5.setattr(workcell.record.running, "SCHEMA_VERSION", 5)
         ids = synthetic.fill_store(path, task=True, driver=False)
     conn = sqlite3.connect(path, isolation_level=None)
     conn.execute("BEGIN")

@@ -1,5 +1,6 @@
 """What a writing :class:`~workcell.record.store.Store` keeps track of (the sessions and
-trials it opened), and how the rows it is handed are numbered and checked."""
+trials it opened), the rows it writes when they start and end, and how the frame rows it
+is handed are numbered and checked."""
 
 from __future__ import annotations
 
@@ -12,10 +13,17 @@ from numpy.typing import NDArray
 
 from workcell.metrics.frames import REQUIRED_COLUMNS
 from workcell.record.batch import RowBatch
-from workcell.record.entries import FLAG_SEPARATOR, StoredMetrics, TrialEnd
+from workcell.record.entries import (
+    FLAG_SEPARATOR,
+    SessionInfo,
+    StoredMetrics,
+    TrialEnd,
+    TrialStart,
+    to_json,
+)
 from workcell.record.errors import RecordError
 from workcell.record.inclusion import incomplete_reason
-from workcell.record.schema import FRAMES
+from workcell.record.schema import FRAMES, SCHEMA_VERSION, SESSIONS, TRIALS
 
 
 @dataclass
@@ -38,6 +46,47 @@ class Running:
         if not self.metric_rows:
             return np.zeros((0, len(REQUIRED_COLUMNS)))
         return np.concatenate(self.metric_rows)[: self.next_index]
+
+
+def session_row(session_id: str, info: SessionInfo) -> RowBatch:
+    """The row of a session as it starts (status ``running``)."""
+    row = {
+        "session_id": session_id,
+        "created_wall": time.time(),
+        "ended_wall": None,
+        "schema_version": SCHEMA_VERSION,
+        "software_version": info.software_version,
+        "mode": info.mode,
+        "operator_id": info.operator_id,
+        "seed": info.seed,
+        "parameters_json": to_json(info.parameters, "session parameters"),
+        "thresholds_json": to_json(info.thresholds, "session thresholds"),
+        "joint_order_json": to_json(list(info.joint_order), "session joint_order"),
+        "metric_definitions_json": to_json(info.metric_definitions, "metric_definitions"),
+        "metrics_version": info.metrics_version,
+        "status": "running",
+        "content_checksum": None,
+    }
+    return RowBatch.from_mappings(SESSIONS, [row])
+
+
+def trial_row(session_id: str, trial_id: str, trial_index: int, start: TrialStart) -> RowBatch:
+    """The row of a trial as it starts (the columns its end fills are NULL)."""
+    row: dict[str, object] = dict.fromkeys(TRIALS.names)
+    row |= {
+        "session_id": session_id,
+        "trial_id": trial_id,
+        "trial_index": trial_index,
+        "mode": start.mode,
+        "round": start.round,
+        "level": start.level,
+        "required_boxes": start.required_boxes,
+        "time_limit_s": start.time_limit_s,
+        "trial_seed": start.trial_seed,
+        "started_wall": time.time(),
+        **start.task_columns(),
+    }
+    return RowBatch.from_mappings(TRIALS, [row])
 
 
 def end_columns(end: TrialEnd, m: StoredMetrics) -> dict[str, object]:

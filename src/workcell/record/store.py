@@ -39,13 +39,7 @@ from workcell.record.batch import RowBatch
 from workcell.record.chain import ChainKey
 from workcell.record.columns import INTERRUPTION_REASONS
 from workcell.record.connection import WriterLock, connect
-from workcell.record.entries import (
-    SessionInfo,
-    StoredMetrics,
-    TrialEnd,
-    TrialStart,
-    to_json,
-)
+from workcell.record.entries import SessionInfo, StoredMetrics, TrialEnd, TrialStart
 from workcell.record.errors import RecordError, StoreError
 from workcell.record.failure import close_after_failure
 from workcell.record.frame_blocks import BLOCK_REALS, write_block
@@ -53,8 +47,14 @@ from workcell.record.ids import new_id
 from workcell.record.reading import StoreReading
 from workcell.record.recovery import KnownEnd, recover_with_headroom
 from workcell.record.reserve import Reserve
-from workcell.record.running import Running, end_columns, frame_batch
-from workcell.record.schema import ANNOTATIONS, SCHEMA_VERSION, SESSIONS, TRIALS
+from workcell.record.running import (
+    Running,
+    end_columns,
+    frame_batch,
+    session_row,
+    trial_row,
+)
+from workcell.record.schema import ANNOTATIONS
 from workcell.record.writes import WriteGuard
 
 CLOSING_STATUSES = ("completed", "interrupted")
@@ -159,24 +159,7 @@ class Store(StoreReading, Closing):
     def create_session(self, info: SessionInfo) -> str:
         """Record a new session (status ``running``); returns its id."""
         session_id = new_id()
-        row = {
-            "session_id": session_id,
-            "created_wall": time.time(),
-            "ended_wall": None,
-            "schema_version": SCHEMA_VERSION,
-            "software_version": info.software_version,
-            "mode": info.mode,
-            "operator_id": info.operator_id,
-            "seed": info.seed,
-            "parameters_json": to_json(info.parameters, "session parameters"),
-            "thresholds_json": to_json(info.thresholds, "session thresholds"),
-            "joint_order_json": to_json(list(info.joint_order), "session joint_order"),
-            "metric_definitions_json": to_json(info.metric_definitions, "metric_definitions"),
-            "metrics_version": info.metrics_version,
-            "status": "running",
-            "content_checksum": None,
-        }
-        batch = RowBatch.from_mappings(SESSIONS, [row])
+        batch = session_row(session_id, info)
         with self._write() as conn:
             rowio.insert(conn, batch)
             chain.link_start(conn, session_id, batch.checksums()[0], self._key)
@@ -192,21 +175,7 @@ class Store(StoreReading, Closing):
         if session.trial_id is not None:
             raise RecordError(f"trial {session.trial_id} is still running: end it first")
         trial_id = trial_id or new_id()
-        row: dict[str, object] = dict.fromkeys(TRIALS.names)
-        row |= {
-            "session_id": session_id,
-            "trial_id": trial_id,
-            "trial_index": session.next_index,
-            "mode": start.mode,
-            "round": start.round,
-            "level": start.level,
-            "required_boxes": start.required_boxes,
-            "time_limit_s": start.time_limit_s,
-            "trial_seed": start.trial_seed,
-            "started_wall": time.time(),
-            **start.task_columns(),
-        }
-        batch = RowBatch.from_mappings(TRIALS, [row])
+        batch = trial_row(session_id, trial_id, session.next_index, start)
         # known before it is written: a failure writing it closes it as interrupted
         session.next_index += 1
         session.trial_id = trial_id

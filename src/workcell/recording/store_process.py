@@ -38,7 +38,6 @@ import math
 import os
 import queue
 import subprocess
-import threading
 import time
 from collections.abc import Mapping
 from pathlib import Path
@@ -54,6 +53,7 @@ from workcell.record.recovery import KnownEnd
 from workcell.recording.frame_capture import CapturedFrames, FrameLayout
 from workcell.recording.frame_ring import FrameRing
 from workcell.recording.pipe_messages import raised_error, receive, send, start_writer
+from workcell.recording.writer_answers import WriterAnswers
 from workcell.recording.writer_death import close_for_dead_writer, death_error
 
 ANSWER_TIMEOUT_S = 60.0
@@ -80,22 +80,14 @@ class StoreProcess(Closing):
         self._answers: IO[bytes] = process.stdout
         self._ids = itertools.count()
         self._pending: list[Call] = []
-        self._replies: queue.SimpleQueue[tuple[Any, ...] | None] = queue.SimpleQueue()
         self._failure: Exception | None = None
-        self._answers_closed = False
-        """The writer's answer pipe reached its end (told on the reader thread): the
-        writer has exited, or is exiting."""
-        self._reader: threading.Thread | None = None
+        self._said = WriterAnswers(self._answers, self._call_failed)
         self._ring: FrameRing | None = None
         self._ring_layout: FrameLayout | None = None
         self._trial_numbers: dict[str, int] = {}
         self._trial_sessions: dict[str, str] = {}
         self._woken_at = 0
         """Ring position of the last wake-up message sent to the writer."""
-        self._ends_sent: dict[int, str] = {}
-        """Trials whose end was sent, by call id, until the writer answers."""
-        self._ends_written: set[str] = set()
-        """Trials whose end the writer has written (told on the reader thread)."""
         self.recovered: tuple[str, ...] = ()
         """Trials crash recovery closed when the writer opened the store."""
 
@@ -133,10 +125,7 @@ class StoreProcess(Closing):
             store._reap()
             raise raised_error(answer[2], answer[3])
         store.recovered = tuple(answer[1])
-        store._reader = threading.Thread(
-            target=store._read_answers, name="store-writer-answers", daemon=True
-        )
-        store._reader.start()
+        store._said.start()
         return store
 
     @property
@@ -211,7 +200,7 @@ class StoreProcess(Closing):
         """Whether the next call will raise a failure already known here: a call sent
         without waiting failed, or the writer's answer pipe closed (it died). Costs no
         system call: asked before every control period."""
-        return self._failure is not None or self._answers_closed
+        return self._failure is not None or self._said.closed
 
     def commit(self) -> None:
         """Send the events added since the last commit (frames are on their way already).
@@ -228,14 +217,14 @@ class StoreProcess(Closing):
         if self._failure is not None:
             raise self._failure
         call_id = next(self._ids)
-        self._ends_sent[call_id] = trial_id
+        self._said.expect_end(call_id, trial_id)
         self._pending.append((call_id, "end_trial", (trial_id, end), {"thresholds": thresholds}))
         self._send_pending()
 
     def trial_end_written(self, trial_id: str) -> bool:
         """Whether the writer has written the end of trial ``trial_id`` (a waited call
         answered after an :meth:`end_trial` means its answer has been read too)."""
-        return trial_id in self._ends_written
+        return self._said.end_written(trial_id)
 
     def end_session(self, session_id: str, status: str = "completed") -> None:
         self._call("end_session", session_id, status)
@@ -303,7 +292,7 @@ class StoreProcess(Closing):
         self._pending.append((call_id, method, args, keywords or {}))
         self._send_pending(check=not after_failure)
         try:
-            answer = self._replies.get(timeout=ANSWER_TIMEOUT_S)
+            answer = self._said.reply(ANSWER_TIMEOUT_S)
         except queue.Empty:
             raise self._died() from None
         if answer is None:
@@ -365,28 +354,16 @@ class StoreProcess(Closing):
     def _check_writer(self) -> None:
         """Raise the writer's failure, or :class:`StorageError` if it has died (one
         ``waitpid``, no message)."""
-        if self._failure is None and (self._answers_closed or self._process.poll() is not None):
+        if self._failure is None and (self._said.closed or self._process.poll() is not None):
             self._died()
         if self._failure is not None:
             raise self._failure
 
-    def _read_answers(self) -> None:
-        """The reader thread: answers to waiting calls, failures of the others."""
-        while True:
-            try:
-                answer = receive(self._answers)
-            except (EOFError, OSError, ValueError):
-                self._answers_closed = True
-                self._replies.put(None)
-                return
-            ended = None if answer[1] is None else self._ends_sent.pop(answer[1], None)
-            if answer[1] is not None and ended is None:
-                self._replies.put(answer)  # a waiting call's answer
-            elif answer[0] == "error":  # a call sent without waiting failed
-                if self._failure is None:
-                    self._failure = raised_error(answer[2], answer[3])
-            elif ended is not None:
-                self._ends_written.add(ended)
+    def _call_failed(self, error: Exception) -> None:
+        """A call sent without waiting failed (told on the answers' thread): the next
+        call raises ``error``, unless an earlier failure is raised already."""
+        if self._failure is None:
+            self._failure = error
 
     def _died(self) -> Exception:
         """The writer's death as the failure of this store (kept: later calls raise it)."""
@@ -406,7 +383,6 @@ class StoreProcess(Closing):
         except subprocess.TimeoutExpired:
             self._process.kill()
             self._process.wait()
-        if self._reader is not None:
-            self._reader.join(timeout=CLOSE_TIMEOUT_S)
+        self._said.join(CLOSE_TIMEOUT_S)
         with contextlib.suppress(OSError, ValueError):
             self._answers.close()
