@@ -88,7 +88,7 @@ def variant(policy: Path, name: str, work: Path) -> Path:
 def evaluate(  # noqa: PLR0917 - a benchmark's knobs
     work: Path, name: str, policy: str, seed: int, rollouts: int, limit_s: float | None
 ) -> Rung:
-    store = work / f"eval-{name}-seed{seed}.sqlite"
+    store = work / f"eval-{name}-seed{seed}-r{rollouts}.sqlite"
     if not store.exists():
         print(f"evaluating {name} on seed {seed} ({rollouts} rollouts) ...", flush=True)
         limit = [] if limit_s is None else ["--set", f"task.time_limit_s={limit_s:g}"]
@@ -115,9 +115,20 @@ def main(argv: list[str] | None = None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     parser.add_argument("--work", type=Path, required=True, help="directory kept between runs")
     parser.add_argument("--demos", type=int, default=50)
+    parser.add_argument(
+        "--base-noise",
+        type=float,
+        default=0.0,
+        help="collect the demonstrations with the expert's base pushed (m/s; collect --base-noise)",
+    )
     parser.add_argument("--steps", type=int, default=10_000)
     parser.add_argument("--threads", type=int, default=1)
-    parser.add_argument("--rollouts", type=int, default=20, help="per condition")
+    parser.add_argument(
+        "--rollouts",
+        type=int,
+        default=20,
+        help="per condition; in the own worlds at most --demos (there are no more of them)",
+    )
     parser.add_argument(
         "--checkpoint",
         default="last",
@@ -135,11 +146,12 @@ def main(argv: list[str] | None = None) -> None:
     demos, dataset, policy = work / "demos.sqlite", work / "dataset", work / "act-d1"
     if not demos.exists():
         print(f"collecting {args.demos} expert demonstrations in D1 ...", flush=True)
+        noise = ["--base-noise", f"{args.base_noise:g}"] if args.base_noise > 0 else []
         workcell(work, "collect", "--mode", "collection", "--world", "D1", "--trials",
-                 str(args.demos), "--seed", str(DEMO_SEED), "--store", str(demos))  # fmt: skip
+                 str(args.demos), "--seed", str(DEMO_SEED), "--store", str(demos), *noise)  # fmt: skip
     if not (dataset / "meta" / "info.json").exists():
         workcell(work, "export", "--format", "lerobot", "--store", str(demos),
-                 "--out", str(dataset))  # fmt: skip
+                 "--out", str(dataset), "--successes")  # fmt: skip
     if not (policy / "checkpoints" / args.checkpoint / "pretrained_model").exists():
         print(f"training {policy.name} ({args.steps} steps) ...", flush=True)
         started = time.perf_counter()
@@ -147,15 +159,18 @@ def main(argv: list[str] | None = None) -> None:
                  "--steps", str(args.steps), "--threads", str(args.threads))  # fmt: skip
         (work / "train.minutes").write_text(f"{(time.perf_counter() - started) / 60:.1f}\n")
     trained = policy / "checkpoints" / args.checkpoint / "pretrained_model"
-    conditions = {"own worlds": DEMO_SEED, "new worlds": NEW_SEED}
+    conditions = {
+        "own worlds": (DEMO_SEED, min(args.rollouts, args.demos)),
+        "new worlds": (NEW_SEED, args.rollouts),
+    }
     print(f"\n{args.demos} expert demonstrations in D1, state-only ACT ({trained}), D1 rollouts:")
-    for condition, seed in conditions.items():
-        rung = evaluate(work, "expert", "expert", seed, args.rollouts, args.time_limit)
+    for condition, (seed, rollouts) in conditions.items():
+        rung = evaluate(work, "expert", "expert", seed, rollouts, args.time_limit)
         print(line("expert", condition, rung), flush=True)
     for name in args.variants.split(","):
         path = variant(trained, name, work)
-        for condition, seed in conditions.items():
-            rung = evaluate(work, name, str(path), seed, args.rollouts, args.time_limit)
+        for condition, (seed, rollouts) in conditions.items():
+            rung = evaluate(work, name, str(path), seed, rollouts, args.time_limit)
             print(line(name, condition, rung), flush=True)
 
 

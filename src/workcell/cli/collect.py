@@ -17,6 +17,7 @@ from workcell.cli.collect_operator import (
 )
 from workcell.cli.task_options import add_task_arguments, task_flags
 from workcell.errors import ConfigError, WorkcellError
+from workcell.expert.skill import MAX_BASE_NOISE
 from workcell.intervene.rules import CORRECTORS, SECONDS, CorrectorRules, within_seconds
 
 if TYPE_CHECKING:
@@ -70,8 +71,18 @@ def register(subparsers: Subparsers) -> None:
     parser.add_argument("--seed", type=int, help="session seed (default: 0)")
     parser.add_argument("--skill", type=float, default=1.0, help="expert skill in [0, 1]")
     parser.add_argument(
+        "--base-noise",
+        type=float,
+        default=0.0,
+        metavar="M_S",
+        help="push the expert's base off its course while it drives (standard deviation, "
+        f"m/s, 0 to {MAX_BASE_NOISE:g}), so that its demonstrations show it steering back "
+        "(noise injection as DART; default 0: none)",
+    )
+    parser.add_argument(
         "--operator-id",
-        help="operator id stored with the session (default: expert, expert-skill<X>, or the "
+        help="operator id stored with the session (default: expert, expert-skill<X>, "
+        "expert-noise<V> with --base-noise, or the "
         "policy's type, run and weights hash; with --corrector, the corrector: who watched)",
     )
     parser.add_argument(
@@ -167,6 +178,13 @@ def _check(args: argparse.Namespace) -> list[str]:
         problems.append(f"--trials = {args.trials}: must be 1 to 100000")
     if not (math.isfinite(args.skill) and 0.0 <= args.skill <= 1.0):
         problems.append(f"--skill = {args.skill:g}: must be between 0 and 1")
+    if not (math.isfinite(args.base_noise) and 0.0 <= args.base_noise <= MAX_BASE_NOISE):
+        problems.append(f"--base-noise = {args.base_noise:g}: must be 0 to {MAX_BASE_NOISE:g} m/s")
+    elif args.base_noise > 0 and (args.operator != "expert" or args.corrector is not None):
+        problems.append(
+            "--base-noise: perturbs the expert's demonstrations; it needs --operator "
+            "expert and no --corrector"
+        )
     if not 1 <= args.workers <= 64:
         problems.append(f"--workers = {args.workers}: must be 1 to 64")
     if (args.workers > 1 or args.ray) and args.no_store:

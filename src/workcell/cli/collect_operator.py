@@ -51,8 +51,15 @@ def with_operator_id(
     elif checkpoint is not None:
         name = checkpoint.operator_id
     else:
-        name = "expert" if args.skill >= 1.0 else f"expert-skill{args.skill:g}"
+        name = expert_operator_id(args.skill, args.base_noise)
     return dataclasses.replace(config, operator_id=name)
+
+
+def expert_operator_id(skill: float, base_noise: float) -> str:
+    """``expert``, with ``-skill<X>`` below full skill and ``-noise<V>`` when its base is
+    pushed (``--base-noise``)."""
+    name = "expert" if skill >= 1.0 else f"expert-skill{skill:g}"
+    return name if base_noise <= 0 else f"{name}-noise{base_noise:g}"
 
 
 def driver(args: argparse.Namespace, checkpoint: PolicyCheckpoint | None) -> Driver:
@@ -68,7 +75,7 @@ def driver(args: argparse.Namespace, checkpoint: PolicyCheckpoint | None) -> Dri
     if checkpoint is None:
         from workcell.expert.skill import ExpertConfig  # noqa: PLC0415
 
-        autonomous = ExpertDriver(ExpertConfig(skill=args.skill))
+        autonomous = ExpertDriver(ExpertConfig(skill=args.skill, base_noise=args.base_noise))
     else:
         autonomous = PolicyDriver(checkpoint, verbose=args.verbose)
     if args.corrector is None:

@@ -29,6 +29,8 @@ def worker_jobs(
     """Each worker's job: the session settings resolved as ``workcell collect`` resolves
     them, with the worker's seed and share of the trials."""
     from workcell.cli.collect_operator import with_operator_id  # noqa: PLC0415
+    from workcell.expert.skill import ExpertConfig  # noqa: PLC0415
+    from workcell.recording.drivers import ExpertDriver  # noqa: PLC0415
     from workcell.scale.worker import WorkerJob  # noqa: PLC0415
     from workcell.session.load import resolve_session_config  # noqa: PLC0415
 
@@ -46,6 +48,7 @@ def worker_jobs(
             skill=args.skill,
             key_file=args.key,
             cameras=cameras,
+            driver=ExpertDriver(ExpertConfig(skill=args.skill, base_noise=args.base_noise)),
         )
         jobs.append((plan.worker, job))
     return jobs

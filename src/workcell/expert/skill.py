@@ -14,13 +14,21 @@ import numpy as np
 from workcell import checks
 from workcell.errors import ConfigError
 
+MAX_BASE_NOISE = 0.5
+"""m/s: the largest ``base_noise`` (two thirds of the robot's top speed)."""
+
 
 @dataclass(frozen=True)
 class ExpertConfig:
     skill: float = 1.0
+    base_noise: float = 0.0
+    """m/s: the standard deviation of a perturbation added to the base's twist while the
+    expert drives, so that its demonstrations show it steering back (0: none;
+    :mod:`workcell.expert.noise`)."""
 
     def __post_init__(self) -> None:
         problems = checks.in_range("skill", self.skill, 0.0, 1.0)
+        problems += checks.in_range("base_noise", self.base_noise, 0.0, MAX_BASE_NOISE)
         if problems:
             raise ConfigError(problems)
 

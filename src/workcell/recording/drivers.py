@@ -48,7 +48,12 @@ class ExpertDriver:
     def build(self, config: SessionConfig, sim: Simulation) -> Driving:
         from workcell.tasks.registry import load_task  # noqa: PLC0415
 
-        return Driving(load_task(config.task.kind).expert(self.expert), name="expert")
+        operator: Operator = load_task(config.task.kind).expert(self.expert)
+        if self.expert.base_noise > 0:
+            from workcell.expert.noise import NoisyBase  # noqa: PLC0415
+
+            operator = NoisyBase(operator, self.expert.base_noise)
+        return Driving(operator, name="expert")
 
 
 @dataclass(frozen=True)

@@ -1,0 +1,68 @@
+"""Demonstrations that show recoveries: the expert's base pushed off its course while it
+drives, so that it steers back (noise injection, as DART does for behaviour cloning).
+
+A policy trained on a perfect expert's demonstrations only ever sees the expert's own
+states: where its base is a few centimetres off at the start of an approach, it never saw
+what to do, and the error grows (``bench/README.md``, ``bench/learn_d1.py``: the policy
+that never corrected a 10 cm lateral offset closed its grippers beside the box). With
+``ExpertConfig.base_noise`` > 0 the twist the expert commands while it drives the base gets
+a perturbation, drawn from the trial's seed and held for :data:`HOLD_S`: forward and left
+speeds with standard deviation ``base_noise`` (m/s), a yaw rate with twice that (rad/s).
+The perturbation is scaled by how fast the expert drives, in full from
+:data:`FULL_SPEED` m/s: the expert is closed-loop (it steers toward its goal pose from
+where the base is), so the record shows it correcting on its way, and it still arrives
+(slowing down near its goal, it is pushed less). While the expert holds the base still
+(waiting, grasping) nothing is added. The recorded command is the one executed,
+perturbation included; the perturbation has mean zero, so what a policy regresses on is
+the expert's.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+
+from workcell.control.command import BaseTwist, Command
+from workcell.sim.world import World
+from workcell.task.operator import Operator
+
+HOLD_S = 0.5
+"""How long one perturbation is held (s of simulated time) before the next is drawn."""
+YAW_PER_SPEED = 2.0
+"""The yaw rate's standard deviation (rad/s) per m/s of ``base_noise``."""
+FULL_SPEED = 0.3
+"""m/s (yaw rates count as half a metre's arc): from this speed on the perturbation is
+added in full; below it in proportion."""
+SEED_SALT = 0xDA27
+"""Mixed into the trial seed, so the perturbations are not the expert's own draws."""
+
+
+class NoisyBase:
+    """``expert`` with its base twist perturbed while it drives (see the module docstring)."""
+
+    def __init__(self, expert: Operator, base_noise: float) -> None:
+        self.expert = expert
+        self.base_noise = base_noise
+        self._scale = np.array([base_noise, base_noise, YAW_PER_SPEED * base_noise])
+        self.start_trial(0)
+
+    def start_trial(self, trial_seed: int) -> None:
+        self.expert.start_trial(trial_seed)
+        self._rng = np.random.default_rng((trial_seed, SEED_SALT))
+        self._until = -1.0
+        self._push = np.zeros(3)
+
+    def act(self, world: World) -> Command:
+        command = self.expert.act(world)
+        base = command.base
+        if base == BaseTwist():
+            return command
+        if world.time >= self._until:
+            self._push = self._rng.standard_normal(3) * self._scale
+            self._until = world.time + HOLD_S
+        speed = math.hypot(base.vx, base.vy) + 0.5 * abs(base.wz)
+        vx, vy, wz = self._push * min(1.0, speed / FULL_SPEED)
+        pushed = BaseTwist(base.vx + float(vx), base.vy + float(vy), base.wz + float(wz))
+        return dataclasses.replace(command, base=pushed)
