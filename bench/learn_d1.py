@@ -148,7 +148,8 @@ def main(argv: list[str] | None = None) -> None:
         print(f"collecting {args.demos} expert demonstrations in D1 ...", flush=True)
         noise = ["--base-noise", f"{args.base_noise:g}"] if args.base_noise > 0 else []
         workcell(work, "collect", "--mode", "collection", "--world", "D1", "--trials",
-                 str(args.demos), "--seed", str(DEMO_SEED), "--store", str(demos), *noise)  # fmt: skip
+                 str(args.demos), "--seed", str(DEMO_SEED), "--store", str(demos),
+                 *noise)  # fmt: skip
     if not (dataset / "meta" / "info.json").exists():
         workcell(work, "export", "--format", "lerobot", "--store", str(demos),
                  "--out", str(dataset), "--successes")  # fmt: skip
