@@ -171,21 +171,28 @@ def test_a_checkpoint_is_found_from_the_training_output(tmp_path: Path) -> None:
 
 
 def test_sessions_are_named_after_their_operator() -> None:
-    def named(operator_id: str | None, skill: float = 1.0, config_id: str = "anonymous") -> str:
+    def named(
+        operator_id: str | None, skill: float = 1.0, config_id: str = "anonymous", noise: float = 0
+    ) -> str:
         args = argparse.Namespace(
-            operator="expert", operator_id=operator_id, skill=skill, corrector=None
-        )
+            operator="expert", operator_id=operator_id, skill=skill, corrector=None,
+            base_noise=noise,
+        )  # fmt: skip
         config = SessionConfig(operator_id=config_id)
         return with_operator_id(config, args, None).operator_id
 
     assert named(None) == "expert"
     assert named(None, 0.25) == "expert-skill0.25"
+    assert named(None, noise=0.1) == "expert-noise0.1"  # collect --base-noise
+    assert named(None, 0.5, noise=0.2) == "expert-skill0.5-noise0.2"
     assert named("alice", config_id="alice") == "alice"  # chosen with --operator-id
     assert named(None, config_id="bob") == "bob"  # chosen in the configuration
     # with a scripted corrector: a session the corrector watches, the policy its driver
     corrected = with_operator_id(
         SessionConfig(),
-        argparse.Namespace(operator="policy:act", operator_id=None, skill=1.0, corrector="expert"),
+        argparse.Namespace(
+            operator="policy:act", operator_id=None, skill=1.0, corrector="expert", base_noise=0
+        ),
         None,
     )
     assert (corrected.operator_id, corrected.driver) == ("expert", "policy:act")
