@@ -124,35 +124,34 @@ def writer_of(pid: int, timeout_s: float = 30.0) -> int:
     raise AssertionError(f"process {pid} has no store writer process")
 
 
-def thread_states(pid: int) -> list[str] | None:
-    """The state letter (``R``, ``S``, ``Z``...) of every thread of process ``pid``, or
-    None once the process is gone. A thread that ends between the listing of the threads
-    and the reading of its state is gone: it is left out (reading it then fails with
-    ``FileNotFoundError`` or ``ProcessLookupError``, neither a sign that the process is)."""
+def leader_status(pid: int) -> tuple[str, int] | None:
+    """The state letter (``R``, ``S``, ``Z``...) of process ``pid``'s leading thread and how
+    many threads the process still has, both from one read of ``/proc/PID/status`` (the
+    kernel fills it in one pass), or None once the process is gone. Walking
+    ``/proc/PID/task`` instead can skip a live thread while others end (the listing is
+    indexed by position), so it cannot tell that every thread has exited."""
     try:
-        tasks = list(Path(f"/proc/{pid}/task").iterdir())
+        status = Path(f"/proc/{pid}/status").read_text()
     except (FileNotFoundError, ProcessLookupError):
         return None
-    states: list[str] = []
-    for task in tasks:
-        try:
-            stat = (task / "stat").read_text()
-        except (FileNotFoundError, ProcessLookupError):
-            continue
-        states.append(stat.rsplit(")", 1)[1].split()[0])
-    return states
+    fields = dict(line.split(":", 1) for line in status.splitlines() if ":" in line)
+    return fields["State"].split()[0], int(fields["Threads"])
 
 
 def wait_until_dead(pid: int, timeout_s: float = TIMEOUT_S) -> None:
     """Until the child ``pid`` has exited, every thread of it (a zombie its parent has not
     reaped yet, or gone): only then does ``waitpid`` report it. A SIGKILL takes effect some
-    time after ``os.kill`` returns, longer on a busy machine. Does not reap it."""
+    time after ``os.kill`` returns, longer on a busy machine. Does not reap it. The leader
+    of a killed process is a zombie while its other threads are still ending; the count of
+    threads reaches 1 as the last of them is released, the moment ``waitpid`` may report
+    the process."""
     deadline = time.monotonic() + timeout_s
     while time.monotonic() < deadline:
-        states = thread_states(pid)
-        if states is None:
+        status = leader_status(pid)
+        if status is None:
             return
-        if all(state in ("Z", "X") for state in states) and len(states) <= 1:
+        state, threads = status
+        if state in ("Z", "X") and threads <= 1:
             return
         time.sleep(0.005)
     raise AssertionError(f"process {pid} did not die within {timeout_s} s")

@@ -1,6 +1,6 @@
-"""The process helpers the fault tests rely on, against real processes: a thread that
-ends between ``/proc``'s listing of a process's threads and the reading of its state is
-gone, neither an error nor a sign that the whole process is."""
+"""The process helpers the fault tests rely on, against real processes: a killed process
+whose threads end one by one is dead only once the last has, and a thread that ends while
+the helper looks is neither an error nor a sign that the whole process is."""
 
 from __future__ import annotations
 
