@@ -1,6 +1,7 @@
 """Demonstrations that show recoveries (src/workcell/expert/noise.py): the expert's base
 is pushed off its course while it drives, it steers back and still delivers; nothing is
-added while it holds the base still; the pushes are the trial seed's; the CLI records who
+added while it holds the base still; the record keeps the expert's own command (DART) and
+the pushes can be recomputed from it; the pushes are the trial seed's; the CLI records who
 drove and refuses what it cannot do."""
 
 from __future__ import annotations
@@ -15,8 +16,10 @@ from workcell.control.command import BaseTwist, Command
 from workcell.control.simulation import Simulation
 from workcell.errors import ConfigError
 from workcell.expert import ExpertConfig
-from workcell.expert.noise import NoisyBase
+from workcell.expert.noise import NoisyBase, recorded_pushes
 from workcell.record.store import Store
+from workcell.recording.frame_capture import input_from_command
+from workcell.recording.frame_format import build_frame
 from workcell.sim.config import WorldConfig
 from workcell.sim.world import World
 from workcell.task.operator import Operator
@@ -26,11 +29,14 @@ from workcell.tasks.elements.expert import ExpertOperator
 
 
 class Twists:
-    """An operator that keeps the base twist of every command it passes on."""
+    """An operator that keeps the base twist of every command it passes on (as recorded and
+    as executed) and the world's time it was given at."""
 
     def __init__(self, operator: Operator) -> None:
         self.operator = operator
         self.bases: list[BaseTwist] = []
+        self.executed: list[BaseTwist] = []
+        self.times: list[float] = []
 
     def start_trial(self, trial_seed: int) -> None:
         self.operator.start_trial(trial_seed)
@@ -38,16 +44,25 @@ class Twists:
     def act(self, world: World) -> Command:
         command = self.operator.act(world)
         self.bases.append(command.base)
+        self.executed.append(command.executed_base)
+        self.times.append(world.time)
         return command
+
+
+def _run(seed: int, noise: float) -> tuple[Twists, Twists, bool]:
+    """The expert's commands and the pushed expert's of one delivery, and whether it
+    delivered."""
+    sim = Simulation(WorldConfig(), BoxTransfer().scene())
+    asked = Twists(ExpertOperator(ExpertConfig(), seed))
+    pushed = Twists(NoisyBase(asked, noise))
+    result = deliver_one_box(sim, pushed, seed, 120.0)  # type: ignore[arg-type]
+    return asked, pushed, result.delivered
 
 
 def _drive(seed: int, noise: float) -> tuple[list[BaseTwist], list[BaseTwist], bool]:
     """The expert's and the executed base twists of one delivery, and whether it delivered."""
-    sim = Simulation(WorldConfig(), BoxTransfer().scene())
-    asked = Twists(ExpertOperator(ExpertConfig(), seed))
-    executed = Twists(NoisyBase(asked, noise))
-    result = deliver_one_box(sim, executed, seed, 120.0)  # type: ignore[arg-type]
-    return asked.bases, executed.bases, result.delivered
+    asked, pushed, delivered = _run(seed, noise)
+    return asked.bases, pushed.executed, delivered
 
 
 def test_a_pushed_expert_steers_back_and_delivers_and_still_bases_are_left_alone() -> None:
@@ -61,6 +76,48 @@ def test_a_pushed_expert_steers_back_and_delivers_and_still_bases_are_left_alone
     full = [i for i in pushed if np.hypot(asked[i].vx, asked[i].vy) > 0.3]
     offsets = np.array([[executed[i].vx - asked[i].vx, executed[i].vy - asked[i].vy] for i in full])
     assert 0.03 < float(np.std(offsets)) < 0.3
+
+
+def test_the_recorded_command_is_the_experts_own_and_the_pushes_follow_from_the_record() -> None:
+    asked, pushed, _ = _run(3, 0.1)
+    assert pushed.bases == asked.bases  # what frames record: the expert's twist (DART)
+    executed = np.array([(t.vx, t.vy, t.wz) for t in pushed.executed])
+    twist = np.array([(t.vx, t.vy, t.wz) for t in pushed.bases])
+    assert np.abs(executed - twist).max() > 0.05  # the base was driven with the pushes
+    # from a clock that starts elsewhere (a frame's t_sim), as from the world's time
+    for start in (0.0, pushed.times[0], -3.7):
+        times = np.array(pushed.times) - start
+        assert np.allclose(recorded_pushes(3, 0.1, times, twist), executed - twist, atol=1e-12)
+    assert not np.array_equal(
+        recorded_pushes(4, 0.1, np.array(pushed.times), twist), executed - twist
+    )
+
+
+def test_the_controller_executes_the_push_and_a_frame_records_the_operators_twist() -> None:
+    asked = BaseTwist(0.2, 0.0, 0.1)
+    pushed = Command(base=asked, base_push=BaseTwist(0.0, 0.05, -0.1))
+    assert pushed.executed_base == BaseTwist(0.2, 0.05, 0.0)
+    assert Command(base=asked).executed_base == asked
+    runs = []
+    for command in (pushed, Command(base=BaseTwist(0.2, 0.05, 0.0))):
+        sim = Simulation(WorldConfig(), BoxTransfer().scene())
+        sim.reset(1)
+        for _ in range(50):
+            sim.step(command)
+        operator_input = input_from_command(command)
+        row = build_frame(
+            sim.world,
+            sim.controller,
+            command,
+            operator_input,
+            t_sim=1.0,
+            t_wall=0.0,
+            step_wall_ms=0.0,
+        )
+        runs.append((sim.world.base_pose.tolist(), (row["cmd_vx"], row["cmd_vy"], row["cmd_wz"])))
+    (pose_pushed, recorded_pushed), (pose_plain, recorded_plain) = runs
+    assert pose_pushed == pose_plain  # the push moved the base as the same twist given
+    assert recorded_pushed == (0.2, 0.0, 0.1) and recorded_plain == (0.2, 0.05, 0.0)
 
 
 def test_the_pushes_are_the_trial_seeds() -> None:

@@ -67,6 +67,11 @@ class Command:
     ``close_left`` / ``close_right`` say how far each gripper is commanded closed, 0 open ..
     1 closed (the trigger); frames record them as ``gripper_cmd_l`` / ``gripper_cmd_r``.
     The measured finger opening, ``gripper_l`` / ``gripper_r``, runs the other way: 1 open.
+
+    ``base_push`` is not the operator's: a disturbance added to its base twist before the
+    controller executes it (:attr:`executed_base`), set only by the pushed expert
+    (:mod:`workcell.expert.noise`). Frames record ``base``, what the operator asked for
+    (``cmd_vx``, ``cmd_vy``, ``cmd_wz``), as DART records the expert's own action.
     """
 
     base: BaseTwist = field(default_factory=BaseTwist)
@@ -75,6 +80,15 @@ class Command:
     close_left: float = 0.0
     close_right: float = 0.0
     head: tuple[float, float] = (0.0, 0.3)
+    base_push: BaseTwist = field(default_factory=BaseTwist)
+
+    @property
+    def executed_base(self) -> BaseTwist:
+        """The base twist the controller executes: ``base`` plus ``base_push``."""
+        if self.base_push == BaseTwist():
+            return self.base
+        base, push = self.base, self.base_push
+        return BaseTwist(base.vx + push.vx, base.vy + push.vy, base.wz + push.wz)
 
     def __post_init__(self) -> None:
         for name, value in (

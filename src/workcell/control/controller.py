@@ -59,7 +59,7 @@ class RobotController:
         world, dt = self.world, self.world.control_dt
         pose = world.base_pose
         self.base.limit_lead(pose, MAX_BASE_LEAD)
-        world.data.ctrl[world.base_ctrl] = self.base.step(command.base, dt)
+        world.data.ctrl[world.base_ctrl] = self.base.step(command.executed_base, dt)
         yaw = float(pose[2])
         self.ik.place_obstacle(
             world.to_base_frame(self._obstacle_center),

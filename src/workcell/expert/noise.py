@@ -12,11 +12,18 @@ The perturbation is scaled by how fast the expert drives, in full from
 :data:`FULL_SPEED` m/s: the expert is closed-loop (it steers toward its goal pose from
 where the base is), so the record shows it correcting on its way, and it still arrives
 (slowing down near its goal, it is pushed less). While the expert holds the base still
-(waiting, grasping) nothing is added. The recorded command is the one executed,
-perturbation included (not the expert's own, as DART records): it has mean zero, but it is
-noise in what a policy regresses on. Keep it small: on box transfer in D1 (``bench/README.md``,
-issue 34) 0.1 m/s lifted a state-only ACT from 57 to 72 % in new worlds, while at 0.2 the
-policy learned a timid average and never grasped.
+(waiting, grasping) nothing is added.
+
+The perturbation travels as the command's ``base_push``
+(:class:`~workcell.control.command.Command`): the controller executes the expert's twist
+plus the push, and the frames record the expert's own twist (``cmd_vx``, ``cmd_vy``,
+``cmd_wz``), as DART does: the recorded action is what the expert asked for in the state
+the push led to, the correction, not the noise it was pushed with. The pushes are
+reproducible from the record: the trial's seed, ``t_sim`` and the recorded twist
+(:func:`recorded_pushes`). On box transfer in D1 (``bench/README.md``, issue 34) pushes of 0.1 m/s
+recorded *with* the push in the action lifted a state-only ACT from 57 to 72 % in new
+worlds, while at 0.2 the policy learned a timid average and never grasped; the same
+demonstrations with the expert's own action are measured there too.
 """
 
 from __future__ import annotations
@@ -25,6 +32,7 @@ import dataclasses
 import math
 
 import numpy as np
+from numpy.typing import NDArray
 
 from workcell.control.command import BaseTwist, Command
 from workcell.sim.world import World
@@ -39,6 +47,32 @@ FULL_SPEED = 0.3
 added in full; below it in proportion."""
 SEED_SALT = 0xDA27
 """Mixed into the trial seed, so the perturbations are not the expert's own draws."""
+CLOCK_SLACK_S = 1e-6
+"""A held perturbation runs out this much before :data:`HOLD_S` is up: a hold lasts a whole
+number of control periods, and a clock counted from another start (a frame's ``t_sim``
+rather than the world's time) must not draw one period later for a rounding error."""
+
+
+class Pushes:
+    """The perturbations of one trial, drawn from its seed (see the module docstring)."""
+
+    def __init__(self, trial_seed: int, base_noise: float) -> None:
+        self._scale = np.array([base_noise, base_noise, YAW_PER_SPEED * base_noise])
+        self._rng = np.random.default_rng((trial_seed, SEED_SALT))
+        self._until = -1.0
+        self._held = np.zeros(3)
+
+    def at(self, t: float, base: BaseTwist) -> BaseTwist:
+        """The perturbation at simulated time ``t`` (s) while the expert asks for ``base``;
+        draws the next one once the held one has run out (only while the base drives)."""
+        if base == BaseTwist():
+            return BaseTwist()
+        if t + CLOCK_SLACK_S >= self._until:
+            self._held = self._rng.standard_normal(3) * self._scale
+            self._until = t + HOLD_S
+        speed = math.hypot(base.vx, base.vy) + 0.5 * abs(base.wz)
+        vx, vy, wz = self._held * min(1.0, speed / FULL_SPEED)
+        return BaseTwist(float(vx), float(vy), float(wz))
 
 
 class NoisyBase:
@@ -47,24 +81,28 @@ class NoisyBase:
     def __init__(self, expert: Operator, base_noise: float) -> None:
         self.expert = expert
         self.base_noise = base_noise
-        self._scale = np.array([base_noise, base_noise, YAW_PER_SPEED * base_noise])
         self.start_trial(0)
 
     def start_trial(self, trial_seed: int) -> None:
         self.expert.start_trial(trial_seed)
-        self._rng = np.random.default_rng((trial_seed, SEED_SALT))
-        self._until = -1.0
-        self._push = np.zeros(3)
+        self._pushes = Pushes(trial_seed, self.base_noise)
 
     def act(self, world: World) -> Command:
         command = self.expert.act(world)
-        base = command.base
-        if base == BaseTwist():
-            return command
-        if world.time >= self._until:
-            self._push = self._rng.standard_normal(3) * self._scale
-            self._until = world.time + HOLD_S
-        speed = math.hypot(base.vx, base.vy) + 0.5 * abs(base.wz)
-        vx, vy, wz = self._push * min(1.0, speed / FULL_SPEED)
-        pushed = BaseTwist(base.vx + float(vx), base.vy + float(vy), base.wz + float(wz))
-        return dataclasses.replace(command, base=pushed)
+        push = self._pushes.at(world.time, command.base)
+        return command if push == BaseTwist() else dataclasses.replace(command, base_push=push)
+
+
+def recorded_pushes(
+    trial_seed: int, base_noise: float, t_act: NDArray[np.float64], twist: NDArray[np.float64]
+) -> NDArray[np.float64]:
+    """The pushes a trial recorded by the pushed expert (``base_noise``, ``trial_seed``)
+    was driven with, one (vx, vy, wz) row per frame, from the simulated times its commands
+    were given at (``t_act``) and its recorded twist (``cmd_vx``, ``cmd_vy``, ``cmd_wz``):
+    the base executed ``twist`` plus these."""
+    draws = Pushes(trial_seed, base_noise)
+    rows = []
+    for t, row in zip(t_act, twist, strict=True):
+        push = draws.at(float(t), BaseTwist(*map(float, row)))
+        rows.append((push.vx, push.vy, push.wz))
+    return np.array(rows, dtype=np.float64).reshape(-1, 3)
