@@ -3,17 +3,11 @@ one episode loop), judged by the box-transfer task."""
 
 from __future__ import annotations
 
-import dataclasses
-from collections.abc import Callable
 from dataclasses import dataclass
 
 from workcell.control.simulation import Simulation
-from workcell.session.config import SessionConfig, TaskConfig
-from workcell.task.runner import SessionRunner
-from workcell.task.schedule import TrialSpec
+from workcell.task.one_trial import StepObserver, run_one_trial
 from workcell.tasks.elements.expert import ExpertOperator
-
-StepObserver = Callable[[Simulation], None]
 
 
 @dataclass(frozen=True)
@@ -36,24 +30,13 @@ def deliver_one_box(
     observer: StepObserver | None = None,
 ) -> OneBoxResult:
     """Reset ``sim``'s world with ``seed`` and let ``expert`` deliver a box: a trial with
-    no countdown, ended by the task's judge or after ``time_limit_s`` of sim time.
+    no countdown, ended by the task's judge or after ``time_limit_s`` of sim time
+    (:func:`workcell.task.one_trial.run_one_trial`).
 
     ``observer`` is called after every control step (to render video, show progress); its
     time is not counted in the result's wall time.
     """
-    task = TaskConfig(mode="practice", time_limit_s=time_limit_s, countdown_s=0.0)
-    config = dataclasses.replace(SessionConfig(world=sim.config), task=task)
-    runner = SessionRunner(config, sim, expert, max_trials=1)
-    loop_wall = 0.0
-
-    def stepped() -> None:
-        nonlocal loop_wall
-        loop_wall += runner.last_step_wall_s
-        if observer is not None:
-            observer(sim)
-
-    runner.start(TrialSpec(0, "practice", None, None, 1, time_limit_s), world_seed=seed)
-    (result,) = runner.run(after_step=stepped)
+    result = run_one_trial(sim, expert, seed, time_limit_s, observer=observer)
     return OneBoxResult(
-        delivered=result.outcome == "success", sim_time_s=sim.time, wall_time_s=loop_wall
+        delivered=result.succeeded, sim_time_s=result.sim_time_s, wall_time_s=result.wall_time_s
     )
