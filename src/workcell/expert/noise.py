@@ -18,12 +18,14 @@ The perturbation travels as the command's ``base_push``
 (:class:`~workcell.control.command.Command`): the controller executes the expert's twist
 plus the push, and the frames record the expert's own twist (``cmd_vx``, ``cmd_vy``,
 ``cmd_wz``), as DART does: the recorded action is what the expert asked for in the state
-the push led to, the correction, not the noise it was pushed with. The pushes are
-reproducible from the record: the trial's seed, ``t_sim`` and the recorded twist
-(:func:`recorded_pushes`). On box transfer in D1 (``bench/README.md``, issue 34) pushes of 0.1 m/s
-recorded *with* the push in the action lifted a state-only ACT from 57 to 72 % in new
-worlds, while at 0.2 the policy learned a timid average and never grasped; the same
-demonstrations with the expert's own action are measured there too.
+the push led to, the correction, not the noise it was pushed with. The pushes themselves
+are not recorded (they are drawn again from the trial's seed); what they did is: the base's
+measured velocity (``base_vx``, ``base_vy``, ``base_wz``) against the recorded twist.
+
+On box transfer in D1 (``bench/README.md``, issue 34) pushes of 0.1 m/s recorded *with* the
+push in the action lifted a state-only ACT from 57 to 72 % in new worlds, while at 0.2 the
+policy learned a timid average and never grasped; the same demonstrations (the same
+states) with the expert's own action are measured there too.
 """
 
 from __future__ import annotations
@@ -32,7 +34,6 @@ import dataclasses
 import math
 
 import numpy as np
-from numpy.typing import NDArray
 
 from workcell.control.command import BaseTwist, Command
 from workcell.sim.world import World
@@ -47,10 +48,6 @@ FULL_SPEED = 0.3
 added in full; below it in proportion."""
 SEED_SALT = 0xDA27
 """Mixed into the trial seed, so the perturbations are not the expert's own draws."""
-CLOCK_SLACK_S = 1e-6
-"""A held perturbation runs out this much before :data:`HOLD_S` is up: a hold lasts a whole
-number of control periods, and a clock counted from another start (a frame's ``t_sim``
-rather than the world's time) must not draw one period later for a rounding error."""
 
 
 class Pushes:
@@ -67,7 +64,7 @@ class Pushes:
         draws the next one once the held one has run out (only while the base drives)."""
         if base == BaseTwist():
             return BaseTwist()
-        if t + CLOCK_SLACK_S >= self._until:
+        if t >= self._until:
             self._held = self._rng.standard_normal(3) * self._scale
             self._until = t + HOLD_S
         speed = math.hypot(base.vx, base.vy) + 0.5 * abs(base.wz)
@@ -91,18 +88,3 @@ class NoisyBase:
         command = self.expert.act(world)
         push = self._pushes.at(world.time, command.base)
         return command if push == BaseTwist() else dataclasses.replace(command, base_push=push)
-
-
-def recorded_pushes(
-    trial_seed: int, base_noise: float, t_act: NDArray[np.float64], twist: NDArray[np.float64]
-) -> NDArray[np.float64]:
-    """The pushes a trial recorded by the pushed expert (``base_noise``, ``trial_seed``)
-    was driven with, one (vx, vy, wz) row per frame, from the simulated times its commands
-    were given at (``t_act``) and its recorded twist (``cmd_vx``, ``cmd_vy``, ``cmd_wz``):
-    the base executed ``twist`` plus these."""
-    draws = Pushes(trial_seed, base_noise)
-    rows = []
-    for t, row in zip(t_act, twist, strict=True):
-        push = draws.at(float(t), BaseTwist(*map(float, row)))
-        rows.append((push.vx, push.vy, push.wz))
-    return np.array(rows, dtype=np.float64).reshape(-1, 3)
