@@ -8,7 +8,7 @@ test asks for others.
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -112,12 +112,18 @@ def write_trial(
     *,
     interruption_reason: str | None = None,
     metric_thresholds: MetricThresholds | None = None,
+    task: str | None = None,
+    take_overs: Sequence[float] = (),
 ) -> str:
-    """A closed trial of ``frames`` with the recorder's metrics; returns its id."""
-    trial_id = store.start_trial(
-        session_id, TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0)
-    )
+    """A closed trial of ``frames`` with the recorder's metrics; returns its id. ``task``:
+    the trial's recorded ``task.kind``; ``take_overs``: the trial times a person took over
+    (``take_over`` events, each handed back 1 s later)."""
+    start = TrialStart(mode="collection", required_boxes=1, time_limit_s=120.0, task=task)
+    trial_id = store.start_trial(session_id, start)
     store.add_frames(trial_id, frames_from_columns(frames, session_id, trial_id))
+    for t in take_overs:
+        store.add_event(session_id, "take_over", {}, trial_id=trial_id, t_sim=t)
+        store.add_event(session_id, "hand_back", {}, trial_id=trial_id, t_sim=t + 1.0)
     t_end = float(frames["t_sim"][-1])
     success = outcome == "success"
     metrics = compute_trial_metrics(

@@ -16,6 +16,7 @@ from workcell.audit.config import AuditConfig
 from workcell.audit.disposition import EXCLUDED_LOW_QUALITY, VALID_SUCCESS, VALID_TIMEOUT
 from workcell.audit.findings import QUALITY_FLAG
 from workcell.audit.flags import SLOW
+from workcell.audit.population import flag_slow
 from workcell.audit.run import AuditResult, run_audit
 from workcell.audit.slowness import SlownessParams, detect_slow
 from workcell.audit.store_source import StoreSource
@@ -41,6 +42,25 @@ def hesitant(expert_stores: ExpertStores, tmp_path_factory: pytest.TempPathFacto
         b.write_trial(store, session_id, b.with_pause(wins[0], middle, PAUSE_S), "success")
         for frames in losses:
             b.write_trial(store, session_id, frames, "timeout")
+        store.end_session(session_id)
+    return path
+
+
+@pytest.fixture(scope="module")
+def corrected(expert_stores: ExpertStores, tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """The hesitant set, but a person took over in the paused trial (a corrected rollout),
+    and three successes of another task, each as slow as the pause (a longer task)."""
+    path = tmp_path_factory.mktemp("slowness") / "corrected.sqlite"
+    session, wins, _ = expert_trials(expert_stores)
+    middle = len(wins[0]["t_sim"]) // 2
+    paused = b.with_pause(wins[0], middle, PAUSE_S)
+    with Store.open(path, writer=True) as store:
+        session_id = store.create_session(b.session_info(session))
+        for frames in wins:
+            b.write_trial(store, session_id, frames, "success")
+        b.write_trial(store, session_id, paused, "success", take_overs=(5.0,))
+        for _ in range(3):
+            b.write_trial(store, session_id, paused, "success", task="sort")
         store.end_session(session_id)
     return path
 
@@ -82,6 +102,22 @@ def test_the_audited_export_leaves_the_slow_demonstration_out(hesitant: Path) ->
     left_out = {i: d.reason for i, d in decisions.items() if not d.included}
     paused = next(t for t in _audit(hesitant).trials if t.flags)
     assert left_out == {paused.trial_id: "marked by a quality flag: slow"}
+
+
+def test_a_corrected_trial_and_another_tasks_are_not_measured_against_these(
+    corrected: Path,
+) -> None:
+    result = _audit(corrected)
+    assert all(t.flags == () for t in result.trials)  # as slow as the pause, none flagged
+    tasks = [t.task for t in result.trials]
+    assert tasks == ["box_transfer"] * 5 + ["sort"] * 3
+    assert audited_inclusions(corrected).keys() == {t.trial_id for t in result.trials}
+    assert all(d.included for d in audited_inclusions(corrected).values())
+    # without its take-over the same trial is slow against the four others (its own
+    # reference, as before), and the slow other task against nothing of box transfer's
+    flagged = flag_slow(result.trials, SlownessParams())
+    assert [bool(t.flags) for t in flagged] == [False] * 4 + [True] + [False] * 3
+    assert result.config.describe()["detectors"]["slow"]["version"] == "3"
 
 
 def test_slow_can_disqualify_and_needs_a_reference(hesitant: Path) -> None:

@@ -130,7 +130,9 @@ def run_audit(
     sessions = sorted(auditor.sessions.values(), key=lambda s: (s.created_wall, s.session_id))
     position = {s.session_id: i for i, s in enumerate(sessions)}
     trials = sorted(done.values(), key=lambda t: (position[t.row.session_id], t.row.trial_index))
-    trials = flag_slow(trials, config.slowness)  # against the whole set: after every trial
+    switches = source.trial_switches(list(rows))
+    taken_over = {t for t, kinds in switches.items() if any(k == "take_over" for k, _ in kinds)}
+    trials = flag_slow(trials, config.slowness, taken_over)  # the whole set: after every trial
     trials = with_stages(source, trials)  # those the workers did not read
     for session in sessions:
         for text in session.notes:
@@ -151,7 +153,7 @@ def run_audit(
         findings=tuple(findings),
         trajectories=_trajectories(source, trials, config.trajectories),
         frames_read=frames_read,
-        switches=source.trial_switches(list(rows)),
+        switches=switches,
     )
 
 

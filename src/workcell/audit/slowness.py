@@ -3,9 +3,13 @@
 Definition (version :data:`SLOWNESS_VERSION`): ``slow`` is raised on a successful trial
 whose recomputed ``completion_time_s`` is more than ``factor`` times the median
 completion time of its reference group: the valid successes (dispositions of the other
-rules, reviewers' decisions included) of the same task — the same mode and number of
-required boxes — in the audited set, when that group holds at least ``min_reference``
-trials. A trial counts in its own reference. The reference is the audited population, not
+rules, reviewers' decisions included) of the same task — the same ``task.kind``, mode and
+number of required boxes — in the audited set, when that group holds at least
+``min_reference`` trials. A trial counts in its own reference. A trial a person took over
+from an autonomous driver (a ``take_over`` event) is neither flagged nor counted in a
+reference: its time is the driver's stall plus the correction, not one operator's pace,
+and what is learned from it is the corrected stretch alone (``workcell train
+--correction-weight``), so an audited export keeps it. The reference is the audited population, not
 an absolute pace: a set whose typical success is slow flags none, and a policy evaluated
 in the same store as its demonstrations is measured against them.
 
@@ -19,6 +23,12 @@ experiment the keep of version 1 held 2 low-skill successes at 1.7x the median (
 episodes), and an ACT policy trained on it never released the box, while the same keep
 without them succeeded (bench/README.md). A study whose people are expected to vary more
 can raise it (``slowness.factor``).
+
+Version 3 made the reference group the same ``task.kind`` as well (with four tasks in one
+store, a sort trial, about three times as long as a box transfer, was measured against box
+transfer's median) and left corrected trials out (the loop of README's "Correcting a
+policy" exported with ``--audited`` lost the rollouts whose correction took longest).
+Stores of one task without take-overs are flagged as under version 2.
 """
 
 from __future__ import annotations
@@ -29,7 +39,7 @@ from workcell.audit.flags import SLOW, Flag
 from workcell.errors import ConfigError
 from workcell.settings import declared_problems, setting
 
-SLOWNESS_VERSION = "2"
+SLOWNESS_VERSION = "3"
 """Bumped whenever the definition above changes meaning."""
 
 
