@@ -49,6 +49,7 @@ def test_runs_of_corrected_frames() -> None:
     assert corrected_runs(np.zeros(4, dtype=bool)) == []
 
 
+@pytest.mark.filterwarnings("error::RuntimeWarning")  # none printed to the person training
 @pytest.mark.parametrize("weight", [1, 3])
 def test_the_training_dataset_holds_demonstrations_plus_the_corrected_stretches(
     corrected_export: tuple[Path, list[np.ndarray]], tmp_path: Path, weight: int

@@ -19,6 +19,7 @@ export --trials``), not rollouts the policy ran alone.
 from __future__ import annotations
 
 import json
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -233,5 +234,7 @@ def _write(
         buffer = target.episode_buffer
         for key in scalars:  # shape (1,): LeRobot validates (1,) but stores a scalar column
             buffer[key] = [value.reshape(()) for value in buffer[key]]
-        target.save_episode()
+        with warnings.catch_warnings():  # its statistics of the boolean intervention feature
+            warnings.filterwarnings("ignore", "Converting input from bool", RuntimeWarning)
+            target.save_episode()
     target.finalize()
