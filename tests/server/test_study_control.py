@@ -391,7 +391,9 @@ def test_a_start_waits_in_line_while_the_cores_budget_is_spent(tmp_path: Path) -
             assert isinstance(again, m.Queued) and (again.position, again.waiting) == (1, 1)
             assert server.seats.line.waiting == 1
             figures = await measured(server)
-            assert figures["real_time_factor"] > 0 and figures["cores"] > 0.05
+            # two sessions at the first's measured cost exceed the budget (an idle person's
+            # session costs about 0.05 cores: held arms solve no IK), hence the line
+            assert figures["real_time_factor"] > 0 and 2 * figures["cores"] > 0.05
             await first.send(m.Stop())
             await ended(first)
             started = await second.wait_for(lambda x: isinstance(x, m.SessionStarted), 30)

