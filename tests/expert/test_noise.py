@@ -52,7 +52,7 @@ def _run(seed: int, noise: float) -> tuple[Twists, Twists, bool]:
     sim = Simulation(WorldConfig(), BoxTransfer().scene())
     asked = Twists(ExpertOperator(ExpertConfig(), seed))
     pushed = Twists(NoisyBase(asked, noise))
-    result = deliver_one_box(sim, pushed, seed, 120.0)  # type: ignore[arg-type]
+    result = deliver_one_box(sim, pushed, seed, 120.0)
     return asked, pushed, result.delivered
 
 

@@ -80,14 +80,15 @@ class Command:
     close_left: float = 0.0
     close_right: float = 0.0
     head: tuple[float, float] = (0.0, 0.3)
-    base_push: BaseTwist = field(default_factory=BaseTwist)
+    base_push: BaseTwist | None = None
 
     @property
     def executed_base(self) -> BaseTwist:
-        """The base twist the controller executes: ``base`` plus ``base_push``."""
-        if self.base_push == BaseTwist():
+        """The base twist the controller executes: ``base`` plus ``base_push``, if any."""
+        push = self.base_push
+        if push is None:  # every operator but the pushed expert: nothing to build
             return self.base
-        base, push = self.base, self.base_push
+        base = self.base
         return BaseTwist(base.vx + push.vx, base.vy + push.vy, base.wz + push.wz)
 
     def __post_init__(self) -> None:

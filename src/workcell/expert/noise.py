@@ -47,6 +47,8 @@ YAW_PER_SPEED = 2.0
 FULL_SPEED = 0.3
 """m/s (yaw rates count as half a metre's arc): from this speed on the perturbation is
 added in full; below it in proportion."""
+STILL = BaseTwist()
+"""A base asked to stand still, which is never pushed."""
 SEED_SALT = 0xDA27
 """Mixed into the trial seed, so the perturbations are not the expert's own draws."""
 
@@ -63,8 +65,8 @@ class Pushes:
     def at(self, t: float, base: BaseTwist) -> BaseTwist:
         """The perturbation at simulated time ``t`` (s) while the expert asks for ``base``;
         draws the next one once the held one has run out (only while the base drives)."""
-        if base == BaseTwist():
-            return BaseTwist()
+        if base == STILL:
+            return STILL
         if t >= self._until:
             self._held = self._rng.standard_normal(3) * self._scale
             self._until = t + HOLD_S
@@ -88,4 +90,4 @@ class NoisyBase:
     def act(self, world: World) -> Command:
         command = self.expert.act(world)
         push = self._pushes.at(world.time, command.base)
-        return command if push == BaseTwist() else dataclasses.replace(command, base_push=push)
+        return command if push == STILL else dataclasses.replace(command, base_push=push)
