@@ -7,12 +7,14 @@ import numpy as np
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
-from workcell.generate.recheck import recheck
+from workcell.generate.recheck import Recheck, recheck
 from workcell.sim.boxes import BoxState
 from workcell.sim.config import FeederConfig, WorldConfig
 from workcell.sim.events import BoxDelivered
 from workcell.sim.world import World
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.registry import BUILT_IN, load_task
+from workcell.tasks.shelve.task import Shelve
 
 
 class StandStill:
@@ -61,14 +63,14 @@ def delivered_sim() -> Simulation:
 
 def test_a_settled_delivery_holds() -> None:
     sim = delivered_sim()
-    check = recheck(sim, StandStill())
+    check = recheck(sim, StandStill(), BoxTransfer())
     assert check.held and check.reason is None
     assert check.as_dict() == {"seconds": 1.0, "settle_s": 0.25, "held": True, "reason": None}
 
 
 def test_a_box_shoved_off_its_rest_within_the_second_is_a_false_success() -> None:
     sim = delivered_sim()
-    check = recheck(sim, Shove())
+    check = recheck(sim, Shove(), BoxTransfer())
     assert not check.held
     assert check.reason is not None
     assert check.reason.startswith("box 0 moving (0.")
@@ -100,6 +102,29 @@ def test_a_box_that_bounces_once_as_it_lands_settles_and_holds() -> None:
     # delivered the instant it is let go of, then lands and bounces before it rests
     sim = delivered_sim()
     bounce = Bounce()
-    check = recheck(sim, bounce)
+    check = recheck(sim, bounce, BoxTransfer())
     assert bounce.fastest > 0.2
     assert check.held, check.reason
+
+
+def test_a_success_with_nothing_delivered_or_a_task_without_a_check_does_not_hold() -> None:
+    sim = Simulation(WorldConfig(feeder=FeederConfig(pool_size=1)), BoxTransfer().scene())
+    sim.reset(0)
+    check = recheck(sim, StandStill(), BoxTransfer())
+    assert check == Recheck(False, "no completed object to check")
+    shelve = Shelve()
+    shelf_sim = Simulation(WorldConfig(), shelve.scene())
+    shelf_sim.reset(0)
+    check = recheck(shelf_sim, StandStill(), shelve)
+    assert check == Recheck(False, "the task shelve has no settled check")
+
+
+def test_each_tasks_segment_references_name_its_stages() -> None:
+    declared = 0
+    for name in BUILT_IN:
+        task = load_task(name)
+        if task.segment_references is not None:
+            declared += 1
+            assert tuple(task.segment_references) == task.stages, name
+            assert set(task.segment_references.values()) <= {"box", "goal"}, name
+    assert declared >= 1

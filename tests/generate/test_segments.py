@@ -7,11 +7,14 @@ import numpy as np
 import pytest
 
 from workcell.generate.errors import GenerateError
-from workcell.generate.references import BOX_TRANSFER_REFERENCES, references_for
+from workcell.generate.references import references_for
 from workcell.generate.segments import segment
 from workcell.generate.source import SourceTrial
+from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.palletize.task import Palletize
 
 RATE_HZ = 20
+REFERENCES = references_for(BoxTransfer())
 
 
 def source(stages: list[str]) -> SourceTrial:
@@ -45,7 +48,7 @@ def source(stages: list[str]) -> SourceTrial:
 def test_segments_end_where_the_stage_changes_and_act_on_their_object() -> None:
     stages = ["none"] * 80 + ["grasped"] * 5 + ["lifted"] * 30 + ["over_zone"] * 20
     stages.append("delivered")
-    segments = segment(source(stages), BOX_TRANSFER_REFERENCES)
+    segments = segment(source(stages), REFERENCES)
     assert [(s.start, s.end, s.end_stage) for s in segments] == [
         (0, 80, "grasped"),
         (80, 85, "lifted"),
@@ -63,9 +66,9 @@ def test_segments_end_where_the_stage_changes_and_act_on_their_object() -> None:
 
 def test_a_trial_without_its_tasks_stages_is_refused() -> None:
     with pytest.raises(GenerateError, match="recorded before schema version 5"):
-        segment(source(["None"] * 10), BOX_TRANSFER_REFERENCES)
-    with pytest.raises(GenerateError, match="knows the stages of box transfer"):
-        references_for("palletize", ("none", "touched", "grasped", "placed_1"))
+        segment(source(["None"] * 10), REFERENCES)
+    with pytest.raises(GenerateError, match="palletize: the task declares no segment ref"):
+        references_for(Palletize())
 
 
 def creeping(speeds: np.ndarray) -> SourceTrial:
@@ -84,7 +87,7 @@ def test_a_box_taken_while_it_still_creeps_is_moved_from_where_the_hands_met_it(
     # at a few cm/s, its frame-to-frame speed above and below the rest speed by turns
     speeds = np.where(np.arange(64) % 2 == 0, 0.07, 0.04)
     trial = creeping(speeds)
-    (first, _) = segment(trial, BOX_TRANSFER_REFERENCES)
+    (first, _) = segment(trial, REFERENCES)
     # never at rest for 0.5 s; below 0.1 m/s on average over frames 37 to 47 (3 frames at
     # 0.2 m/s, 7 at 0.055): replayed from there, moved from the box's pose at the grasp
     assert first.waits_for_rest and first.anchor == 47
@@ -93,7 +96,7 @@ def test_a_box_taken_while_it_still_creeps_is_moved_from_where_the_hands_met_it(
 
 def test_a_box_that_never_slows_down_is_refused() -> None:
     with pytest.raises(GenerateError, match="never rested before stage grasped"):
-        segment(creeping(np.full(64, 0.12)), BOX_TRANSFER_REFERENCES)
+        segment(creeping(np.full(64, 0.12)), REFERENCES)
 
 
 def test_a_box_moving_in_the_hands_from_the_grasp_on_is_not_waited_for() -> None:
@@ -104,6 +107,6 @@ def test_a_box_moving_in_the_hands_from_the_grasp_on_is_not_waited_for() -> None
     box = trial.box_pose.copy()
     box[80:, 3] = 0.3
     moving = SourceTrial(**{**trial.__dict__, "box_pose": box})
-    first, second, *_ = segment(moving, BOX_TRANSFER_REFERENCES)
+    first, second, *_ = segment(moving, REFERENCES)
     assert first.waits_for_rest and first.anchor == 51
     assert (second.start, second.anchor, second.waits_for_rest) == (80, 80, False)

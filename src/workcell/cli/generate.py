@@ -125,7 +125,7 @@ def run(args: argparse.Namespace) -> int:
     from workcell.tasks.registry import load_task  # noqa: PLC0415
 
     task = load_task(config.task.kind)
-    references = references_for(config.task.kind, task.stages)
+    references = references_for(task)
     sources = load_sources(args.source, config.task.kind, args.source_operator)
     plan = GenerationPlan.of(sources, references)
     config = _with_time_limit(config, plan, args.set)

@@ -100,7 +100,7 @@ def _judge(
     (result,) = session.runner.results
     check: Recheck | None = None
     if result.outcome == "success":
-        check = recheck(session.sim, operator)
+        check = recheck(session.sim, operator, session.runner.task)
     accepted = check is not None and check.held
     false_success = check is not None and not check.held
     if accepted:

@@ -6,9 +6,9 @@ import hashlib
 from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 
-from workcell.generate.references import Reference
 from workcell.generate.segments import Segment, segment
 from workcell.generate.source import SourceTrial
+from workcell.tasks.task import Reference
 
 OPERATOR_PREFIX = "generated-"
 HASH_CHARS = 10

@@ -19,8 +19,8 @@ import numpy as np
 
 from workcell.generate.errors import GenerateError
 from workcell.generate.planar import Planar
-from workcell.generate.references import Reference
 from workcell.generate.source import SourceTrial
+from workcell.tasks.task import Reference
 
 REST_SPEED = 0.06
 """A box slower than this (m/s, on the floor plane) is at rest."""

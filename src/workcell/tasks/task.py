@@ -14,7 +14,7 @@ from __future__ import annotations
 from abc import ABC, abstractmethod
 from collections.abc import Mapping
 from dataclasses import dataclass
-from typing import TYPE_CHECKING, Any, ClassVar, Protocol
+from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
 
 from workcell.tasks.worlds import WorldName, WorldRanges
 
@@ -36,6 +36,29 @@ class Evaluation:
     failure: bool
     progress: float
     stage: str
+
+
+Reference = Literal["box", "goal"]
+"""What a stage's motion acts on, for data generation (:mod:`workcell.generate.segments`):
+``box`` the object the trial grasps, ``goal`` where the trial's objects go (the numbers of
+:meth:`Task.goal`)."""
+
+
+class SettledCheck(Protocol):
+    """Whether the objects a trial completed stay completed once it succeeded: data
+    generation keeps the simulation running a second past a success and asks this each
+    control period (:mod:`workcell.generate.recheck`)."""
+
+    @property
+    def objects(self) -> int:
+        """How many completed objects it watches (0: a success with none to check)."""
+        ...
+
+    def why_undone(self, world: World, settling: bool) -> str | None:
+        """None while each watched object is still completed (or the scene took it away);
+        else what undid one (``box 0 held again``). While ``settling`` (the success's first
+        moments) an object in place and let go of may still be coming to rest."""
+        ...
 
 
 @dataclass(frozen=True)
@@ -89,6 +112,9 @@ class Task(ABC):
     goal_names: ClassVar[tuple[str, ...]]
     """The names of :meth:`goal`'s numbers, in order (they follow the objects in every
     observation's ``environment_state`` and every dataset's feature names)."""
+    segment_references: ClassVar[Mapping[str, Reference] | None] = None
+    """For data generation (``workcell generate``): what the motion of a segment ending at
+    each of :attr:`stages` acts on. None: the task's trials cannot be generated yet."""
 
     @abstractmethod
     def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
@@ -128,3 +154,8 @@ class Task(ABC):
     @abstractmethod
     def expert(self, config: ExpertConfig) -> Operator:
         """The task's scripted expert at ``config``'s skill."""
+
+    def settled_check(self, world: World) -> SettledCheck | None:
+        """A check that the objects ``world``'s trial completed stay completed, taken the
+        moment it succeeded (None: the task has none, and generation cannot re-check it)."""
+        return None

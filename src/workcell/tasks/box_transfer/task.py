@@ -8,12 +8,14 @@ from typing import Any, ClassVar
 
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
+from workcell.sim.world import World
 from workcell.task.operator import Operator
 from workcell.tasks.box_transfer.judge import BoxTransferJudge
 from workcell.tasks.box_transfer.scene import BoxTransferScene
+from workcell.tasks.box_transfer.settled import DeliveriesStay
 from workcell.tasks.box_transfer.stages import TASK_STAGES
 from workcell.tasks.elements.expert import ExpertOperator
-from workcell.tasks.task import Task
+from workcell.tasks.task import Reference, Task
 from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ONE_BOX = "Carry the box from the conveyor to the delivery table."
@@ -39,6 +41,17 @@ class BoxTransfer(Task):
     goal_names: ClassVar[tuple[str, ...]] = ("goal_x", "goal_y")
     """The delivery zone's centre in the world (m): where this trial's boxes go."""
 
+    segment_references: ClassVar[Mapping[str, Reference]] = {
+        "none": "box",
+        "touched": "box",
+        "grasped": "box",
+        "lifted": "box",
+        "over_zone": "goal",
+        "delivered": "goal",
+    }
+    """Up to the lift the arms act on the box (reaching, closing, lifting it), from then on
+    on where it goes (carrying it over the zone, setting it down)."""
+
     def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
         center = conditions.get("target_center")
         if not (isinstance(center, Sequence) and len(center) == 2):
@@ -56,3 +69,6 @@ class BoxTransfer(Task):
 
     def expert(self, config: ExpertConfig) -> Operator:
         return ExpertOperator(config)
+
+    def settled_check(self, world: World) -> DeliveriesStay:
+        return DeliveriesStay(world)
