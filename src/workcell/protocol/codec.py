@@ -14,6 +14,8 @@ import json
 import math
 from typing import Any
 
+import orjson
+
 from workcell.protocol import messages as m
 from workcell.protocol.input_decode import quick_input
 from workcell.protocol.validation import ProtocolError, build
@@ -128,17 +130,18 @@ def to_json_value(value: Any) -> Any:
     return value
 
 
+_ORJSON_OPTIONS = orjson.OPT_NON_STR_KEYS | orjson.OPT_SERIALIZE_NUMPY
+
+
 def encode(message: object) -> str:
     """Compact JSON text of a message (or of an API body): :func:`to_json_value`'s JSON.
 
-    The json module writes it in one pass, calling :func:`_json_form` only for the
-    dataclasses, enums and numpy scalars inside (about 10x faster than converting the
-    whole message first, which matters for the State sent up to 100 times a second per
-    session); a non-finite float, which JSON cannot hold, takes the converting path."""
-    try:
-        return json.dumps(message, separators=(",", ":"), allow_nan=False, default=_json_form)
-    except ValueError:  # a NaN or an infinity somewhere: written as null
-        return json.dumps(to_json_value(message), separators=(",", ":"), allow_nan=False)
+    orjson writes it in one pass (dataclasses as objects in field order, tuples as lists,
+    enums as their values, a non-finite float as null), calling :func:`_json_form` only for
+    what it has no form of; the text is the json module's for the same value but for
+    non-ASCII characters, which it writes as UTF-8 rather than escaped. A State is sent up
+    to 100 times a second per session: orjson writes it about 10x faster (``bench/state.py``)."""
+    return orjson.dumps(message, default=_json_form, option=_ORJSON_OPTIONS).decode()
 
 
 def _json_form(value: Any) -> Any:

@@ -102,6 +102,12 @@ class HeaderDeadlineH11(H11Protocol):
             self.transport.close()
 
 
+EVENT_LOOP = "uvloop"
+"""The server's asyncio event loop: uvloop (libuv), which uvicorn's standard install also
+picks. Against the standard library's loop it halved a live session's input-to-State
+latency and cut the server's CPU per session (``bench/README.md``, issue 38)."""
+
+
 def protocol_for(options: ServerOptions) -> type[HeaderDeadlineH11]:
     """The protocol class with ``options``' header deadline."""
     return type(
@@ -124,5 +130,6 @@ def uvicorn_config(app: Any, options: ServerOptions, **overrides: Any) -> uvicor
         "log_level": "warning",
         "timeout_graceful_shutdown": 5,
         "ws_per_message_deflate": options.ws_compression,
+        "loop": EVENT_LOOP,
     }
     return uvicorn.Config(app, **(settings | overrides))
