@@ -72,7 +72,7 @@ def main() -> None:
     if unknown:
         raise SystemExit(f"--worlds: {', '.join(unknown)} unknown; allowed: {', '.join(WORLDS)}")
     task = load_task(TASK)
-    references = references_for(TASK, task.stages)
+    references = references_for(task)
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.keep or Path(scratch)
         folder.mkdir(parents=True, exist_ok=True)

@@ -162,7 +162,7 @@ def main() -> None:
         if args.source_store is None:
             record_sources(sources, args.sources, args.source_seed)
         task = load_task(TASK)
-        references = references_for(TASK, task.stages)
+        references = references_for(task)
         plan = GenerationPlan.of(load_sources(sources, TASK), references, not args.naive)
         how = "replayed where recorded (--naive)" if args.naive else "re-targeted"
         print(f"{len(plan.sources)} source trials (expert, D0) as {plan.operator_id}, {how}")
