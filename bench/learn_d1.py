@@ -8,11 +8,13 @@ demonstrations (an evaluation's rollout ``i`` meets the world of the collection'
 distribution (*new worlds*). The expert is evaluated on the same seeds in the same run: the
 success a perfect imitation would reach.
 
-The policy is evaluated as trained (ACT executes its 20-action chunks open loop, one
-policy call a second at 20 frames/s) and in variants that differ only in how the chunks are
-executed, which training does not depend on (ACT's loss covers the whole chunk whatever
-``n_action_steps`` is): ``n5`` replans every 5 frames; ``ens`` replans every frame and
-averages the overlapping chunks (ACT's temporal ensembling, coefficient 0.01). A variant
+The policy is evaluated as trained (``whole``: ACT executes each chunk open loop, with
+``workcell train``'s defaults 10 actions, a policy call every half second at 20 frames/s;
+``n20`` is the same variant's name from when the chunk was 20) and in variants that differ
+only in how the chunks are executed, which training does not depend on (ACT's loss covers
+the whole chunk whatever ``n_action_steps`` is): ``n5`` replans every 5 frames; ``ens``
+replans every frame and averages the overlapping chunks (ACT's temporal ensembling,
+coefficient 0.01). ``--chunk N`` trains with chunks of N actions instead of the default. A variant
 is the checkpoint's directory copied with its ``config.json`` changed, so it is an operator
 of its own in the store. Everything runs through the README's commands; a step whose output
 is there is not run again.
@@ -55,6 +57,7 @@ from workcell.learn.checkpoint import PolicyCheckpoint
 DEMO_SEED = 0
 NEW_SEED = 1000
 VARIANTS: dict[str, dict[str, object]] = {
+    "whole": {},
     "n20": {},
     "n5": {"n_action_steps": 5},
     "ens": {"n_action_steps": 1, "temporal_ensemble_coeff": 0.01},
@@ -139,7 +142,12 @@ def main(argv: list[str] | None = None) -> None:
         type=float,
         help="each rollout's time limit, s (default: the task's); the expert takes about 22 s",
     )
-    parser.add_argument("--variants", default="n20,ens", help="of " + ",".join(VARIANTS))
+    parser.add_argument("--variants", default="whole,ens", help="of " + ",".join(VARIANTS))
+    parser.add_argument(
+        "--chunk",
+        type=int,
+        help="train with action chunks of this many frames (default: workcell train's)",
+    )
     args = parser.parse_args(argv)
     work: Path = args.work
     work.mkdir(parents=True, exist_ok=True)
@@ -156,8 +164,16 @@ def main(argv: list[str] | None = None) -> None:
     if not (policy / "checkpoints" / args.checkpoint / "pretrained_model").exists():
         print(f"training {policy.name} ({args.steps} steps) ...", flush=True)
         started = time.perf_counter()
+        chunk = (
+            []
+            if args.chunk is None
+            else [
+                f"--lerobot=--policy.chunk_size={args.chunk}",
+                f"--lerobot=--policy.n_action_steps={args.chunk}",
+            ]
+        )
         workcell(work, "train", "--dataset", str(dataset), "--out", str(policy),
-                 "--steps", str(args.steps), "--threads", str(args.threads))  # fmt: skip
+                 "--steps", str(args.steps), "--threads", str(args.threads), *chunk)  # fmt: skip
         (work / "train.minutes").write_text(f"{(time.perf_counter() - started) / 60:.1f}\n")
     trained = policy / "checkpoints" / args.checkpoint / "pretrained_model"
     conditions = {

@@ -41,8 +41,11 @@ POLICY_DEFAULTS: dict[PolicyType, dict[str, str]] = {
         "n_encoder_layers": "2",
         "n_decoder_layers": "1",
         "n_vae_encoder_layers": "2",
-        "chunk_size": "20",
-        "n_action_steps": "20",
+        # half a second of actions at the 20 Hz frame rate, all executed before the next
+        # call: against one second (20) the same 50 DART demonstrations of D1 went from
+        # 45/50 and 88/100 to 49/50 and 99/100 (bench/README.md, bench/learn_d1.py)
+        "chunk_size": "10",
+        "n_action_steps": "10",
         "optimizer_lr": "1e-4",
         "pretrained_backbone_weights": "null",
     },
@@ -81,7 +84,7 @@ class TrainOptions:
     torch's own default, a thread per core."""
     num_workers: int = 1
     """Data-loading processes (0: in the training process). One worker overlaps LeRobot's
-    loading of each batch (a third of a step here: its query of the 20-step action chunks)
+    loading of each batch (a third of a step here: its query of the action chunks)
     with the model's update: 1.5x the steps per second on a quiet 2-core machine
     (bench/README.md)."""
     extra: tuple[str, ...] = field(default_factory=tuple)
