@@ -70,6 +70,12 @@ def test_a_trial_without_its_tasks_stages_is_refused() -> None:
     with pytest.raises(GenerateError, match="palletize: the task declares no segment ref"):
         references_for(Palletize())
 
+    class Shortened(BoxTransfer):
+        stages = ("none", "touched", "grasped", "lifted", "delivered")
+
+    with pytest.raises(GenerateError, match="not its stages none > touched > grasped > lifted > d"):
+        references_for(Shortened())
+
 
 def creeping(speeds: np.ndarray) -> SourceTrial:
     """:func:`source` whose box, after the belt, slides on at ``speeds`` (one per frame

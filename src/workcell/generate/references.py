@@ -15,12 +15,17 @@ from workcell.tasks.task import Reference, Task
 
 def references_for(task: Task) -> Mapping[str, Reference]:
     """The reference of a segment ending at each of ``task``'s stages; a GenerateError for
-    a task that declares none."""
+    a task that declares none, or declares them for other stages than its own."""
     references = task.segment_references
     if references is None:
         raise GenerateError(
             f"--task {task.name}: the task declares no segment references "
             f"(Task.segment_references, docs/tasks.md), so generation cannot split its "
             f"trials at its stages ({' > '.join(task.stages)})"
+        )
+    if tuple(references) != task.stages:
+        raise GenerateError(
+            f"--task {task.name}: its segment references name the stages "
+            f"{' > '.join(references)}, not its stages {' > '.join(task.stages)}"
         )
     return references

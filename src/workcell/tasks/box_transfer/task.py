@@ -4,6 +4,7 @@ up with both hands, carries it to the delivery table and sets it down in the zon
 from __future__ import annotations
 
 from collections.abc import Mapping, Sequence
+from types import MappingProxyType
 from typing import Any, ClassVar
 
 from workcell.expert.skill import ExpertConfig
@@ -41,14 +42,16 @@ class BoxTransfer(Task):
     goal_names: ClassVar[tuple[str, ...]] = ("goal_x", "goal_y")
     """The delivery zone's centre in the world (m): where this trial's boxes go."""
 
-    segment_references: ClassVar[Mapping[str, Reference]] = {
-        "none": "box",
-        "touched": "box",
-        "grasped": "box",
-        "lifted": "box",
-        "over_zone": "goal",
-        "delivered": "goal",
-    }
+    segment_references: ClassVar[Mapping[str, Reference]] = MappingProxyType(
+        {
+            "none": "box",
+            "touched": "box",
+            "grasped": "box",
+            "lifted": "box",
+            "over_zone": "goal",
+            "delivered": "goal",
+        }
+    )
     """Up to the lift the arms act on the box (reaching, closing, lifting it), from then on
     on where it goes (carrying it over the zone, setting it down)."""
 
