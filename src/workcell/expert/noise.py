@@ -24,9 +24,11 @@ measured velocity (``base_vx``, ``base_vy``, ``base_wz``) against the recorded t
 
 On box transfer in D1 (``bench/README.md``, issue 34), 50 demonstrations pushed at 0.1 m/s
 lifted a state-only ACT from 57 to 72 % in new worlds with the push recorded in the action,
-and to 88 % with the expert's own action (the same states). At 0.2 the policy crawls and
-never grasps with either label: ACT's one-second chunks hold the expert's answers to pushes
-not yet seen, so keep the push small against the motion.
+to 88 % with the expert's own action (the same states), and to 99-100 % with half-second
+action chunks (``workcell train``'s default; unpushed demonstrations gain nothing from
+them). At 0.15 and 0.2 the policy crawls and never grasps (one-second chunks): a chunk
+holds the expert's answers to pushes not yet seen, so keep the push small against the
+motion.
 """
 
 from __future__ import annotations
