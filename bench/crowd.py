@@ -20,7 +20,10 @@ is gripped and moves along a 10 cm circle. Per N, measured together:
 - successes: trials the store records as delivered, of the trials that ended;
 - server CPU: the server process and its session and store writer processes, cores in
   use and per session, and CPU seconds per simulated second of one session (what a
-  session's real-time second costs, also when a busy machine keeps it from real time).
+  session's real-time second costs, also when a busy machine keeps it from real time),
+  and the share of it spent in the kernel (waking threads, pipes, sockets);
+- the operators' CPU: this bench process's cores over the window (the emulated operators
+  share the machine with the server, as they would not in a study).
 
 The baseline, measured in the same run, is N = 1.
 
@@ -78,6 +81,10 @@ class Figures:
     cpu_per_sim_s: float
     """Server CPU seconds per simulated second of one session: the cost of a session's
     real-time second, whether or not the machine let it keep real time."""
+    kernel_share: float
+    """Of the server's CPU, the part spent in the kernel (system time)."""
+    operator_cores: float
+    """Cores the emulated operators (this process) used over the window."""
     load: float
 
 
@@ -157,23 +164,27 @@ def diagnostics(base: str) -> dict[str, Any]:
         return body
 
 
-def tree_cpu_s(pid: int) -> float:
-    """CPU seconds of process ``pid`` and its descendants (the store writers), from /proc."""
+def tree_cpu_s(pid: int) -> tuple[float, float]:
+    """CPU seconds of process ``pid`` and its descendants (the store writers), from /proc:
+    user and system time."""
     parents: dict[int, int] = {}
-    ticks: dict[int, int] = {}
+    ticks: dict[int, tuple[int, int]] = {}
     for entry in os.listdir("/proc"):
         if not entry.isdigit():
             continue
         with contextlib.suppress(OSError):
             fields = Path(f"/proc/{entry}/stat").read_text().rsplit(")", 1)[1].split()
             parents[int(entry)] = int(fields[1])
-            ticks[int(entry)] = int(fields[11]) + int(fields[12])  # utime + stime
+            ticks[int(entry)] = int(fields[11]), int(fields[12])  # utime, stime
     tree, grew = {pid}, True
     while grew:
         more = {child for child, parent in parents.items() if parent in tree} - tree
         tree |= more
         grew = bool(more)
-    return sum(ticks.get(p, 0) for p in tree) / os.sysconf("SC_CLK_TCK")
+    hz = os.sysconf("SC_CLK_TCK")
+    user = sum(ticks.get(p, (0, 0))[0] for p in tree) / hz
+    system = sum(ticks.get(p, (0, 0))[1] for p in tree) / hz
+    return user, system
 
 
 def sim_clock(sims: list[dict[str, Any]]) -> dict[str, float]:
@@ -203,10 +214,10 @@ async def crowd(
         for operator in operators:
             operator.measuring = True
         before = diagnostics(base)
-        cpu0, t0 = tree_cpu_s(server), time.perf_counter()
+        (user0, sys0), own0, t0 = tree_cpu_s(server), time.process_time(), time.perf_counter()
         await asyncio.sleep(seconds)
         after = diagnostics(base)
-        cpu1, t1 = tree_cpu_s(server), time.perf_counter()
+        (user1, sys1), own1, t1 = tree_cpu_s(server), time.process_time(), time.perf_counter()
         stop.set()
         for operator in operators:
             await operator.stop()
@@ -214,16 +225,19 @@ async def crowd(
         for task in tasks:
             task.cancel()
     wall = t1 - t0
+    cpu = (user1 - user0) + (sys1 - sys0)
     first, last = sim_clock(before["sims"]), sim_clock(after["sims"])
     rtf = [(last[s] - first[s]) / wall for s in last if s in first]
     simulated = sum(last[s] - first[s] for s in last if s in first)
     return {
-        "cpu_per_sim_s": (cpu1 - cpu0) / simulated if simulated > 0 else math.nan,
+        "cpu_per_sim_s": cpu / simulated if simulated > 0 else math.nan,
+        "kernel_share": (sys1 - sys0) / cpu if cpu > 0 else math.nan,
+        "operator_cores": (own1 - own0) / wall,
         "rtf": rtf,
         "late": sum(s["late_steps"] for s in after["sims"]),
         "dropped": sum(s["dropped_s"] for s in after["sims"]),
         "latencies": [x for o in operators for x in o.latencies],
-        "cores": (cpu1 - cpu0) / wall,
+        "cores": cpu / wall,
         "errors": [e for o in operators for e in o.errors],
     }
 
@@ -324,6 +338,8 @@ def measure(
         successes=record.successes,
         cores=result["cores"],
         cpu_per_sim_s=result["cpu_per_sim_s"],
+        kernel_share=result["kernel_share"],
+        operator_cores=result["operator_cores"],
         load=os.getloadavg()[0],
     )
 
@@ -333,7 +349,7 @@ def report(rows: list[Figures], seconds: float) -> None:
     print(
         "sessions  held at RT  min RTF  late steps  dropped s   input->state p50 (ratio)"
         "   p99 (ratio)   frames/session  lost   delivered/trials   cores (per session)"
-        "  CPU s per session's sim s  load"
+        "  CPU s per session's sim s  kernel  operators' cores  load"
     )
     base = rows[0]
     for r in rows:
@@ -344,7 +360,8 @@ def report(rows: list[Figures], seconds: float) -> None:
             f"  {r.frames_lost:4d}   {r.successes:7d}/{r.trials:<8d}"
             f"   {r.cores:5.2f} ({r.cores / r.sessions:5.3f})"
             f"         {r.cpu_per_sim_s:5.3f}"
-            f"              {r.load:4.1f}"
+            f"              {100 * r.kernel_share:4.1f} %  {r.operator_cores:5.2f}"
+            f"             {r.load:4.1f}"
         )
     held = [
         r.sessions for r in rows if r.held == r.sessions and r.p99_ms <= 100 and not r.frames_lost

@@ -62,10 +62,10 @@ SUBTRACT: dict[str, list[str]] = {
 SERVER_PARTS: dict[str, list[tuple[str, str]]] = {
     "websocket sends (Client.run_sender)": [("server/client.py", "run_sender")],
     "receive + decode input": [("protocol/codec.py", "decode_client")],
-    "conductor.input (to the outbox)": [("server/conductor.py", "input")],
+    "conductor.input (to the pipe)": [("server/conductor.py", "input")],
     "broadcast_state": [("server/conductor.py", "broadcast_state")],
-    "pipe recv (reader threads)": [("multiprocessing/connection.py", "recv")],
-    "pipe send (outbox threads)": [("multiprocessing/connection.py", "send")],
+    "pipe receive (ChildLink.data_received)": [("server/child_link.py", "data_received")],
+    "pipe send (ChildLink.send)": [("server/child_link.py", "send")],
 }
 
 
@@ -111,7 +111,7 @@ def print_table(title: str, parts: dict[str, float]) -> None:
 
 
 def server_table(folder: Path) -> None:
-    for thread in ("loop", "pipe-reader", "outbox"):
+    for thread in ("loop",):
         stats = _stats(folder.glob(f"server-*-{thread}-*.prof"))
         if stats is None:
             continue

@@ -2,9 +2,8 @@
 (issue 38). Nothing here runs unless that bench installs it.
 
 The server is started with :data:`LAUNCH`, which calls :func:`install_server` before
-``workcell serve`` runs: the server's event loop (its main thread) is profiled, and so are
-its per-session pipe threads (the reader that relays a session's output and the outbox
-that writes its inputs), and every session process it starts runs :func:`profiled_child`
+``workcell serve`` runs: the server's event loop (its main thread, which also serves every
+session's pipe) is profiled, and every session process it starts runs :func:`profiled_child`
 instead of ``run_child``: the child profiles its simulation thread (the control loop,
 the State it builds and sends, the recorder's hand-over) and the thread that applies the
 server's messages. Every profile measures the CPU time of its own thread
@@ -58,13 +57,9 @@ def profiled(kind: str, thread: str, call: Callable[..., Any]) -> Callable[..., 
 
 
 def install_server() -> None:
-    """Profile the server's session threads, and have every session process profiled."""
-    from workcell.server import pipe_outbox, session_process, session_relay  # noqa: PLC0415
+    """Have every session process profiled."""
+    from workcell.server import session_process  # noqa: PLC0415
 
-    relay = session_relay.RelayedSession
-    relay._read = profiled("server", "pipe-reader", relay._read)  # type: ignore[method-assign]
-    outbox = pipe_outbox.PipeOutbox
-    outbox._run = profiled("server", "outbox", outbox._run)  # type: ignore[method-assign]
     setattr(session_process, "run_child", profiled_child)  # noqa: B010 - what the process runs
 
 

@@ -33,8 +33,8 @@ from workcell.closing import Closing
 from workcell.errors import WorkcellError
 from workcell.record.media_paths import media_dir_for
 from workcell.scale.ray_cluster import LOCAL, start_ray
-from workcell.server.live import SessionListener
 from workcell.server.ray_actor import HandedBack, Placement, SessionActorBody, new_probe, probe_path
+from workcell.server.session_listener import SessionListener
 from workcell.server.session_relay import (
     KEPT_TO_THE_LAST_FRAMES,
     START_TIMEOUT_S,

@@ -19,8 +19,8 @@ import signal
 from multiprocessing.connection import Connection
 from multiprocessing.context import ForkServerContext
 
-from workcell.server.live import SessionListener
 from workcell.server.session_child import run_child
+from workcell.server.session_listener import SessionListener
 from workcell.server.session_relay import RelayedSession, SessionArgs
 
 _context: ForkServerContext | None = None

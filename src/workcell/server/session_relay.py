@@ -7,15 +7,23 @@ and relays what the session says to the server's listener; the child at the othe
 the pipe runs :func:`~workcell.server.session_child.run_child`. Subclasses say only how
 the child is started, waited for and killed, and how it ended: a dead child ends its
 session ``error`` for its clients, naming what happened, and nothing else.
+
+Once the child has started, its pipe is served by the server's event loop
+(:class:`~workcell.server.child_link.ChildLink`): what the child says is dispatched on
+the loop as it arrives, and what the server says is written from it, never waiting on
+the child.
 """
 
 from __future__ import annotations
 
+import asyncio
 import contextlib
 import dataclasses
 import json
 import logging
 import operator
+import os
+import socket
 import threading
 from abc import ABC, abstractmethod
 from dataclasses import dataclass
@@ -25,8 +33,8 @@ from typing import Any, ClassVar, Protocol
 
 from workcell.errors import WorkcellError
 from workcell.protocol.messages import FrameStats, Input, Scene, SessionEnded
-from workcell.server.live import SessionListener
-from workcell.server.pipe_outbox import PipeOutbox
+from workcell.server.child_link import ChildLink, frame
+from workcell.server.session_listener import SessionListener
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.pacing import PacingStats
@@ -110,14 +118,19 @@ class RelayedSession(ABC):
         self._ended = False
         self._results: list[tuple[str, int]] = []
         """(outcome, score) of each trial the child reported ended."""
-        self._conn: Connection | None = None
-        self._outbox: PipeOutbox | None = None
+        self._output = listener.conductor
+        self._loop = listener.loop
+        self._link: ChildLink | None = None
+        self._socket: socket.socket | None = None
+        """The server's end of the child's pipe, once the loop serves it."""
+        self._closed = threading.Event()
+        """The pipe has closed (the child ended or died) and the loop has seen it."""
+        self._drain: threading.Thread | None = None
+        """Reads the pipe when the loop has closed before the child ended."""
+        self._tasks: set[asyncio.Task[None]] = set()
         self._overdue = ""
         """Why the server killed the child, when it did (it did not stop when asked)."""
         self._stop_timer: threading.Timer | None = None
-        self._reader = threading.Thread(
-            target=self._read, name="workcell-session-pipe", daemon=True
-        )
 
     # --- how the child runs (the subclass's part) -------------------------------------------
 
@@ -154,8 +167,10 @@ class RelayedSession(ABC):
     # --- the session ------------------------------------------------------------------------
 
     def start(self) -> None:
-        """Start the child; return once its session records, or raise what stopped it."""
-        self._conn = conn = self._launch()
+        """Start the child; return once its session records, or raise what stopped it.
+        Blocking: call it from a thread other than the loop's (the loop takes the pipe
+        over at the end)."""
+        conn = self._launch()
         if not conn.poll(START_TIMEOUT_S):
             self.kill()
             raise WorkcellError(f"the session's {self.kind} did not start in {START_TIMEOUT_S:g} s")
@@ -171,8 +186,21 @@ class RelayedSession(ABC):
             conn.close()
             raise WorkcellError(first[1])
         _, self.session_id, self.scene = first
-        self._outbox = PipeOutbox(conn)
-        self._reader.start()
+        self._serve_on_loop(conn)
+
+    def _serve_on_loop(self, conn: Connection) -> None:
+        """Hand the child's pipe (a stream socket) from ``conn`` to the loop; keep a file
+        descriptor of it for when the loop is gone (uvloop closes its transports with it)."""
+        served = socket.socket(fileno=os.dup(conn.fileno()))
+        self._socket = socket.socket(fileno=os.dup(conn.fileno()))
+        conn.close()
+        link = ChildLink(self._take, self._link_closed)
+
+        async def attach() -> None:
+            await self._loop.connect_accepted_socket(lambda: link, served)
+
+        self._link = link
+        asyncio.run_coroutine_threadsafe(attach(), self._loop).result(START_TIMEOUT_S)
 
     def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
         self._send(("act", action, source))
@@ -192,7 +220,7 @@ class RelayedSession(ABC):
         :data:`STOP_GRACE_S` later (stopped, hung in native code) is killed, which ends
         its session ``error`` as a crash does."""
         self._send(("stop", reason, note))
-        if self._stop_timer is None and self._outbox is not None:
+        if self._stop_timer is None and self._link is not None:
             self._stop_timer = threading.Timer(STOP_GRACE_S, self._stop_overdue)
             self._stop_timer.daemon = True
             self._stop_timer.start()
@@ -208,10 +236,13 @@ class RelayedSession(ABC):
         self.kill()
 
     def join(self, timeout: float | None = None) -> bool:
-        """Wait until the child has ended and closed its store."""
+        """Wait until the child has ended and closed its store, and its pipe has closed
+        (not from the loop's thread, which sees the pipe close)."""
+        if not self._loop.is_running():
+            self._drain_without_loop()
         self._reap(timeout)
-        if self._reader.is_alive():
-            self._reader.join(timeout)
+        if self._link is not None:
+            self._closed.wait(timeout)
         return not self.running
 
     @property
@@ -222,7 +253,7 @@ class RelayedSession(ABC):
     def unsent(self) -> int:
         """Messages for the child not yet handed to its pipe (more than one or two only
         while the child does not read)."""
-        return 0 if self._outbox is None else self._outbox.waiting
+        return 0 if self._link is None else self._link.waiting
 
     @property
     def outcomes(self) -> tuple[str, ...]:
@@ -232,42 +263,97 @@ class RelayedSession(ABC):
     # --- the server side of the pipe --------------------------------------------------------
 
     def _send(self, message: tuple[Any, ...]) -> None:
-        """Queue ``message`` for the child; never waits on it (see :mod:`~workcell.server.
-        pipe_outbox`)."""
-        if self._outbox is not None:
-            self._outbox.put(message)
+        """Hand ``message`` to the child's pipe; never waits on the child (see
+        :mod:`~workcell.server.child_link`). From any thread: the loop writes it."""
+        link = self._link
+        if link is None:
+            return
+        if _running_loop() is self._loop:
+            link.send(message)
+        elif self._loop.is_running():
+            with contextlib.suppress(RuntimeError):  # closed meanwhile
+                self._loop.call_soon_threadsafe(link.send, message)
+        else:
+            self._send_without_loop(message)
 
-    def _read(self) -> None:
-        """Carry the child's output to the listener until the pipe closes."""
-        conn = self._conn
-        assert conn is not None
-        while True:
-            try:
-                kind, *body = conn.recv()
-            except (EOFError, OSError):
-                break
-            if kind == "state":
-                self._pacing = PacingStats(*body[1])
-                self.listener.state(body[0])
-            elif kind == "message":
-                self._tally(body[0])
-                self.listener.message(body[0])
-            elif kind == "scene":
-                self.scene = body[0]
-            elif kind == "log":  # the child's log, in the server's
-                logging.getLogger(body[1]).log(body[0], "%s", body[2])
-            elif kind == "ended":
-                self._ended = True
-                self.listener.ended(body[0])
+    def _take(self, message: tuple[Any, ...]) -> None:
+        """One message from the child (on the loop; in the drain once the loop is gone,
+        when nobody is left to hear it)."""
+        kind, *body = message
+        if kind == "state":
+            self._pacing = PacingStats(*body[1])
+            if self._loop.is_running():
+                self._output.broadcast_state(body[0])
+        elif kind == "message":
+            self._tally(body[0])
+            if self._loop.is_running():
+                self._output.broadcast_text(body[0])
+        elif kind == "scene":
+            self.scene = body[0]
+        elif kind == "log":  # the child's log, in the server's
+            logging.getLogger(body[1]).log(body[0], "%s", body[2])
+        elif kind == "ended":
+            self._ended = True
+            self._tell_ended(body[0])
+
+    def _link_closed(self) -> None:
+        """The child's pipe closed (on the loop, or in the drain once the loop is gone):
+        a child that closed it without saying it ended died."""
+        if self._socket is not None:
+            self._socket.close()
+        self._closed.set()
         if self._stop_timer is not None:
             self._stop_timer.cancel()
-        if not self._ended:
+        if self._ended:
+            return
+        if not self._loop.is_running():
             self._reap(5)
-            self.listener.ended(self._died())
-        if self._outbox is not None:
-            self._outbox.close()
+            self._died()
+            return
+        self._hold_task(self._loop.create_task(self._end_died()))
+
+    async def _end_died(self) -> None:
+        await asyncio.to_thread(self._reap, 5)
+        await self._output.session_ended(self._died())
+
+    def _tell_ended(self, ended: SessionEnded) -> None:
+        if self._loop.is_running():
+            self._hold_task(self._loop.create_task(self._output.session_ended(ended)))
+
+    def _hold_task(self, task: asyncio.Task[None]) -> None:
+        """Hold ``task`` until it is done (the loop keeps only weak references)."""
+        self._tasks.add(task)
+        task.add_done_callback(self._tasks.discard)
+
+    # --- when the loop is gone before the child ---------------------------------------------
+
+    def _send_without_loop(self, message: tuple[Any, ...]) -> None:
+        """The loop has stopped (the server is stopping outside it): write ``message``
+        straight to the pipe, unless part of an earlier message still waits in the loop's
+        buffer (a child that stopped reading: it is killed after the stop's grace)."""
+        sock, link = self._socket, self._link
+        if sock is None or link is None or link.closed or link.pending:
+            return
         with contextlib.suppress(OSError):
-            conn.close()
+            sock.settimeout(STOP_GRACE_S)
+            sock.sendall(frame(message))
+
+    def _drain_without_loop(self) -> None:
+        """The loop has stopped: read the child's pipe in a thread until it closes, so a
+        child still saying things (its States, its last log lines) ends undisturbed."""
+        sock, link = self._socket, self._link
+        if sock is None or link is None or link.closed or self._drain is not None:
+            return
+
+        def drain() -> None:
+            with contextlib.suppress(OSError):
+                sock.settimeout(None)
+                while data := sock.recv(1 << 16):
+                    link.data_received(data)
+            link.child_ended()
+
+        self._drain = threading.Thread(target=drain, name="workcell-session-drain", daemon=True)
+        self._drain.start()
 
     def _tally(self, text: str) -> None:
         if '"trial_ended"' in text:
@@ -288,3 +374,11 @@ class RelayedSession(ABC):
             total_score=sum(score for _, score in self._results),
             detail=f"the session's {self.kind} died ({how}); {self._kept()}",
         )
+
+
+def _running_loop() -> asyncio.AbstractEventLoop | None:
+    """The loop running in this thread, if any."""
+    try:
+        return asyncio.get_running_loop()
+    except RuntimeError:
+        return None
