@@ -73,6 +73,41 @@ def test_pacer_keeps_the_grid_catches_up_and_drops_long_stalls() -> None:
     assert not pacer.wait(stop)
 
 
+def test_a_pacer_with_an_idle_waits_through_it_and_calls_it_before_every_step() -> None:
+    """A loop with work to do while it waits (a session's child reading its pipe): the
+    pacer waits by calling the idle until the step is due, however early it returns, and
+    calls it once even when no wait is left, so what arrived is taken before every step;
+    work that stops the loop ends the wait."""
+    clock = FakeClock()
+    stop = threading.Event()
+    calls: list[float] = []
+
+    def idle(seconds: float) -> None:
+        calls.append(seconds)
+        clock.now += min(seconds, 0.004)  # work arrives every 4 ms: it returns early
+
+    pacer = Pacer(period=0.01, max_catch_up_s=0.25, clock=clock, idle=idle)
+    assert pacer.wait(stop)  # the first step is due at once: one look, no wait
+    assert calls == [0.0]
+    pacer.done()
+    calls.clear()
+    assert pacer.wait(stop)
+    assert calls == pytest.approx([0.01, 0.006, 0.002])
+    assert clock.now == pytest.approx(0.01)
+    pacer.done()
+    clock.now += 0.05  # behind: no waiting, but one look all the same
+    calls.clear()
+    assert pacer.wait(stop)
+    assert calls == [0.0]
+    pacer.done()
+
+    def stopping(seconds: float) -> None:
+        stop.set()
+
+    pacer.idle = stopping
+    assert not pacer.wait(stop)
+
+
 class Collect:
     def __init__(self) -> None:
         self.states: list[tuple[float, str]] = []

@@ -42,7 +42,7 @@ from workcell.recording.recorder import Recorder, RecordingStore
 from workcell.session.config import SessionConfig
 from workcell.task import events as ev
 from workcell.task.hud import HudPhase
-from workcell.task.pacing import Pacer, PacingStats, PauseRequest, StopRequest
+from workcell.task.pacing import Idle, Pacer, PacingStats, PauseRequest, StopRequest
 from workcell.task.runner import SessionRunner, TrialResult
 from workcell.tasks.registry import load_task
 
@@ -96,8 +96,12 @@ class RecordedSession:
         config: RecordedSessionConfig,
         stop: StopRequest | None = None,
         pause: PauseRequest | None = None,
+        idle: Idle | None = None,
     ) -> None:
         self.config = config
+        self.idle = idle
+        """How the paced loop waits when it has work to do meanwhile (a live session's
+        child serving its pipe, :data:`~workcell.task.pacing.Idle`); None: it sleeps."""
         self.stop = stop if stop is not None else StopRequest()
         """Set from any thread to end the running trial (see :meth:`StopRequest.request`)."""
         self.pause = pause if pause is not None else PauseRequest()
@@ -179,7 +183,7 @@ class RecordedSession:
         real_time = self.config.real_time
         pacer = None
         if real_time is not None:
-            pacer = Pacer(self.sim.control_dt, real_time.max_catch_up_s)
+            pacer = Pacer(self.sim.control_dt, real_time.max_catch_up_s, idle=self.idle)
             self.pacing = pacer.stats
         ended: ev.SessionEndReason = "completed"
 
@@ -227,7 +231,10 @@ class RecordedSession:
                 self.recorder.check()
             if self.failure is not None:
                 break
-            self.pause.wait_for_change(PAUSE_POLL_S)
+            if self.idle is not None:
+                self.idle(PAUSE_POLL_S)  # what resumes it arrives through the idle's work
+            else:
+                self.pause.wait_for_change(PAUSE_POLL_S)
         paused_s = time.monotonic() - began
         self.runner.note(lambda i, t: ev.Resumed(i, t, round(paused_s, 3)))
         if pacer is not None:

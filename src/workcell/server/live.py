@@ -31,7 +31,7 @@ from workcell.session.config import SessionConfig
 from workcell.sim.world import World
 from workcell.task import events as ev
 from workcell.task.hud import HudPhase
-from workcell.task.pacing import PacingStats, PauseRequest, StopRequest
+from workcell.task.pacing import Idle, PacingStats, PauseRequest, StopRequest
 from workcell.task.runner import SessionRunner
 from workcell.teleop.operator import TeleopOperator
 from workcell.teleop.rate import at_teleop_rate
@@ -67,7 +67,11 @@ class LiveSession:
         max_catch_up_s: float = 0.25,
         *,
         key_file: Path | None = None,
+        idle: Idle | None = None,
     ) -> None:
+        """``idle``: how the simulation thread waits between control periods when it has
+        work to do meanwhile (the child reading the server's requests,
+        :data:`~workcell.task.pacing.Idle`)."""
         self.config = at_teleop_rate(config)
         """The session as it runs: at the control rate a person drives at."""
         self.recorded = RecordedSessionConfig(
@@ -88,6 +92,7 @@ class LiveSession:
         self._requests: collections.deque[Callable[[SessionRunner], None]] = collections.deque()
         self._ready = threading.Event()
         self._startup_error: BaseException | None = None
+        self._idle = idle
         self._thread = threading.Thread(target=self._main, name="workcell-sim", daemon=True)
 
     def start(self) -> None:
@@ -170,7 +175,7 @@ class LiveSession:
     def _main(self) -> None:
         with contextlib.ExitStack() as stack:
             try:
-                session = RecordedSession(self.recorded, self._stop, self._pause)
+                session = RecordedSession(self.recorded, self._stop, self._pause, self._idle)
                 stack.enter_context(session.recording())
             except BaseException as error:  # reported to the caller of start()
                 self._startup_error = error

@@ -10,6 +10,12 @@ child: first ``("ready", session_id, scene)`` or ``("failed", message)``, then
 ``("state", text, pacing)`` (the pacing counters as a tuple: ``pacing_values``),
 ``("scene", scene)``, ``("message", text)``, ``("log", level, logger, text)`` and last
 ``("ended", SessionEnded)``.
+
+The simulation thread itself reads what the server sends, while it waits for its next
+control period (:class:`_Obedience`, the pacer's :data:`~workcell.task.pacing.Idle`): no
+thread of its own wakes for each input, and nothing the server asks waits for more than
+one control period. Once the session has ended, a thread reads on until the server
+closes its end.
 """
 
 from __future__ import annotations
@@ -18,6 +24,7 @@ import contextlib
 import logging
 import signal
 import threading
+import time
 from multiprocessing.connection import Connection
 from typing import Any
 
@@ -94,35 +101,69 @@ def run_child(conn: Connection, args: SessionArgs) -> threading.Thread | None:
     root = logging.getLogger()
     root.handlers[:] = [_PipeLogHandler(listener)]
     root.setLevel(logging.INFO)
+    obedience = _Obedience(conn)
     try:  # a driver that cannot be built (a policy not found) refuses the start too
         live = LiveSession(
             args.config, args.store_path, listener, args.state_hz, args.max_catch_up_s,
-            key_file=args.key_file,
+            key_file=args.key_file, idle=obedience.idle,
         )  # fmt: skip
-        listener.live = live
+        listener.live = obedience.live = live
         live.start()
     except BaseException as error:  # told to the server, which refuses the start
         message = str(error) if isinstance(error, WorkcellError) else f"the server failed: {error}"
         listener.first(("failed", message))
         return None
     listener.first(("ready", live.session_id, live.scene))
-    commands = threading.Thread(target=_obey, args=(conn, live), daemon=True)
-    commands.start()
     live.join()
+    commands = threading.Thread(target=obedience.until_closed, daemon=True)
+    commands.start()
     return commands
 
 
-def _obey(conn: Connection, live: LiveSession) -> None:
-    """Apply the server's requests until the pipe closes. The server closes it only after
+class _Obedience:
+    """Applies the server's requests to the session. The server closes the pipe only after
     the session has ended (an orderly shutdown first asks for ``application_quit``), so a
     pipe closed while the session runs means the server died: the trial ends as
     ``crash_recovered``, as if a crash recovery had closed it."""
-    while True:
-        try:
-            kind, *body = conn.recv()
-        except (EOFError, OSError):
-            live.request_stop("crash_recovered")
+
+    def __init__(self, conn: Connection) -> None:
+        self.conn = conn
+        self.live: LiveSession | None = None
+        self.closed = False
+
+    def idle(self, seconds: float) -> None:
+        """The simulation thread's wait (:data:`~workcell.task.pacing.Idle`): up to
+        ``seconds`` for the server to say something, then everything it has said."""
+        if self.closed:
+            time.sleep(seconds)  # the stop is requested: the loop ends at its next look
             return
+        try:
+            if not self.conn.poll(seconds):
+                return
+            while True:
+                self._apply(self.conn.recv())
+                if not self.conn.poll(0):
+                    return
+        except (EOFError, OSError):
+            self._server_gone()
+
+    def until_closed(self) -> None:
+        """Read (and apply, to an ended session: nothing) until the server closes its end."""
+        while not self.closed:
+            try:
+                self._apply(self.conn.recv())
+            except (EOFError, OSError):
+                self._server_gone()
+
+    def _server_gone(self) -> None:
+        self.closed = True
+        if self.live is not None:
+            self.live.request_stop("crash_recovered")
+
+    def _apply(self, message: tuple[Any, ...]) -> None:
+        live = self.live
+        assert live is not None
+        kind, *body = message
         if kind == "input":
             live.operator.submit(body[0])
         elif kind == "new_link":

@@ -5,6 +5,11 @@ due; when it is late it runs steps back to back to catch up, but never more than
 ``max_catch_up_s`` behind: beyond that the grid is moved to now and the lost wall time is
 counted in ``dropped_s`` (a stall never turns into a spiral of catching up). A
 :class:`StopRequest` ends the loop from another thread, waking a pacer that sleeps.
+
+A loop that has work to do while it waits (a live session's child reads the server's
+requests from its pipe, `src/workcell/server/session_child.py`) gives the pacer an
+:data:`Idle`: the pacer then waits by calling it, and at least once before every step,
+so what arrived while the loop computed is taken before the next period too.
 """
 
 from __future__ import annotations
@@ -15,6 +20,11 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 from workcell.task.events import InterruptionReason
+
+Idle = Callable[[float], None]
+"""Wait up to the given seconds (0: do not wait), doing the work that arrives meanwhile;
+may return early. The work may set the loop's :class:`StopRequest` or change its
+:class:`PauseRequest`."""
 
 
 class StopRequest(threading.Event):
@@ -102,8 +112,12 @@ class Pacer:
         period: float,
         max_catch_up_s: float,
         clock: Callable[[], float] = time.monotonic,
+        idle: Idle | None = None,
     ) -> None:
         self.period = period
+        self.idle = idle
+        """How the pacer waits, when the loop has work to do meanwhile (see the module's
+        docstring); None: it sleeps."""
         self.max_catch_up_s = max_catch_up_s
         self.clock = clock
         self.stats = PacingStats()
@@ -115,9 +129,13 @@ class Pacer:
 
     def wait(self, stop: threading.Event) -> bool:
         """Sleep until the next step is due; False when ``stop`` was set meanwhile."""
-        delay = self._due - self.clock()
-        if delay > 0 and stop.wait(delay):
-            return False
+        if self.idle is not None:
+            if not self._idle_until_due(self.idle, stop):
+                return False
+        else:
+            delay = self._due - self.clock()
+            if delay > 0 and stop.wait(delay):
+                return False
         now = self.clock()
         if now - self._due > self.period:
             self.stats.late_steps += 1
@@ -127,6 +145,17 @@ class Pacer:
             self._due = now
         self._step_start = now
         return not stop.is_set()
+
+    def _idle_until_due(self, idle: Idle, stop: threading.Event) -> bool:
+        """Call ``idle`` until the next step is due (once at least); False when ``stop``
+        was set meanwhile."""
+        while True:
+            left = self._due - self.clock()
+            idle(max(left, 0.0))
+            if stop.is_set():
+                return False
+            if left <= 0 or self.clock() >= self._due:
+                return True
 
     def done(self) -> None:
         """The step that :meth:`wait` released has been computed."""
