@@ -36,6 +36,7 @@ import urllib.request
 from pathlib import Path
 from typing import Any
 
+import orjson
 from websockets.asyncio.client import ClientConnection, connect
 
 from workcell.protocol import messages as m
@@ -102,7 +103,7 @@ class Operator:
         with contextlib.suppress(Exception):
             async for text in self.ws:
                 now = time.perf_counter()
-                message = json.loads(text)  # (the full decode is not what is timed)
+                message = orjson.loads(text)  # (the full decode is not what is timed)
                 if message["type"] == "error":
                     self.errors.append(f"{message['code']}: {message['message']}")
                 applied = message.get("input_seq", -1) if message["type"] == "state" else -1

@@ -18,6 +18,8 @@ pacer):
 - operator: ``TeleopOperator.act`` (the clutch, the sticks, the head);
 - State building: ``StateBuilder.build``; encoding: ``codec.encode`` (JSON);
 - pipe: ``Connection.send`` (pickling and writing to the server);
+- the server's requests: ``_Obedience.idle``, reading and applying the operator's inputs
+  (and any other request) while the loop waits for its next period;
 - recorder: ``Recorder.sample``, ``_on_event``, ``_judged``, ``check``, ``trial_settled``
   (the frames captured and handed to the writer process).
 
@@ -50,6 +52,7 @@ SESSION_PARTS: dict[str, list[tuple[str, str]]] = {
     "State building": [("server/state_message.py", "build")],
     "encoding (JSON)": [("protocol/codec.py", "encode")],
     "pipe (Connection.send)": [("multiprocessing/connection.py", "send")],
+    "server's requests (read while waiting)": [("server/session_child.py", "idle")],
     "recorder (capture, hand-over)": [
         ("recording/recorder.py", name)
         for name in ("sample", "_on_event", "_judged", "check", "trial_settled")
@@ -147,9 +150,6 @@ def main() -> None:
                 print("  no session profile written")
                 continue
             print_table(f"session simulation threads ({n})", session_table(stats))
-            obey = _stats(folder.glob("session-*-obey-*.prof"))
-            if obey is not None:
-                print(f"  session input threads: {_total(obey):.2f} CPU s")
             server_table(folder)
             if args.top:
                 stats.sort_stats("tottime").print_stats(args.top)

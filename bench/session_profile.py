@@ -5,8 +5,8 @@ The server is started with :data:`LAUNCH`, which calls :func:`install_server` be
 ``workcell serve`` runs: the server's event loop (its main thread, which also serves every
 session's pipe) is profiled, and every session process it starts runs :func:`profiled_child`
 instead of ``run_child``: the child profiles its simulation thread (the control loop,
-the State it builds and sends, the recorder's hand-over) and the thread that applies the
-server's messages. Every profile measures the CPU time of its own thread
+the State it builds and sends, the recorder's hand-over, and the server's requests it
+reads while it waits for the next period). Every profile measures the CPU time of its own thread
 (``time.thread_time``), so a paced loop's sleeping is not counted, and is written as
 ``<kind>-<pid>-<thread>.prof`` into the folder named by ``WORKCELL_BENCH_PROFILE_DIR``
 when its thread ends (the server's threads on shutdown).
@@ -69,7 +69,6 @@ def profiled_child(conn: Any, args: Any) -> Any:
 
     session = live.LiveSession
     session._main = profiled("session", "sim", session._main)  # type: ignore[method-assign]
-    session_child._obey = profiled("session", "obey", session_child._obey)
     commands = session_child.run_child(conn, args)
     if commands is not None:  # the server closes the pipe once the session has ended
         commands.join(10.0)

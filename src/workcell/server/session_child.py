@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import contextlib
 import logging
+import select
 import signal
 import threading
 import time
@@ -130,6 +131,9 @@ class _Obedience:
         self.conn = conn
         self.live: LiveSession | None = None
         self.closed = False
+        self._readable = select.poll()
+        """The pipe, polled in one call (``Connection.poll`` builds a selector each time)."""
+        self._readable.register(conn.fileno(), select.POLLIN)
 
     def idle(self, seconds: float) -> None:
         """The simulation thread's wait (:data:`~workcell.task.pacing.Idle`): up to
@@ -138,11 +142,11 @@ class _Obedience:
             time.sleep(seconds)  # the stop is requested: the loop ends at its next look
             return
         try:
-            if not self.conn.poll(seconds):
+            if not self._readable.poll(1000.0 * seconds):
                 return
             while True:
                 self._apply(self.conn.recv())
-                if not self.conn.poll(0):
+                if not self._readable.poll(0):
                     return
         except (EOFError, OSError):
             self._server_gone()
