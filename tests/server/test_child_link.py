@@ -59,7 +59,7 @@ def test_messages_arrive_whole_and_in_order_both_ways(loop: str) -> None:
 
     async def scenario() -> None:
         link, child, heard = await _linked()
-        sent = [("state", f'{{"seq":{i}}}', (i, 0.0)) for i in range(200)]
+        sent: list[tuple[Any, ...]] = [("state", f'{{"seq":{i}}}', (i, 0.0)) for i in range(200)]
         sent.insert(50, ("scene", big))
 
         def child_says() -> None:
