@@ -82,6 +82,24 @@ def test_messages_arrive_whole_and_in_order_both_ways(loop: str) -> None:
     _run(loop, scenario())
 
 
+@pytest.mark.parametrize("loop", LOOPS)
+def test_what_is_sent_before_the_connection_is_made_waits_for_it(loop: str) -> None:
+    async def scenario() -> None:
+        child_end, server_end = multiprocessing.Pipe()
+        sock = socket.socket(fileno=os.dup(server_end.fileno()))
+        server_end.close()
+        link = ChildLink(lambda message: None, lambda: None)
+        link.send(("input", 1))
+        link.send(("act", "recenter"))
+        assert link.waiting == 2
+        await asyncio.get_running_loop().connect_accepted_socket(lambda: link, sock)
+        got = [await asyncio.to_thread(child_end.recv) for _ in range(2)]
+        assert got == [("input", 1), ("act", "recenter")]
+        link.close()
+
+    _run(loop, scenario())
+
+
 def test_a_message_split_anywhere_is_put_back_together() -> None:
     heard: list[tuple[Any, ...]] = []
     link = ChildLink(heard.append, lambda: None)

@@ -59,6 +59,8 @@ class ChildLink(asyncio.Protocol):
         self._received = bytearray()
         self._outbox = Outbox()
         self._paused = False
+        self._detached = False
+        """The loop closed the transport while the child goes on."""
         self._ended = False
         """The child closed its end (or the socket failed)."""
         self.closed = False
@@ -70,6 +72,7 @@ class ChildLink(asyncio.Protocol):
         # a stream transport (uvloop's are not asyncio.Transport subclasses)
         self._transport = stream = cast(asyncio.Transport, transport)
         stream.set_write_buffer_limits(high=WRITE_BUFFER_HIGH)
+        self.resume_writing()  # what was sent before the connection was made
 
     def data_received(self, data: bytes) -> None:
         received = self._received
@@ -107,6 +110,7 @@ class ChildLink(asyncio.Protocol):
         from then on)."""
         self._transport = None
         if self.closed or not (self._ended or exc is not None):
+            self._detached = True
             return
         self.closed = True
         self._outbox.clear()
@@ -132,10 +136,10 @@ class ChildLink(asyncio.Protocol):
         """Hand ``message`` to the socket, or queue it while the socket will not take more;
         never waits (dropped once the link has closed)."""
         transport = self._transport
-        if self.closed or transport is None or transport.is_closing():
+        if self.closed or self._detached or (transport is not None and transport.is_closing()):
             return
-        if self._paused or self._outbox:
-            self._outbox.put(message)
+        if transport is None or self._paused or self._outbox:
+            self._outbox.put(message)  # until the connection is made, or the child reads
         else:
             transport.write(frame(message))
 

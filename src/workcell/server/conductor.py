@@ -181,6 +181,7 @@ class Conductor:
         self.broadcast(self._started_message(session))
         if session.scene is not None:
             self.broadcast(session.scene)
+        await session.serve()  # its States and events follow session_started
 
     async def _start(self, client: Client, start: m.StartSession) -> RelayedSession | None:
         """The started session, or None once ``client`` has heard why not: any failure on

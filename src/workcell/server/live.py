@@ -240,6 +240,15 @@ class LiveSession:
                 self.listener.message(encode(scene))
         self.listener.message(encode(event_message(event)))
 
+    def apply_requests(self) -> None:
+        """Apply what the clients asked since the last control period now: from the
+        simulation thread between two periods (the child's idle, which reads the requests
+        there), so an action or a frame report that arrived with a stop is applied before
+        the stop ends the trial. While paused they wait for the resume, as ever."""
+        session = self._session
+        if session is not None and not self._pause.paused:
+            self._apply_requests(session)
+
     def _apply_requests(self, session: RecordedSession) -> None:
         """What the operator's client asked of the runner since the last control period
         (actions, frame reports), in order."""

@@ -147,9 +147,11 @@ class _Obedience:
             while True:
                 self._apply(self.conn.recv())
                 if not self._readable.poll(0):
-                    return
+                    break
         except (EOFError, OSError):
             self._server_gone()
+        if self.live is not None:
+            self.live.apply_requests()  # before a stop among them ends the trial
 
     def until_closed(self) -> None:
         """Read (and apply, to an ended session: nothing) until the server closes its end."""

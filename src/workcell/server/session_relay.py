@@ -120,6 +120,8 @@ class RelayedSession(ABC):
         """(outcome, score) of each trial the child reported ended."""
         self._output = listener.conductor
         self._loop = listener.loop
+        self._conn: Connection | None = None
+        """The child's pipe between :meth:`start` and :meth:`serve`."""
         self._link: ChildLink | None = None
         self._socket: socket.socket | None = None
         """The server's end of the child's pipe, once the loop serves it."""
@@ -168,8 +170,7 @@ class RelayedSession(ABC):
 
     def start(self) -> None:
         """Start the child; return once its session records, or raise what stopped it.
-        Blocking: call it from a thread other than the loop's (the loop takes the pipe
-        over at the end)."""
+        Blocking: call it from a thread other than the loop's; then :meth:`serve`."""
         conn = self._launch()
         if not conn.poll(START_TIMEOUT_S):
             self.kill()
@@ -186,21 +187,22 @@ class RelayedSession(ABC):
             conn.close()
             raise WorkcellError(first[1])
         _, self.session_id, self.scene = first
-        self._serve_on_loop(conn)
+        self._conn = conn
 
-    def _serve_on_loop(self, conn: Connection) -> None:
-        """Hand the child's pipe (a stream socket) from ``conn`` to the loop; keep a file
-        descriptor of it for when the loop is gone (uvloop closes its transports with it)."""
+    async def serve(self) -> None:
+        """From now on the loop serves the child's pipe (a stream socket): call it on the
+        loop once the seat has taken the session on and told its clients, so nothing the
+        session says reaches them before it (what it said meanwhile waited in the pipe).
+        A descriptor of the socket is kept for when the loop is gone (uvloop closes its
+        transports with it)."""
+        conn, self._conn = self._conn, None
+        if conn is None or self._link is not None:
+            return
         served = socket.socket(fileno=os.dup(conn.fileno()))
         self._socket = socket.socket(fileno=os.dup(conn.fileno()))
         conn.close()
-        link = ChildLink(self._take, self._link_closed)
-
-        async def attach() -> None:
-            await self._loop.connect_accepted_socket(lambda: link, served)
-
-        self._link = link
-        asyncio.run_coroutine_threadsafe(attach(), self._loop).result(START_TIMEOUT_S)
+        self._link = link = ChildLink(self._take, self._link_closed)
+        await self._loop.connect_accepted_socket(lambda: link, served)
 
     def request_action(self, action: ev.OperatorAction, source: ev.ActionSource) -> None:
         self._send(("act", action, source))
