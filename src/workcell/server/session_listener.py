@@ -1,17 +1,16 @@
-"""Carrying a live session's output from its simulation thread onto the server's loop."""
+"""Where a relayed session's output goes: the seat's conductor, on the server's loop."""
 
 from __future__ import annotations
 
 import asyncio
-import contextlib
 from typing import Protocol
 
 from workcell.protocol import messages as m
 
 
 class SessionOutput(Protocol):
-    """Where the listener hands a session's output (the seat's conductor:
-    :class:`workcell.server.conductor.Conductor`)."""
+    """Where a session's output is handed (the seat's conductor:
+    :class:`workcell.server.conductor.Conductor`), on its loop."""
 
     @property
     def loop(self) -> asyncio.AbstractEventLoop | None: ...
@@ -24,22 +23,13 @@ class SessionOutput(Protocol):
 
 
 class SessionListener:
-    """Carries a live session's output from the simulation thread onto the loop."""
+    """A seat's output and the loop it runs on, for the
+    :class:`~workcell.server.session_relay.RelayedSession` it starts: the loop serves the
+    session's pipe and hands what the session says to the conductor
+    (`src/workcell/server/child_link.py`)."""
 
     def __init__(self, conductor: SessionOutput) -> None:
         self.conductor = conductor
         loop = conductor.loop
         assert loop is not None
         self.loop = loop
-
-    def state(self, text: str) -> None:
-        with contextlib.suppress(RuntimeError):  # the loop closed: the server is gone
-            self.loop.call_soon_threadsafe(self.conductor.broadcast_state, text)
-
-    def message(self, text: str) -> None:
-        with contextlib.suppress(RuntimeError):
-            self.loop.call_soon_threadsafe(self.conductor.broadcast_text, text)
-
-    def ended(self, message: m.SessionEnded) -> None:
-        with contextlib.suppress(RuntimeError):
-            asyncio.run_coroutine_threadsafe(self.conductor.session_ended(message), self.loop)

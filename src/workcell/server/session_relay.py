@@ -3,15 +3,15 @@ actor), talking to the server over one pipe.
 
 :class:`RelayedSession` offers the server what :class:`~workcell.server.live.LiveSession`
 offers (start, the operator's inputs, actions, frame reports, stop, the pacing counters)
-and relays what the session says to the server's listener; the child at the other end of
+and relays what the session says to the seat's conductor; the child at the other end of
 the pipe runs :func:`~workcell.server.session_child.run_child`. Subclasses say only how
 the child is started, waited for and killed, and how it ended: a dead child ends its
 session ``error`` for its clients, naming what happened, and nothing else.
 
-Once the child has started, its pipe is served by the server's event loop
-(:class:`~workcell.server.child_link.ChildLink`): what the child says is dispatched on
-the loop as it arrives, and what the server says is written from it, never waiting on
-the child.
+Once the seat has taken the session on (:meth:`RelayedSession.serve`), its pipe is served
+by the server's event loop (:class:`~workcell.server.child_link.ChildLink`): what the
+child says is dispatched on the loop as it arrives, and what the server says is written
+from it, never waiting on the child.
 """
 
 from __future__ import annotations
@@ -110,7 +110,6 @@ class RelayedSession(ABC):
         self.config = at_teleop_rate(args.config)
         """The session as it runs: at the control rate a person drives at."""
         self.args = args
-        self.listener = listener
         self.session_id = ""
         self.scene: Scene | None = None
         self.operator = RemoteOperator(self._send)
