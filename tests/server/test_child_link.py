@@ -95,7 +95,7 @@ def test_what_is_sent_before_the_connection_is_made_waits_for_it(loop: str) -> N
         await asyncio.get_running_loop().connect_accepted_socket(lambda: link, sock)
         got = [await asyncio.to_thread(child_end.recv) for _ in range(2)]
         assert got == [("input", 1), ("act", "recenter")]
-        link.close()
+        child_end.close()
 
     _run(loop, scenario())
 
@@ -134,7 +134,7 @@ def test_a_child_that_does_not_read_costs_one_input_and_loses_nothing_else(loop:
             ("stop", "operator_stop"),
         ]
         assert link.waiting == 0
-        link.close()
+        child.close()
 
     _run(loop, scenario())
 
@@ -157,6 +157,6 @@ def test_beyond_the_bound_the_oldest_frame_report_gives_way_never_a_stop(
         assert link.waiting == 3
         received = [await asyncio.to_thread(child.recv) for _ in range(4)]
         assert received[1:] == [("stop", "admin_stop"), ("act", "snap_right"), ("act", "recenter")]
-        link.close()
+        child.close()
 
     _run(loop, scenario())

@@ -10,19 +10,10 @@ import asyncio
 from pathlib import Path
 
 from tests.server.harness import FAST_SETTINGS, client, running_server
+from tests.server.test_frame_stats import REPORT
 from workcell.protocol import messages as m
 from workcell.record.store import Store
 from workcell.task import events as ev
-
-REPORT = m.FrameStats(
-    frames=60,
-    frame_ms_p50=16.7,
-    frame_ms_p95=20.0,
-    frame_ms_max=30.0,
-    draw_calls=40,
-    triangles=50_000,
-    presenting=False,
-)
 
 
 def test_session_started_comes_before_anything_the_session_says(tmp_path: Path) -> None:

@@ -155,9 +155,3 @@ class ChildLink(asyncio.Protocol):
         transport = self._transport
         buffered = transport is not None and transport.get_write_buffer_size() > 0
         return buffered or bool(self._outbox)
-
-    def close(self) -> None:
-        """Close the socket (what waits is dropped: the child is gone or going)."""
-        self._outbox.clear()
-        if self._transport is not None:
-            self._transport.close()
