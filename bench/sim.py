@@ -29,7 +29,7 @@ import numpy as np
 from workcell.control.simulation import Simulation
 from workcell.expert import ExpertConfig
 from workcell.sim.config import RobotConfig, WorldConfig
-from workcell.sim.events import BoxDelivered
+from workcell.sim.events import BoxCompleted
 from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.elements.expert import ExpertOperator
 from workcell.teleop.operator import measured_tcp
@@ -95,7 +95,7 @@ def expert_trial(sim: Simulation, seed: int, run: Run) -> None:
         command = expert.act(sim.world)
         events = sim.step(command)
         wall += time.perf_counter() - start
-        delivered = any(isinstance(e, BoxDelivered) for e in events)
+        delivered = any(isinstance(e, BoxCompleted) for e in events)
         for side, arm in (("l", command.left), ("r", command.right)):
             if arm.follow:
                 measured = np.array(measured_tcp(sim.world, side)[:3])

@@ -10,7 +10,7 @@ from workcell.control.simulation import Simulation
 from workcell.errors import ConfigError
 from workcell.expert import ExpertConfig
 from workcell.sim.config import GraspMode, WorldConfig
-from workcell.sim.events import BoxDelivered
+from workcell.sim.events import BoxCompleted
 from workcell.tasks.box_transfer.episode import OneBoxResult, deliver_one_box
 from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.elements.expert import ExpertOperator
@@ -80,7 +80,7 @@ def test_replaying_the_experts_commands_reproduces_the_delivery() -> None:
         command = expert.act(sim.world)
         assert isinstance(command, Command)
         commands.append(command)
-        if any(isinstance(e, BoxDelivered) for e in sim.step(command)):
+        if any(isinstance(e, BoxCompleted) for e in sim.step(command)):
             delivered_at = sim.time
     assert delivered_at is not None
     final_qpos = sim.world.data.qpos.copy()
@@ -89,7 +89,7 @@ def test_replaying_the_experts_commands_reproduces_the_delivery() -> None:
     replay.reset(7)
     replay_delivered_at = None
     for command in commands:
-        if any(isinstance(e, BoxDelivered) for e in replay.step(command)):
+        if any(isinstance(e, BoxCompleted) for e in replay.step(command)):
             replay_delivered_at = replay.time
     assert replay_delivered_at == delivered_at
     np.testing.assert_allclose(replay.world.data.qpos, final_qpos, atol=1e-9)

@@ -10,7 +10,7 @@ from workcell.control.simulation import Simulation
 from workcell.generate.recheck import Recheck, recheck
 from workcell.sim.boxes import BoxState
 from workcell.sim.config import FeederConfig, WorldConfig
-from workcell.sim.events import BoxDelivered
+from workcell.sim.events import BoxCompleted
 from workcell.sim.world import World
 from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.registry import BUILT_IN, load_task
@@ -56,7 +56,7 @@ def delivered_sim() -> Simulation:
     world.data.qpos[slot.qpos + 3 : slot.qpos + 7] = (1.0, 0.0, 0.0, 0.0)
     world.data.qvel[slot.qvel : slot.qvel + 6] = 0.0
     for _ in range(100):
-        if any(isinstance(e, BoxDelivered) for e in sim.step(Command())):
+        if any(isinstance(e, BoxCompleted) for e in sim.step(Command())):
             return sim
     raise AssertionError("the box set down in the zone was never delivered")
 

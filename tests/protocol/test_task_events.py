@@ -67,7 +67,7 @@ def test_the_box_events_are_the_worlds_stamped_with_the_trial() -> None:
     for task_event, world_event in (
         (ev.BoxReleased, world.BoxReleased),
         (ev.GraspChanged, world.GraspChanged),
-        (ev.BoxDelivered, world.BoxDelivered),
+        (ev.BoxDelivered, world.BoxCompleted),
     ):
         assert issubclass(task_event, world_event)
         inherited = {f.name for f in dataclasses.fields(world_event)}
@@ -75,7 +75,7 @@ def test_the_box_events_are_the_worlds_stamped_with_the_trial() -> None:
         assert not inherited & declared, f"{task_event.__name__} declares {inherited & declared}"
     stamped = ev.stamped(world.GraspChanged(5.0, 3, True), 4, 1.5, 0)
     assert stamped == ev.GraspChanged(t_sim=1.5, box=3, engaged=True, trial_index=4)
-    delivered = ev.stamped(world.BoxDelivered(5.0, 3), 4, 1.5, 2)
+    delivered = ev.stamped(world.BoxCompleted(5.0, 3), 4, 1.5, 2)
     assert delivered == ev.BoxDelivered(t_sim=1.5, box=3, trial_index=4, boxes_delivered=2)
 
 

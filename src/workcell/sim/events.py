@@ -28,11 +28,13 @@ class GraspChanged:
 
 
 @dataclass(frozen=True)
-class BoxDelivered:
-    """A released box came to rest inside the delivery zone."""
+class BoxCompleted:
+    """A released box came to rest where the trial's task wants it: the task's scene says
+    where and when (box transfer's target zone, a pallet slot, its kind's table); the task
+    layer stamps and records it (:mod:`workcell.task.events`)."""
 
     t_sim: float
     box: int
 
 
-WorldEvent = BoxReleased | GraspChanged | BoxDelivered
+WorldEvent = BoxReleased | GraspChanged | BoxCompleted

@@ -1,4 +1,6 @@
-"""The delivery zone: a released box resting inside it on the table top is delivered."""
+"""The target zone on the table (``world.target``): where a trial's task may want a box at
+rest. Box transfer counts a released box resting inside it as done
+(:mod:`workcell.tasks.box_transfer.scene`); other tasks read its centre and size."""
 
 from __future__ import annotations
 
@@ -13,7 +15,7 @@ REST_SPEED = 0.05
 HEIGHT_TOLERANCE = 0.03
 
 
-class DeliveryZone:
+class TargetZone:
     def __init__(self, config: WorldConfig) -> None:
         t = config.target
         self._table_height = t.table_height
@@ -30,7 +32,7 @@ class DeliveryZone:
         inside = bool(np.all(np.abs(position[:2] - self.center) <= self.half))
         return inside and abs(float(position[2]) - self.rest_z) <= HEIGHT_TOLERANCE
 
-    def delivered(
+    def rests_in(
         self, data: mujoco.MjData, pool: BoxPool, slot: BoxSlot, held: BoxSlot | None
     ) -> bool:
         """True when ``slot`` rests in the zone and the robot no longer holds it."""

@@ -2,8 +2,8 @@
 
 The world knows nothing about operators; :class:`workcell.simulation.Simulation` drives it
 with commands through the robot controller. What a task adds to the shared factory and
-watches in it each control period (box transfer: a released box resting in the delivery
-zone is delivered) is the task's :class:`TaskScene` (:mod:`workcell.tasks`).
+watches in it each control period (box transfer: a released box resting in the target
+zone is done) is the task's :class:`TaskScene` (:mod:`workcell.tasks`).
 """
 
 from __future__ import annotations
@@ -23,7 +23,7 @@ from workcell.sim.events import BoxReleased, GraspChanged, WorldEvent
 from workcell.sim.grasp import Grasp
 from workcell.sim.joints import BASE_JOINTS, FINGER_JOINTS, JOINT_ORDER, SIDES
 from workcell.sim.scene import build_world_model
-from workcell.sim.target import DeliveryZone
+from workcell.sim.target import TargetZone
 from workcell.sim.trial_conditions import TrialConditions
 
 FLOOR_CLEAR_S = 5.0
@@ -65,7 +65,7 @@ class TaskScene(Protocol):
 
 class World:
     """One MuJoCo model and data with the task-level machinery around them; ``scene`` is
-    the task's (None: the bare factory, whose boxes nobody delivers)."""
+    the task's (None: the bare factory, whose boxes no task wants anywhere)."""
 
     def __init__(self, config: WorldConfig, scene: TaskScene | None = None) -> None:
         self.config = config
@@ -74,7 +74,7 @@ class World:
         self.data = mujoco.MjData(self.model)
         self.boxes = BoxPool(self.model, config)
         self.grasp = Grasp(self.model, self.boxes, config.grasp)
-        self.zone = DeliveryZone(config)
+        self.zone = TargetZone(config)
         self.conditions = TrialConditions.nominal(config)
         """The conditions of the current trial (see :mod:`workcell.sim.trial_conditions`)."""
         self.substeps = config.control_substeps

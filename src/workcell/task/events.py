@@ -86,7 +86,7 @@ class GraspChanged(world.GraspChanged):
 
 
 @dataclass(frozen=True)
-class BoxDelivered(world.BoxDelivered):
+class BoxDelivered(world.BoxCompleted):
     """A released box came to rest inside the delivery zone while the trial ran;
     ``boxes_delivered`` counts the trial's deliveries so far."""
 

@@ -376,7 +376,7 @@ class SessionRunner:
         spec = self._spec
         assert spec is not None
         running = self.phase is HudPhase.RUNNING
-        if isinstance(event, world_events.BoxDelivered) and not running:
+        if isinstance(event, world_events.BoxCompleted) and not running:
             return
         if running:
             self._judge.observe(event)

@@ -1,4 +1,4 @@
-"""The paper's score: box score x boxes delivered + the remaining seconds, rounded up.
+"""The paper's score: box score x boxes done + the remaining seconds, rounded up.
 
 The remaining seconds are a time bonus a trial earns only by succeeding: a timed-out or
 interrupted trial keeps its box points alone (:meth:`workcell.task.runner.SessionRunner`).
@@ -18,7 +18,8 @@ def time_bonus(time_limit_s: float, elapsed_s: float) -> int:
     return math.ceil(max(0.0, round(time_limit_s - elapsed_s, REMAINING_DECIMALS)))
 
 
-def trial_score(box_score: int, boxes_delivered: int, time_limit_s: float, elapsed_s: float) -> int:
+def trial_score(box_score: int, boxes_done: int, time_limit_s: float, elapsed_s: float) -> int:
     """Score of one trial (a level attempt) that succeeded after ``elapsed_s``: its box
-    points and its time bonus."""
-    return box_score * boxes_delivered + time_bonus(time_limit_s, elapsed_s)
+    points (``boxes_done``: the boxes its task counts as done)
+    and its time bonus."""
+    return box_score * boxes_done + time_bonus(time_limit_s, elapsed_s)

@@ -3,7 +3,7 @@ the stage reached, read from the world at each frame instant as the recorder sam
 
 from __future__ import annotations
 
-from workcell.sim.events import BoxDelivered, WorldEvent
+from workcell.sim.events import BoxCompleted, WorldEvent
 from workcell.sim.world import World
 from workcell.tasks.box_transfer.stages import Hold, StageTracker, Zone
 from workcell.tasks.task import Evaluation
@@ -24,7 +24,7 @@ class BoxTransferJudge:
         return self._delivered
 
     def observe(self, event: WorldEvent) -> None:
-        if isinstance(event, BoxDelivered):
+        if isinstance(event, BoxCompleted):
             self._delivered += 1
 
     def evaluate(self, world: World) -> Evaluation:

@@ -1,7 +1,7 @@
 """Box transfer's part of the world: the delivery, watched each control period.
 
 A released box that has come to rest inside the delivery zone on the table top, no longer
-held, is delivered (:class:`~workcell.sim.target.DeliveryZone`), and taken away (parked) a
+held, is delivered (:class:`~workcell.sim.target.TargetZone`), and taken away (parked) a
 second later so the table stays clear. The table and its zone are the shared factory's
 (:mod:`workcell.sim.arena`); box transfer adds no element of its own.
 """
@@ -13,7 +13,7 @@ import numpy as np
 
 from workcell.sim.boxes import BoxState
 from workcell.sim.config import WorldConfig
-from workcell.sim.events import BoxDelivered, WorldEvent
+from workcell.sim.events import BoxCompleted, WorldEvent
 from workcell.sim.world import World
 
 DELIVERED_CLEAR_S = 1.0
@@ -39,10 +39,10 @@ class BoxTransferScene:
         boxes, data = world.boxes, world.data
         for slot in boxes.slots:
             if slot.state is BoxState.ACTIVE:
-                if world.zone.delivered(data, boxes, slot, held):
+                if world.zone.rests_in(data, boxes, slot, held):
                     slot.state = BoxState.DELIVERED
                     slot.delivered_at = t
-                    events.append(BoxDelivered(t, slot.index))
+                    events.append(BoxCompleted(t, slot.index))
             elif slot.state is BoxState.DELIVERED and t - slot.delivered_at >= DELIVERED_CLEAR_S:
                 boxes.park(data, slot)
         return events

@@ -3,7 +3,7 @@
 Data generation runs the simulation on for a second after a success
 (:mod:`workcell.generate.recheck`) and asks each control period whether the boxes the
 trial delivered are still at rest in the zone, released
-(:meth:`~workcell.sim.target.DeliveryZone.delivered`), until the scene takes them away
+(:meth:`~workcell.sim.target.TargetZone.rests_in`), until the scene takes them away
 (:mod:`workcell.tasks.box_transfer.scene` clears a delivered box one second after its
 delivery). A box that slides, is knocked or picked up again makes the success a false one.
 While settling, a box in the zone and let go of may still be moving: the judge's rest is a
@@ -38,7 +38,7 @@ class DeliveriesStay:
             position = boxes.position(world.data, slot)
             if settling and slot is not held and world.zone.contains(position):
                 continue
-            if world.zone.delivered(world.data, boxes, slot, held):
+            if world.zone.rests_in(world.data, boxes, slot, held):
                 continue
             if slot is held:
                 return f"box {slot.index} held again"

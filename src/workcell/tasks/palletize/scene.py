@@ -1,7 +1,7 @@
 """Palletize's part of the world: the pallet with its four slot marks, set for each trial,
 and the boxes placed in its slots, watched each control period.
 
-A released box resting in a slot, no longer held, is placed (:class:`BoxDelivered`, its
+A released box resting in a slot, no longer held, is placed (:class:`BoxCompleted`, its
 state ``DELIVERED``: the floor's clean-up leaves it alone); a placed box that leaves its
 slot again (knocked off, picked up) is active again. Placed boxes stay on the pallet.
 """
@@ -15,7 +15,7 @@ import numpy as np
 
 from workcell.sim.boxes import BoxState
 from workcell.sim.config import WorldConfig
-from workcell.sim.events import BoxDelivered, WorldEvent
+from workcell.sim.events import BoxCompleted, WorldEvent
 from workcell.sim.spec_utils import set_env_collision, set_visual_only
 from workcell.sim.world import World
 from workcell.tasks.palletize.layout import (
@@ -115,7 +115,7 @@ class PalletizeScene:
             if slot.state is BoxState.ACTIVE and in_slot and resting(world, slot.index):
                 slot.state = BoxState.DELIVERED
                 slot.delivered_at = t
-                events.append(BoxDelivered(t, slot.index))
+                events.append(BoxCompleted(t, slot.index))
             elif slot.state is BoxState.DELIVERED and (not in_slot or world.grasp.holding is slot):
                 slot.state = BoxState.ACTIVE
         return events

@@ -4,7 +4,7 @@ failure once a box rested as long in the other kind's zone."""
 
 from __future__ import annotations
 
-from workcell.sim.events import BoxDelivered, WorldEvent
+from workcell.sim.events import BoxCompleted, WorldEvent
 from workcell.sim.world import World
 from workcell.tasks.sort.scene import SortScene, zone_under
 from workcell.tasks.sort.stages import SortStageTracker
@@ -32,7 +32,7 @@ class SortJudge:
         return self._sorted
 
     def observe(self, event: WorldEvent) -> None:
-        if isinstance(event, BoxDelivered):
+        if isinstance(event, BoxCompleted):
             self._sorted += 1
 
     def evaluate(self, world: World) -> Evaluation:

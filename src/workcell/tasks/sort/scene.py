@@ -3,7 +3,7 @@ delivery table, each pooled box given its kind's sides, mass and colour at every
 the sorting watched each control period.
 
 A box that rests released in its own kind's zone for :data:`SORTED_S` is sorted (a
-``BoxDelivered`` event) and taken away for the rest of the trial (the feeder brings the
+``BoxCompleted`` event) and taken away for the rest of the trial (the feeder brings the
 pool's other boxes; once every box has been sorted the pool is refilled in the same order).
 A box that rests as long in the other kind's zone is missorted: it stays where it is, and
 the trial has failed.
@@ -19,7 +19,7 @@ from workcell.sim.arena import SAFETY_RGBA, add_zone_table
 from workcell.sim.boxes import BoxSlot, BoxState
 from workcell.sim.conditions import shape_box
 from workcell.sim.config import WorldConfig
-from workcell.sim.events import BoxDelivered, WorldEvent
+from workcell.sim.events import BoxCompleted, WorldEvent
 from workcell.sim.looks import add_decor
 from workcell.sim.target import HEIGHT_TOLERANCE, REST_SPEED
 from workcell.sim.world import World
@@ -110,7 +110,7 @@ class SortScene:
                 slot.state = BoxState.DELIVERED  # taken away: not fed again this round
                 slot.delivered_at = t
                 del self._resting[slot.index]
-                events.append(BoxDelivered(t, slot.index))
+                events.append(BoxCompleted(t, slot.index))
             else:
                 self.missorted.add(slot.index)
         if all(slot.state is BoxState.DELIVERED for slot in boxes.slots):
