@@ -49,7 +49,7 @@ def run_world(world: str, trials: int, first_seed: int, required: int, limit_s: 
         success = result.outcome == "success"
         successes += success
         sim_s += result.elapsed_s
-        end = f"{result.outcome} at {result.stage}, {result.boxes_delivered}/{required} sorted"
+        end = f"{result.outcome} at {result.stage}, {result.boxes_done}/{required} sorted"
         end += ", missorted" if sort_scene(sim.world).missorted else ""
         if not success:
             ends[end] += 1

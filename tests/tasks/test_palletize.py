@@ -164,7 +164,7 @@ def test_the_expert_fills_the_pallet_in_d0_with_the_stages_in_order() -> None:
 
     runner.start(TrialSpec(0, "practice", None, None, 1, LIMIT_S), world_seed=21)
     (result,) = runner.run(after_step=after)
-    assert (result.outcome, result.stage, result.boxes_delivered) == ("success", "settled", 4)
+    assert (result.outcome, result.stage, result.boxes_done) == ("success", "settled", 4)
     assert [s for s in PALLETIZE_STAGES if s in stages] == stages  # in order, none skipped back
     assert stages[-1] == "settled" and {"placed_1", "placed_4"} <= set(stages)
     layout = PalletLayout.of(sim.world.conditions.as_dict(), sim.config)

@@ -19,7 +19,7 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[2]
 WORDS = re.compile(r"conveyor|deliver", re.IGNORECASE)
 GOAL = 5
-CEILING = 35
+CEILING = 34
 SOURCE_SUFFIXES = (".py", ".ts")
 
 

@@ -44,7 +44,7 @@ def trial_json(result: TrialResult) -> dict[str, Any]:
         "time_limit_s": spec.time_limit_s,
         "outcome": result.outcome,
         "interruption_reason": result.interruption_reason,
-        "boxes_delivered": result.boxes_delivered,
+        "boxes_delivered": result.boxes_done,
         "score": result.score,
         "elapsed_s": round(result.elapsed_s, 6),
     }
@@ -62,7 +62,7 @@ def table_row(result: TrialResult) -> str:
         "-" if spec.round is None else spec.round,
         "-" if spec.level is None else spec.level,
         outcome,
-        f"{result.boxes_delivered}/{spec.required_boxes}",
+        f"{result.boxes_done}/{spec.required_boxes}",
         result.score,
         f"{result.elapsed_s:.2f}",
     )

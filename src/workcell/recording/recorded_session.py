@@ -283,7 +283,7 @@ class RecordedSession:
                     outcome="interrupted",
                     interruption_reason="storage_error",
                     completion_time_s=None,
-                    score=box_score * result.boxes_delivered,
+                    score=box_score * result.boxes_done,
                 )
             if position < recorder.results_at_failure or index in lost:
                 agreed.append(stored)

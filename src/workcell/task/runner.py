@@ -41,7 +41,8 @@ class TrialResult:
     interruption_reason: ev.InterruptionReason | None
     elapsed_s: float
     completion_time_s: float | None
-    boxes_delivered: int
+    boxes_done: int
+    """The boxes its task counted as done (the contract's ``boxes_delivered``)."""
     score: int
     stage: str
     """The furthest of the task's stages the trial reached (its judge's last word)."""
@@ -363,7 +364,7 @@ class SessionRunner:
             interruption_reason=reason,
             elapsed_s=t,
             completion_time_s=t if outcome == "success" else None,
-            boxes_delivered=done,
+            boxes_done=done,
             score=score,
             stage=self._stage,
             progress=self._progress,
