@@ -1,0 +1,39 @@
+"""``bench/learn_generated.py`` fixes the audit's definition before it sees a result (issue
+34, item 6: "the audit's flags and thresholds are fixed before the run"): its first run
+writes the definition into the work directory, and a resumed run whose audit says
+otherwise stops instead of deciding the keep-versus-all comparison after the fact."""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+import pytest
+from bench.learn_generated import Settings, fix_audit_definition
+
+from workcell.audit.config import AuditConfig
+
+
+def test_the_first_run_fixes_the_audit_definition_and_a_resumed_one_keeps_it(
+    tmp_path: Path,
+) -> None:
+    fix_audit_definition(tmp_path)
+    fixed = json.loads((tmp_path / "audit-definition.json").read_text())
+    assert fixed["audit"]["audit_version"] == AuditConfig().describe()["audit_version"]
+    assert fixed["audit"]["detectors"]["slow"] == json.loads(
+        json.dumps(AuditConfig().describe()["detectors"]["slow"])
+    )
+    fix_audit_definition(tmp_path)  # the same definition: the run goes on
+
+    fixed["audit"]["detectors"]["slow"]["version"] = "0"  # as if a threshold had moved
+    (tmp_path / "audit-definition.json").write_text(json.dumps(fixed))
+    with pytest.raises(SystemExit, match="audit's definition differs"):
+        fix_audit_definition(tmp_path)
+
+
+def test_quick_sizes_replace_the_full_run() -> None:
+    full = Settings.parse(["--work", "w"])
+    quick = Settings.parse(["--work", "w", "--quick"])
+    assert (full.sources, full.attempts, full.steps, full.rollouts) == (10, 1000, 10_000, 200)
+    assert (quick.sources, quick.attempts, quick.steps, quick.rollouts) == (2, 6, 20, 2)
+    assert (full.time_limit_s, quick.time_limit_s) == (None, 30.0)
