@@ -110,8 +110,10 @@ export interface GraspChanged {
 }
 
 /**
- * A released box came to rest inside the delivery zone while the trial ran;
- * ``boxes_delivered`` counts the trial's deliveries so far.
+ * A released box came to rest where the trial's task wants it while the trial ran (box
+ * transfer's zone, a pallet slot, its kind's table: the scene's ``BoxCompleted``), under
+ * the record's event kind ``box_delivered``; ``boxes_delivered`` counts the trial's boxes
+ * done so far.
  */
 export interface BoxDelivered {
   readonly t_sim: number;

@@ -1,6 +1,6 @@
 """The target zone on the table (``world.target``): where a trial's task may want a box at
-rest. Box transfer counts a released box resting inside it as done
-(:mod:`workcell.tasks.box_transfer.scene`); other tasks read its centre and size."""
+rest. A task's scene may count a released box resting inside it as done (box transfer's
+does), or read only its centre and size."""
 
 from __future__ import annotations
 
