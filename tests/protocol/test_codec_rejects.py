@@ -163,3 +163,26 @@ def test_a_value_a_browser_cannot_hold_is_sent_as_null(value: int) -> None:
     assert problem.value is None
     error = m.Error(code=caught.value.code, message=str(caught.value), problem=problem)
     assert decode_server(encode(error)) == error
+
+
+@pytest.mark.parametrize("value", [-(2**64), 2**63, 10**30])
+def test_free_form_integers_beyond_64_bits_are_refused_not_echoed(value: int) -> None:
+    """Settings are free-form JSON: an integer a float holds but the encoder (64 bits) does
+    not is refused with its path, so a message that decodes always encodes again (a
+    hostile StartSession once decoded and then failed to encode)."""
+    text = json.dumps({"type": "start_session", "settings": {"session": {"seed": value}}})
+    with pytest.raises(ProtocolError) as caught:
+        decode_client(text)
+    problem = caught.value.problem
+    assert caught.value.code == "invalid_value"
+    assert problem is not None and problem.path == ("start_session", "settings", "session", "seed")
+    assert problem.allowed == "must be within -2^63 to 2^63 - 1"
+    error = m.Error(code=caught.value.code, message=str(caught.value), problem=problem)
+    assert decode_server(encode(error)) == error
+
+
+def test_a_seed_of_63_bits_still_passes_in_settings() -> None:
+    text = json.dumps({"type": "start_session", "settings": {"session": {"seed": 2**63 - 1}}})
+    message = decode_client(text)
+    assert isinstance(message, m.StartSession)
+    assert decode_client(encode(message)) == message

@@ -30,6 +30,8 @@ POSITION_LIMIT_M = 100.0
 """A tracked position farther than this from the reference space origin is refused."""
 MAX_SAFE_INTEGER = 2**53 - 1
 """The largest integer a browser represents exactly."""
+INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
+"""The integers free-form JSON may hold: what the encoder and the store write."""
 
 RANGES: dict[tuple[type, str], tuple[float, float]] = {
     (m.ControllerState, "grip"): (0.0, 1.0),
@@ -225,9 +227,12 @@ def _finite_float(value: int | float, path: str) -> float:
 
 def _require_finite(value: Any, path: str) -> None:
     """Free-form JSON (settings, event fields) holds finite numbers only: no NaN or
-    infinity, no integer beyond what a float holds."""
+    infinity, no integer beyond what a float holds, nor beyond 64 bits (what the encoder,
+    orjson, and the store write: a message that decodes must encode again)."""
     if type(value) in (int, float):
         _finite_float(value, path)
+    if type(value) is int and not INT64_MIN <= value <= INT64_MAX:
+        raise _invalid("invalid_value", path, value, "must be within -2^63 to 2^63 - 1")
     if isinstance(value, list):
         for i, item in enumerate(value):
             _require_finite(item, f"{path}[{i}]")
