@@ -72,7 +72,7 @@ async def _stop_note(request: Request) -> str | Response:
     allowed = f'a JSON object {{"reason": text of at most {STOP_NOTE_MAX} characters}}'
     try:
         data = json.loads(body)
-    except (ValueError, UnicodeDecodeError):
+    except (ValueError, UnicodeDecodeError, RecursionError):  # RecursionError: nested too deep
         return problem(400, f"stop: the body is not JSON; give {allowed}")
     reason = data.get("reason", "") if isinstance(data, dict) else None
     if not isinstance(reason, str) or len(reason) > STOP_NOTE_MAX or set(data) - {"reason"}:
