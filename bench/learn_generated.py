@@ -100,15 +100,23 @@ class Settings:
 
 
 def run(work: Path, *command: str) -> str:
-    """Run ``command`` from the checkout's root, its output appended to ``commands.log``."""
-    done = subprocess.run(command, cwd=ROOT, capture_output=True, text=True, check=False)
-    with (work / "commands.log").open("a") as out:
-        out.write(f"$ {' '.join(command)}\n{done.stdout}{done.stderr}\n")
+    """Run ``command`` from the checkout's root, its output written to ``commands.log`` as
+    it comes (``tail -f`` it to follow a long step: generation prints every attempt);
+    returns that output."""
+    with (work / "commands.log").open("ab") as log:
+        log.write(f"$ {' '.join(command)}\n".encode())
+        log.flush()
+        start = log.tell()
+        done = subprocess.run(command, cwd=ROOT, stdout=log, stderr=subprocess.STDOUT, check=False)
+        log.write(b"\n")
+    with (work / "commands.log").open("rb") as log:
+        log.seek(start)
+        output = log.read().decode(errors="replace")
     if done.returncode != 0:
         raise SystemExit(
             f"{' '.join(command[:4])} ... failed ({done.returncode}); see commands.log"
         )
-    return done.stdout
+    return output
 
 
 def workcell(work: Path, *args: str) -> str:
@@ -196,6 +204,7 @@ def main(argv: list[str] | None = None) -> None:
     s = Settings.parse(argv)
     s.work.mkdir(parents=True, exist_ok=True)
     print(f"work directory {s.work}; commands and their output in {s.work}/commands.log")
+    print(f"(follow a long step with: tail -f {s.work}/commands.log)", flush=True)
     fix_audit_definition(s.work)
     generation = prepare(s)
     print(

@@ -6,10 +6,11 @@ otherwise stops instead of deciding the keep-versus-all comparison after the fac
 from __future__ import annotations
 
 import json
+import sys
 from pathlib import Path
 
 import pytest
-from bench.learn_generated import Settings, fix_audit_definition
+from bench.learn_generated import Settings, fix_audit_definition, run
 
 from workcell.audit.config import AuditConfig
 
@@ -37,3 +38,15 @@ def test_quick_sizes_replace_the_full_run() -> None:
     assert (full.sources, full.attempts, full.steps, full.rollouts) == (10, 1000, 10_000, 200)
     assert (quick.sources, quick.attempts, quick.steps, quick.rollouts) == (2, 6, 20, 2)
     assert (full.time_limit_s, quick.time_limit_s) == (None, 30.0)
+
+
+def test_a_step_writes_its_output_to_the_log_as_it_comes_and_returns_it(tmp_path: Path) -> None:
+    (tmp_path / "commands.log").write_text("earlier step\n")
+    said = run(
+        tmp_path, sys.executable, "-c", "import sys; print('out'); print('err', file=sys.stderr)"
+    )
+    assert sorted(said.split()) == ["err", "out"]  # this step's output only, stderr with it
+    log = (tmp_path / "commands.log").read_text()
+    assert log.startswith("earlier step\n$ ") and log.endswith(said)
+    with pytest.raises(SystemExit, match=r"failed \(3\); see commands.log"):
+        run(tmp_path, sys.executable, "-c", "raise SystemExit(3)")
