@@ -10,6 +10,7 @@ import pytest
 
 from workcell.protocol import messages as m
 from workcell.protocol.codec import (
+    LONE_SURROGATE,
     MAX_MESSAGE_BYTES,
     ProtocolError,
     decode_client,
@@ -185,4 +186,30 @@ def test_a_seed_of_63_bits_still_passes_in_settings() -> None:
     text = json.dumps({"type": "start_session", "settings": {"session": {"seed": 2**63 - 1}}})
     message = decode_client(text)
     assert isinstance(message, m.StartSession)
+    assert decode_client(encode(message)) == message
+
+
+@pytest.mark.parametrize(
+    "text",
+    [
+        '{"type":"stop","reason":"\\ud800 my words"}',
+        '{"type":"stop","reason":"\\uDFFF"}',
+        '{"type":"start_session","settings":{"\\udbff":1}}',
+        '{"type":"start_session","settings":{"session":{"operator_id":["a","\\ud83d"]}}}',
+        '{"type":"ping","t_client":"\\ud83d"}',
+    ],
+)
+def test_a_lone_surrogate_is_refused_wherever_it_stands(text: str) -> None:
+    """JSON escapes a lone UTF-16 surrogate and Python decodes it, but nothing after the
+    decoder can write it (the encoder, the store's UTF-8): one error, itself writable."""
+    with pytest.raises(ProtocolError) as caught:
+        decode_client(text)
+    assert (caught.value.code, str(caught.value)) == ("malformed", LONE_SURROGATE)
+    error = m.Error(code=caught.value.code, message=str(caught.value))
+    assert decode_server(encode(error)) == error
+
+
+def test_a_surrogate_pair_is_one_character_and_passes() -> None:
+    message = decode_client('{"type":"stop","reason":"\\ud83d\\ude00 done, \\\\ud800 typed"}')
+    assert message == m.Stop(reason="\U0001f600 done, \\ud800 typed")
     assert decode_client(encode(message)) == message

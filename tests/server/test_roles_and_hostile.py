@@ -54,6 +54,11 @@ HOSTILE: list[str | bytes] = [
     "[" * 10_000 + "]" * 10_000,
     '{"type":"ping","t_client":1' + "0" * 400 + "}",  # too large for a float
     '{"type":"start_session","settings":{"task":{"time_limit_s":-1' + "0" * 400 + "}}}",
+    # lone surrogates: JSON escapes them, Python decodes them, UTF-8 (the store, the
+    # encoder) has no form for them
+    '{"type":"stop","reason":"\\ud800 my words"}',
+    '{"type":"start_session","settings":{"\\udfff":1}}',
+    '{"type":"ping","t_client":"\\ud83d"}',
 ]
 
 

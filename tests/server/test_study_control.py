@@ -163,6 +163,8 @@ def test_the_admins_stop_takes_a_reason_and_refuses_a_bad_body(tmp_path: Path) -
             assert status == 400 and "not JSON" in body["error"]
             status, body = post(server, path, admin, b"[" * 100_000 + b"]" * 100_000)
             assert status == 400 and "not JSON" in body["error"]  # nested too deep: not a 500
+            status, body = post(server, path, admin, b'{"reason": "\\udc00 closing"}')
+            assert status == 400 and "lone surrogate" in body["error"]  # the store has no form
             status, _ = post(server, path, admin, b'{"reason": "the session room closes"}')
             assert status == 200
             done = await ended(p01)

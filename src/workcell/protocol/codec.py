@@ -12,6 +12,7 @@ import enum
 import functools
 import json
 import math
+import re
 from typing import Any
 
 import orjson
@@ -24,7 +25,15 @@ from workcell.task.events import TASK_EVENTS
 MAX_MESSAGE_BYTES = 64 * 1024
 """The largest message a client may send."""
 
-__all__ = ["MAX_MESSAGE_BYTES", "ProtocolError", "decode_client", "decode_server", "encode"]
+__all__ = [
+    "LONE_SURROGATE",
+    "MAX_MESSAGE_BYTES",
+    "ProtocolError",
+    "decode_client",
+    "decode_server",
+    "encode",
+    "has_utf8_form",
+]
 
 
 def _default(cls: type, name: str) -> Any:
@@ -57,11 +66,38 @@ def _loads(text: str | bytes) -> Any:
         except UnicodeDecodeError:
             raise ProtocolError("malformed", "message is not UTF-8 text") from None
     try:
-        return json.loads(text)  # NaN and Infinity are refused where they land
+        data = json.loads(text)  # NaN and Infinity are refused where they land
     except json.JSONDecodeError as error:
         raise ProtocolError("malformed", f"message is not JSON: {error.msg}") from None
     except (RecursionError, ValueError) as error:  # too deep, or an integer too long
         raise ProtocolError("malformed", f"message is not usable JSON: {error}") from None
+    if _SURROGATE_ESCAPE.search(text) and not has_utf8_form(data):
+        raise ProtocolError("malformed", LONE_SURROGATE)
+    return data
+
+
+_SURROGATE_ESCAPE = re.compile(r"\\u[dD][89a-fA-F]")
+"""A JSON escape of a UTF-16 surrogate: a pair of them is one character, a lone one none."""
+LONE_SURROGATE = (
+    "message text holds a lone surrogate (an escape \\ud800 to \\udfff without its pair): "
+    "text must be valid Unicode"
+)
+
+
+def has_utf8_form(value: Any) -> bool:
+    """Every text in ``value`` (keys too) has a UTF-8 form: no lone surrogate, which the
+    JSON decoder lets through and neither the encoder nor the store can write."""
+    if isinstance(value, str):
+        try:
+            value.encode("utf-8")
+        except UnicodeEncodeError:
+            return False
+        return True
+    if isinstance(value, list):
+        return all(has_utf8_form(item) for item in value)
+    if isinstance(value, dict):
+        return all(has_utf8_form(key) and has_utf8_form(item) for key, item in value.items())
+    return True
 
 
 def _decode(text: str | bytes, known: dict[str, type]) -> Any:

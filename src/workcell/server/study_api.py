@@ -15,6 +15,7 @@ from starlette.responses import Response
 from starlette.routing import Route
 
 from workcell.protocol.api import ParticipantRow, ParticipantState, StudyOverview
+from workcell.protocol.codec import LONE_SURROGATE, has_utf8_form
 from workcell.server.admission import behind_real_time
 from workcell.server.auth import principal_of
 from workcell.server.conductor import Conductor
@@ -77,6 +78,8 @@ async def _stop_note(request: Request) -> str | Response:
     reason = data.get("reason", "") if isinstance(data, dict) else None
     if not isinstance(reason, str) or len(reason) > STOP_NOTE_MAX or set(data) - {"reason"}:
         return problem(400, f"stop: body {body[:80]!r}: give {allowed}")
+    if not has_utf8_form(reason):  # the store writes UTF-8
+        return problem(400, f"stop: {LONE_SURROGATE}")
     return reason.strip()
 
 
