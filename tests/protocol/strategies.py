@@ -28,10 +28,18 @@ huge_integers = st.builds(
     lambda digits, sign: sign * (10**digits + 7), st.integers(300, 4000), st.sampled_from((1, -1))
 )
 """Integers JSON allows but no float holds: 301 to 4001 digits."""
+lone_surrogates = st.builds(
+    lambda before, surrogate, after: before + surrogate + after,
+    st.text(max_size=3),
+    st.sampled_from(("\ud800", "\udbff", "\udc00", "\udfff")),
+    st.text(max_size=3),
+)
+"""Text JSON can carry (as an escape) but UTF-8 cannot: a lone UTF-16 surrogate."""
 hostile_values = st.recursive(
-    json_scalars | huge_integers,
+    json_scalars | huge_integers | lone_surrogates,
     lambda inner: (
-        st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4)
+        st.lists(inner, max_size=4)
+        | st.dictionaries(st.text(max_size=8) | lone_surrogates, inner, max_size=4)
     ),
     max_leaves=12,
 )
