@@ -53,6 +53,7 @@ from websockets.asyncio.client import ClientConnection, connect
 
 from bench import latency
 from bench.crowd_operator import ExpertLikeHeadset
+from bench.host_speed import host_speed_line
 from bench.latency import LAUNCH, free_port, percentile
 from workcell.protocol import messages as m
 from workcell.protocol.codec import encode
@@ -413,6 +414,7 @@ def main() -> None:
         + ("; messages compressed" if args.ws_compression else "")
     )
     print(f"{os.cpu_count()} cores; load average {os.getloadavg()[0]:.1f}")
+    print(host_speed_line(), flush=True)  # runs of other hours compare by it
     rows = []
     for n in counts:
         print(f"N = {n} ...", flush=True)
@@ -422,6 +424,7 @@ def main() -> None:
             )
         )
     report(rows, args.seconds)
+    print(host_speed_line())
 
 
 if __name__ == "__main__":
