@@ -19,8 +19,10 @@ The audit's flags and thresholds are fixed before anything runs: the first run w
 ``audit-definition.json`` (the audit's :meth:`~workcell.audit.config.AuditConfig.describe`
 and the checkout's commit) into the work directory, and a run resumed with a different
 definition stops, so whether the audit's keep helps generated data is not decided after
-seeing it. Every step runs a README command (logged to ``commands.log``); a step whose
-output is there is not run again, so an interrupted run continues where it stopped.
+seeing it. Every step runs a README command (logged to ``commands.log``) and leaves a
+marker when it has finished (``sources.done``, ``generate.txt``, ``dataset-*.done``,
+``train-*.minutes``, ``eval-*.done``); a run skips the finished steps and starts an
+unfinished one again from nothing, so an interrupted run continues where it stopped.
 
     .venv/bin/python -m bench.learn_generated --work /tmp/learn-gen          # hours (~7 CPU h)
     .venv/bin/python -m bench.learn_generated --work /tmp/learn-gen --workers 2  # on idle cores
@@ -31,6 +33,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import shutil
 import subprocess
 import sys
 import time
@@ -146,15 +149,39 @@ def episodes(dataset: Path) -> int:
     return int(info["total_episodes"])
 
 
+STORE_SIDECARS = ("", "-wal", "-shm", "-journal", ".lock", ".reserve")
+
+
+def clear(*paths: Path) -> None:
+    """Remove what an interrupted step left (a store with its side files, a directory)."""
+    for path in paths:
+        for candidate in (path.with_name(path.name + tail) for tail in STORE_SIDECARS):
+            if candidate.is_dir():
+                shutil.rmtree(candidate)
+            elif candidate.exists():
+                candidate.unlink()
+
+
+def pending(done: Path, *leftovers: Path) -> bool:
+    """Whether a step is still to run: its marker ``done`` (written only once the step has
+    finished) is absent; then what an interrupted run of it left is removed first, so a
+    partial store, export or checkpoint is never taken for a finished one."""
+    if done.exists():
+        return False
+    clear(*leftovers)
+    return True
+
+
 def prepare(s: Settings) -> str:
     """Steps 1-4; returns generation's summary line."""
     sources, generated = s.work / "sources.sqlite", s.work / "generated.sqlite"
-    if not sources.exists():
+    if pending(s.work / "sources.done", sources):
         print(f"recording {s.sources} source trials through workcell serve ...", flush=True)
         run(s.work, sys.executable, "-m", "bench.teleop_sources", "--out", str(sources),
             "--trials", str(s.sources), "--seed", str(SOURCE_SEED))  # fmt: skip
+        (s.work / "sources.done").write_text(f"{s.sources}\n")
     summary = s.work / "generate.txt"
-    if not summary.exists():
+    if pending(summary, generated):
         print(f"generating {s.attempts} attempts in D2 ...", flush=True)
         out = workcell(s.work, "generate", "--source", str(sources), "--attempts",
                        str(s.attempts), "--seed", str(GENERATION_SEED), "--world", "D2",
@@ -162,11 +189,12 @@ def prepare(s: Settings) -> str:
         summary.write_text(next(x for x in out.splitlines() if " attempts, " in x) + "\n")
     for name, (store, flags) in DATASETS.items():
         dataset = s.work / f"dataset-{name}"
-        if not (dataset / "meta" / "info.json").exists():
+        if pending(s.work / f"dataset-{name}.done", dataset):
             workcell(s.work, "export", "--format", "lerobot", "--store", str(s.work / store),
                      "--out", str(dataset), *flags)  # fmt: skip
+            (s.work / f"dataset-{name}.done").write_text(f"{episodes(dataset)}\n")
         policy = s.work / f"act-{name}"
-        if not (policy / "checkpoints" / "last" / "pretrained_model").exists():
+        if pending(s.work / f"train-{name}.minutes", policy):
             print(f"training act-{name} on {episodes(dataset)} episodes ...", flush=True)
             started = time.perf_counter()
             workcell(s.work, "train", "--dataset", str(dataset), "--out", str(policy),
@@ -178,12 +206,14 @@ def prepare(s: Settings) -> str:
 
 def evaluate(s: Settings, name: str, policy: str) -> list[Rung]:
     store = s.work / f"eval-{name}-r{s.rollouts}.sqlite"
-    if not store.exists():
+    done = store.with_name(store.name + ".done")
+    if pending(done, store):
         print(f"evaluating {name} ({s.rollouts} rollouts in each of D0, D1, D2) ...", flush=True)
         limit = () if s.time_limit_s is None else ("--set", f"task.time_limit_s={s.time_limit_s:g}")
         workcell(s.work, "evaluate", "--policy", policy, "--world", ",".join(WORLDS),
                  "--rollouts", str(s.rollouts), "--seed", str(EVAL_SEED),
                  "--store", str(store), "--workers", str(s.workers), *limit)  # fmt: skip
+        done.write_text("done\n")
     source = StoreSource(store)
     try:
         sessions = {x.session_id for x in source.sessions()}

@@ -10,7 +10,7 @@ import sys
 from pathlib import Path
 
 import pytest
-from bench.learn_generated import Settings, fix_audit_definition, run
+from bench.learn_generated import Settings, fix_audit_definition, pending, run
 
 from workcell.audit.config import AuditConfig
 
@@ -50,3 +50,23 @@ def test_a_step_writes_its_output_to_the_log_as_it_comes_and_returns_it(tmp_path
     assert log.startswith("earlier step\n$ ") and log.endswith(said)
     with pytest.raises(SystemExit, match=r"failed \(3\); see commands.log"):
         run(tmp_path, sys.executable, "-c", "raise SystemExit(3)")
+
+
+def test_an_unfinished_step_starts_again_from_nothing_and_a_finished_one_is_kept(
+    tmp_path: Path,
+) -> None:
+    """A killed generation leaves a store with its side files, a killed training a
+    checkpoint directory with an early checkpoint: without the step's marker they are
+    removed and the step runs again; with it nothing is touched."""
+    store, policy = tmp_path / "generated.sqlite", tmp_path / "act-keep"
+    for leftover in (store, tmp_path / "generated.sqlite-wal", tmp_path / "generated.sqlite.lock"):
+        leftover.write_text("partial")
+    (policy / "checkpoints" / "last").mkdir(parents=True)
+    assert pending(tmp_path / "generate.txt", store)
+    assert pending(tmp_path / "train-keep.minutes", policy)
+    assert sorted(p.name for p in tmp_path.iterdir()) == []
+
+    store.write_text("whole")
+    (tmp_path / "generate.txt").write_text("1000 attempts, ...\n")
+    assert not pending(tmp_path / "generate.txt", store)
+    assert store.read_text() == "whole"
