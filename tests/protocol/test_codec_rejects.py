@@ -213,3 +213,27 @@ def test_a_surrogate_pair_is_one_character_and_passes() -> None:
     message = decode_client('{"type":"stop","reason":"\\ud83d\\ude00 done, \\\\ud800 typed"}')
     assert message == m.Stop(reason="\U0001f600 done, \\ud800 typed")
     assert decode_client(encode(message)) == message
+
+
+@pytest.mark.parametrize("depth", [65, 300, 900])
+def test_free_form_json_nested_deeper_than_the_encoder_writes_is_refused(depth: int) -> None:
+    """orjson writes at most 255 levels: settings nested deeper decoded, and the reply
+    that named them (ConfigRejected) could not be written; deep nesting with a lone
+    surrogate at its bottom is refused too, not raised as RecursionError."""
+    for leaf in ("1", '"\\ud800"'):
+        text = '{"type":"start_session","settings":{"a":' + "[" * depth + leaf + "]" * depth + "}}"
+        with pytest.raises(ProtocolError) as caught:
+            decode_client(text)
+        assert caught.value.code == "malformed"
+        error = m.Error(
+            code=caught.value.code, message=str(caught.value), problem=caught.value.problem
+        )
+        assert decode_server(encode(error)) == error
+
+
+def test_free_form_json_nested_64_deep_passes_and_encodes() -> None:
+    text = '{"type":"start_session","settings":{"a":' + "[" * 64 + "1" + "]" * 64 + "}}"
+    message = decode_client(text)
+    assert decode_client(encode(message)) == message
+    with pytest.raises(ProtocolError, match="must nest at most 64 levels deep"):
+        decode_client(text.replace("[", "[[", 1).replace("]", "]]", 1))

@@ -86,17 +86,21 @@ LONE_SURROGATE = (
 
 def has_utf8_form(value: Any) -> bool:
     """Every text in ``value`` (keys too) has a UTF-8 form: no lone surrogate, which the
-    JSON decoder lets through and neither the encoder nor the store can write."""
-    if isinstance(value, str):
-        try:
-            value.encode("utf-8")
-        except UnicodeEncodeError:
-            return False
-        return True
-    if isinstance(value, list):
-        return all(has_utf8_form(item) for item in value)
-    if isinstance(value, dict):
-        return all(has_utf8_form(key) and has_utf8_form(item) for key, item in value.items())
+    JSON decoder lets through and neither the encoder nor the store can write. Walked with
+    a list, not recursion: JSON nested as deep as the decoder allows is walked too."""
+    pending = [value]
+    while pending:
+        item = pending.pop()
+        if isinstance(item, str):
+            try:
+                item.encode("utf-8")
+            except UnicodeEncodeError:
+                return False
+        elif isinstance(item, list):
+            pending.extend(item)
+        elif isinstance(item, dict):
+            pending.extend(item)
+            pending.extend(item.values())
     return True
 
 

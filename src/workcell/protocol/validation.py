@@ -32,6 +32,9 @@ MAX_SAFE_INTEGER = 2**53 - 1
 """The largest integer a browser represents exactly."""
 INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 """The integers free-form JSON may hold: what the encoder and the store write."""
+MAX_NESTING = 64
+"""How deep free-form JSON may nest (no setting nests more than a few levels; the encoder,
+orjson, stops at 255, and every reply that echoes a value must be written)."""
 
 RANGES: dict[tuple[type, str], tuple[float, float]] = {
     (m.ControllerState, "grip"): (0.0, 1.0),
@@ -225,20 +228,23 @@ def _finite_float(value: int | float, path: str) -> float:
     return number
 
 
-def _require_finite(value: Any, path: str) -> None:
+def _require_finite(value: Any, path: str, depth: int = 0) -> None:
     """Free-form JSON (settings, event fields) holds finite numbers only: no NaN or
-    infinity, no integer beyond what a float holds, nor beyond 64 bits (what the encoder,
-    orjson, and the store write: a message that decodes must encode again)."""
+    infinity, no integer beyond what a float holds, nor beyond 64 bits, and nests at most
+    :data:`MAX_NESTING` deep (what the encoder, orjson, and the store write: a message
+    that decodes must encode again, and so must a reply that names its values)."""
     if type(value) in (int, float):
         _finite_float(value, path)
     if type(value) is int and not INT64_MIN <= value <= INT64_MAX:
         raise _invalid("invalid_value", path, value, "must be within -2^63 to 2^63 - 1")
+    if isinstance(value, list | dict) and depth >= MAX_NESTING:
+        raise _invalid("malformed", path, "[...]", f"must nest at most {MAX_NESTING} levels deep")
     if isinstance(value, list):
         for i, item in enumerate(value):
-            _require_finite(item, f"{path}[{i}]")
+            _require_finite(item, f"{path}[{i}]", depth + 1)
     elif isinstance(value, dict):
         for key, item in value.items():
-            _require_finite(item, f"{path}.{key}")
+            _require_finite(item, f"{path}.{key}", depth + 1)
 
 
 def _convert_union(value: Any, args: tuple[Any, ...], path: str) -> Any:
