@@ -184,7 +184,7 @@ def convert(value: Any, hint: Any, path: str) -> Any:
             raise _invalid("malformed", path, value, "must be text")
         return value
     if hint is object:
-        _require_finite(value, path)
+        _require_writable(value, path)
         return value
     if hint is type(None):
         if value is not None:
@@ -228,7 +228,7 @@ def _finite_float(value: int | float, path: str) -> float:
     return number
 
 
-def _require_finite(value: Any, path: str, depth: int = 0) -> None:
+def _require_writable(value: Any, path: str, depth: int = 0) -> None:
     """Free-form JSON (settings, event fields) holds finite numbers only: no NaN or
     infinity, no integer beyond what a float holds, nor beyond 64 bits, and nests at most
     :data:`MAX_NESTING` deep (what the encoder, orjson, and the store write: a message
@@ -241,10 +241,10 @@ def _require_finite(value: Any, path: str, depth: int = 0) -> None:
         raise _invalid("malformed", path, "[...]", f"must nest at most {MAX_NESTING} levels deep")
     if isinstance(value, list):
         for i, item in enumerate(value):
-            _require_finite(item, f"{path}[{i}]", depth + 1)
+            _require_writable(item, f"{path}[{i}]", depth + 1)
     elif isinstance(value, dict):
         for key, item in value.items():
-            _require_finite(item, f"{path}.{key}", depth + 1)
+            _require_writable(item, f"{path}.{key}", depth + 1)
 
 
 def _convert_union(value: Any, args: tuple[Any, ...], path: str) -> Any:

@@ -95,8 +95,6 @@ class ChildLink(asyncio.Protocol):
                 message = ForkingPickler.loads(body)
             start = end
             self._on_message(message)
-            if self.closed:
-                return
         del received[:start]
 
     def eof_received(self) -> bool:
