@@ -23,13 +23,15 @@ from pathlib import Path
 import numpy as np
 
 from bench import teleop_sources
-from bench.generate_worlds import TASK, record_sources, run_world
+from bench.generate_worlds import record_sources, run_world
 from workcell.generate.plan import GenerationPlan
 from workcell.generate.references import references_for
 from workcell.generate.source import SourceTrial, load_sources
 from workcell.generate.tally import Tally
 from workcell.tasks import WORLDS
 from workcell.tasks.registry import load_task
+
+TASK = "box_transfer"
 
 
 def describe(sources: tuple[SourceTrial, ...]) -> str:
@@ -82,10 +84,10 @@ def main() -> None:
             recorded = teleop_sources.record(stores["teleop"], args.sources, args.source_seed)
             print(f"  {recorded.successes} of {recorded.trials} succeeded ({recorded.reason})")
         if not stores["expert"].exists():
-            record_sources(stores["expert"], args.sources, args.source_seed)
+            record_sources(TASK, stores["expert"], args.sources, args.source_seed)
         results: dict[tuple[str, str], Tally] = {}
         for name, store in stores.items():
-            plan = GenerationPlan.of(load_sources(store, TASK), references)
+            plan = GenerationPlan.of(TASK, load_sources(store, TASK), references)
             print(f"{name} sources as {plan.operator_id}: {describe(plan.sources)}")
             for world in worlds:
                 out = folder / f"generated-{name}-{world}.sqlite"

@@ -15,6 +15,7 @@ re-check (every success is re-checked; those that fail are rejected and counted 
     .venv/bin/python bench/generate_worlds.py --source-store S.sqlite --worlds D2 --keep DIR
     .venv/bin/python bench/generate_worlds.py --naive      # the ablation: no re-targeting
     .venv/bin/python bench/generate_worlds.py --set 'world.target.zone=[0.4,0.4]'  # narrower
+    .venv/bin/python bench/generate_worlds.py --task shelve       # any task generation takes
 """
 
 from __future__ import annotations
@@ -31,6 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from workcell.cli.main import main as workcell
+from workcell.errors import WorkcellError
 from workcell.generate.attempts import run_attempt
 from workcell.generate.plan import GenerationPlan
 from workcell.generate.references import references_for
@@ -41,11 +43,10 @@ from workcell.session.load import resolve_session_config
 from workcell.tasks import WORLDS, world_overrides
 from workcell.tasks.registry import load_task
 
-TASK = "box_transfer"
 
-
-def record_sources(store: Path, trials: int, seed: int) -> None:
-    argv = ["collect", "--mode", "collection", "--trials", str(trials), "--seed", str(seed)]
+def record_sources(task: str, store: Path, trials: int, seed: int) -> None:
+    argv = ["collect", "--task", task, "--mode", "collection", "--trials", str(trials)]
+    argv += ["--seed", str(seed)]
     if workcell([*argv, "--world", "D0", "--store", str(store), "--writer", "inline"]) != 0:
         raise SystemExit("recording the source trials failed")
 
@@ -53,8 +54,12 @@ def record_sources(store: Path, trials: int, seed: int) -> None:
 def run_world(  # noqa: PLR0917 - a benchmark's knobs
     plan: GenerationPlan, world: str, attempts: int, seed: int, out: Path, sets: list[str]
 ) -> Tally:
-    task = load_task(TASK)
-    flags: dict[str, object] = {"task.kind": TASK, "task.mode": "collection", "task.trials": 1}
+    task = load_task(plan.task)
+    flags: dict[str, object] = {
+        "task.kind": plan.task,
+        "task.mode": "collection",
+        "task.trials": 1,
+    }
     flags.update(world_overrides(task.worlds[world]))  # type: ignore[index]
     config = resolve_session_config(None, sets, {**flags, "seed": seed})
     longest = max(float(s.t[-1]) for s in plan.sources)
@@ -84,22 +89,24 @@ def run_world(  # noqa: PLR0917 - a benchmark's knobs
 
 def placement_errors(plan: GenerationPlan, store: Path) -> list[float]:
     """For each attempt that delivered: how far (m) its box came to rest from where its
-    source trial's box rested, both relative to their own trial's goal (the zone's
-    centre): 0 when the segments were moved with the zone exactly. Box transfer's zone
-    (0.7 m) forgives much, so acceptance alone hides how well segments are re-targeted."""
+    source trial's box rested, both relative to their own trial's goal (box transfer's
+    zone's centre, shelve's board's): 0 when the segments were moved with the goal exactly.
+    Box transfer's zone (0.7 m) forgives much, so acceptance alone hides how well segments
+    are re-targeted."""
+    task = load_task(plan.task)
     sources = {s.trial_id: s for s in plan.sources}
     errors = []
     with Store.open(store, writer=False) as reader:
         trials = {t.trial_id: t for t in reader.trials()}
         for event in reader.events():
-            if event.kind != "generation" or event.payload["stage"] != "delivered":
+            if event.kind != "generation" or event.payload["stage"] != task.stages[-1]:
                 continue
             source = sources[str(event.payload["source_trial_id"])]
             trial = trials[str(event.payload["trial_id"])]
             frames = reader.frames(trial.trial_id)
             rest = _box_rest([str(text) for text in frames["boxes"]], source.box)
-            goal = trial.goal or {}
-            offset = np.array([rest[0] - goal["goal_x"], rest[1] - goal["goal_y"]])
+            goal = task.goal_site([(trial.goal or {})[name] for name in task.goal_names])
+            offset = np.array([rest[0] - goal[0], rest[1] - goal[1]])
             last = source.box_pose[np.isfinite(source.box_pose[:, 0])][-1]
             source_offset = np.array([last[0] - source.goal[0], last[1] - source.goal[1]])
             errors.append(float(np.linalg.norm(offset - source_offset)))
@@ -129,6 +136,7 @@ def print_placement(plan: GenerationPlan, world: str, store: Path) -> None:
 def main() -> None:
     sys.stdout.reconfigure(line_buffering=True)  # type: ignore[union-attr]
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--task", default="box_transfer", help="the task (its expert, D0)")
     parser.add_argument("--sources", type=int, default=10, help="expert source trials (D0)")
     parser.add_argument("--attempts", type=int, default=100, help="attempts per world")
     parser.add_argument("--worlds", default="D1,D2", help="comma-separated: D0, D1, D2")
@@ -155,17 +163,24 @@ def main() -> None:
     unknown = [w for w in worlds if w not in WORLDS]
     if unknown:
         raise SystemExit(f"--worlds: {', '.join(unknown)} unknown; allowed: {', '.join(WORLDS)}")
+    try:
+        references = references_for(load_task(args.task))
+    except WorkcellError as error:
+        raise SystemExit(str(error)) from None
     with tempfile.TemporaryDirectory() as scratch:
         folder = args.keep or Path(scratch)
         folder.mkdir(parents=True, exist_ok=True)
         sources = args.source_store or folder / "sources.sqlite"
         if args.source_store is None:
-            record_sources(sources, args.sources, args.source_seed)
-        task = load_task(TASK)
-        references = references_for(task)
-        plan = GenerationPlan.of(load_sources(sources, TASK), references, not args.naive)
+            record_sources(args.task, sources, args.sources, args.source_seed)
+        plan = GenerationPlan.of(
+            args.task, load_sources(sources, args.task), references, not args.naive
+        )
         how = "replayed where recorded (--naive)" if args.naive else "re-targeted"
-        print(f"{len(plan.sources)} source trials (expert, D0) as {plan.operator_id}, {how}")
+        print(
+            f"{len(plan.sources)} {args.task} source trials (expert, D0) as "
+            f"{plan.operator_id}, {how}"
+        )
         for world in worlds:
             out = folder / f"generated-{world}.sqlite"
             run_world(plan, world, args.attempts, args.seed, out, args.set)

@@ -1,5 +1,6 @@
-"""The settled re-check, on a real box at rest in the real delivery zone: a success that
-holds for a second passes, a box shoved off its rest within the second is caught."""
+"""The settled re-check, on a real box at rest in the real delivery zone and on a real shelf
+board: a success that holds for a second passes, a box shoved off its rest or its board
+within the second is caught."""
 
 from __future__ import annotations
 
@@ -13,7 +14,9 @@ from workcell.sim.config import FeederConfig, WorldConfig
 from workcell.sim.events import BoxCompleted
 from workcell.sim.world import World
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.palletize.task import Palletize
 from workcell.tasks.registry import BUILT_IN, load_task
+from workcell.tasks.shelve.shelf import BOARD_TOPS, ShelfLayout
 from workcell.tasks.shelve.task import Shelve
 
 
@@ -114,9 +117,54 @@ def test_a_success_with_nothing_delivered_or_a_task_without_a_check_does_not_hol
     assert check == Recheck(False, "no completed object to check")
     shelve = Shelve()
     shelf_sim = Simulation(WorldConfig(), shelve.scene())
-    shelf_sim.reset(0)
+    shelf_sim.reset(0)  # its box waits on the table: nothing shelved
     check = recheck(shelf_sim, StandStill(), shelve)
-    assert check == Recheck(False, "the task shelve has no settled check")
+    assert check == Recheck(False, "no completed object to check")
+    palletize = Palletize()
+    pallet_sim = Simulation(WorldConfig(), palletize.scene())
+    pallet_sim.reset(0)
+    check = recheck(pallet_sim, StandStill(), palletize)
+    assert check == Recheck(False, "the task palletize has no settled check")
+
+
+def shelved_sim() -> tuple[Simulation, ShelfLayout]:
+    """A shelve world whose box was set down at rest on the asked board, and its layout."""
+    sim = Simulation(WorldConfig(), Shelve().scene())
+    sim.reset(3)
+    world = sim.world
+    layout = ShelfLayout.from_recorded(world.conditions.task_values)
+    x, y = layout.board_center(layout.asked)
+    z = BOARD_TOPS[layout.asked] + world.conditions.box_size[2] / 2 + 0.001
+    slot = world.boxes.slots[0]
+    world.data.qpos[slot.qpos : slot.qpos + 7] = (x, y, z, 1.0, 0.0, 0.0, 0.0)
+    world.data.qvel[slot.qvel : slot.qvel + 6] = 0.0
+    for _ in range(40):
+        sim.step(Command())
+    return sim, layout
+
+
+class PushOff(StandStill):
+    """Moves every active box off the shelf (to 0.3 m above the factory's origin) once, half
+    a second in."""
+
+    def __init__(self) -> None:
+        self.calls = 0
+
+    def act(self, world: World) -> Command:
+        self.calls += 1
+        if self.calls == 20:
+            for slot in world.boxes.active():
+                world.data.qpos[slot.qpos : slot.qpos + 3] = (0.0, 0.0, 0.3)
+        return Command()
+
+
+def test_a_shelved_box_holds_and_one_taken_off_its_board_is_a_false_success() -> None:
+    sim, layout = shelved_sim()
+    check = recheck(sim, StandStill(), Shelve())
+    assert check == Recheck(True)
+    sim, layout = shelved_sim()
+    check = recheck(sim, PushOff(), Shelve())
+    assert check == Recheck(False, f"box 0 off the {layout.asked_name} board 0.50 s after success")
 
 
 def test_each_tasks_segment_references_name_its_stages() -> None:

@@ -40,7 +40,7 @@ def source(stages: list[str]) -> SourceTrial:
         stage=tuple(stages),
         box=0,
         box_pose=box,
-        goal=(1.6, 1.9),
+        goal=(1.6, 1.9, 0.0),
         box_size=(0.3, 0.3, 0.3),
     )
 

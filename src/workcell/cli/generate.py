@@ -127,7 +127,7 @@ def run(args: argparse.Namespace) -> int:
     task = load_task(config.task.kind)
     references = references_for(task)
     sources = load_sources(args.source, config.task.kind, args.source_operator)
-    plan = GenerationPlan.of(sources, references)
+    plan = GenerationPlan.of(config.task.kind, sources, references)
     config = _with_time_limit(config, plan, args.set)
     return _generate(args, plan, config)
 

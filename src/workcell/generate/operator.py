@@ -1,12 +1,15 @@
 """The generator's operator: a source trial's segments replayed in a new world.
 
-For each attempt (:meth:`GeneratedOperator.start_trial`) it picks one source trial from the
-attempt's seed; then, segment by segment, it takes the segment's object's pose in the new
+For each attempt it picks one source trial from the attempt's seed
+(:meth:`GeneratedOperator.start_trial`), among those whose goal stood at the attempt's goal's
+height where there are any (shelve's boards: a source that put its box on the asked board);
+then, segment by segment, it takes the segment's object's pose in the new
 world (waiting for an object still on the move to rest), moves the segment with it
 (:class:`~workcell.generate.planar.Planar`), joins the robot to the moved segment's first
 pose by a smooth blend (:data:`JOIN_SPEED`), and plays the moved segment: the base tracks
 the moved path (the source's twist fed forward, its pose error fed back), the arms the moved
-targets, grippers and head as recorded. A segment acting on the same object as the one
+targets, grippers and head as recorded (a segment acting on a goal at another height is also
+moved up or down by the difference). A segment acting on the same object as the one
 before it carries on with its motion, unjoined (a held box's pose says nothing new). It
 reads the world (the boxes, the zone, the base) and returns
 :class:`~workcell.control.command.Command` values, like every operator; it never asks the
@@ -37,6 +40,7 @@ from workcell.generate.segments import REST_S, REST_SPEED, Segment
 from workcell.generate.source import SourceTrial
 from workcell.sim.boxes import BoxState
 from workcell.sim.world import World
+from workcell.tasks.registry import load_task
 
 JOIN_SPEED = (0.3, 0.5, 0.25)
 """How fast a join moves the base (m/s, rad/s) and the hands (m/s) at most."""
@@ -46,6 +50,8 @@ GAIN = (2.0, 2.5)
 """Base pose feedback: per second of linear and of yaw error."""
 BOX_SYMMETRY = math.pi / 2
 """A box looks the same turned a quarter turn: a segment turns with it by the least angle."""
+SAME_HEIGHT_M = 0.01
+"""Goals whose heights differ by less than this (m) stand at one height."""
 
 
 class Phase(enum.Enum):
@@ -63,11 +69,17 @@ class SegmentRun:
     motion: Planar
     object_pose: Planar
     began_s: float
+    widen_m: float
+    """How far each hand was moved apart (a wider box than the source's)."""
+    lift_m: float
+    """How far both hands were moved up (a taller box; a goal at another height)."""
 
     def as_dict(self) -> dict[str, object]:
         return {
             **self.segment.as_dict(),
             "transform": self.motion.as_dict(),
+            "widen_m": round(self.widen_m, 6),
+            "lift_m": round(self.lift_m, 6),
             "object_pose": self.object_pose.as_dict(),
             "began_s": round(self.began_s, 4),
         }
@@ -86,15 +98,20 @@ class GeneratedOperator:
 
     def __init__(self, plan: GenerationPlan) -> None:
         self.plan = plan
+        self.task = load_task(plan.task)
         self.provenance = Provenance()
         self.start_trial(0)
 
     def start_trial(self, trial_seed: int) -> None:
-        rng = np.random.default_rng(trial_seed)
-        pick = int(rng.integers(len(self.plan.sources)))
-        self._source: SourceTrial = self.plan.sources[pick]
-        self._segments: tuple[Segment, ...] = self.plan.segments[pick]
-        self.provenance = Provenance(self._source.trial_id)
+        """A new attempt: its source trial is drawn from ``trial_seed`` when it first acts
+        (where the attempt's goal stands is known then)."""
+        self._rng = np.random.default_rng(trial_seed)
+        self._picked = False
+        self._source: SourceTrial = self.plan.sources[0]
+        self._segments: tuple[Segment, ...] = self.plan.segments[0]
+        self._goal = Planar()
+        self._goal_height = 0.0
+        self.provenance = Provenance()
         self._index = 0
         self._phase = Phase.WAIT
         self._t0: float | None = None
@@ -112,6 +129,8 @@ class GeneratedOperator:
     # --- the operator interface -------------------------------------------------------------
 
     def act(self, world: World) -> Command:
+        if not self._picked:
+            self._pick(world)
         if self._t0 is None:
             self._t0 = world.time
         if self._phase is Phase.WAIT:
@@ -121,6 +140,19 @@ class GeneratedOperator:
         if self._phase is Phase.PLAY:
             return self._play(world)
         return self._hold(world)
+
+    def _pick(self, world: World) -> None:
+        """Draw the attempt's source trial, among those whose goal stood at the height of
+        this attempt's goal (all of them where none did)."""
+        x, y, height = self.task.goal_site(self.task.goal(world.conditions.as_dict(), world.config))
+        self._goal, self._goal_height = Planar(x, y, 0.0), height
+        sources = self.plan.sources
+        level = [i for i, s in enumerate(sources) if abs(s.goal[2] - height) < SAME_HEIGHT_M]
+        candidates = level or list(range(len(sources)))
+        pick = candidates[int(self._rng.integers(len(candidates)))]
+        self._source, self._segments = sources[pick], self.plan.segments[pick]
+        self.provenance = Provenance(self._source.trial_id)
+        self._picked = True
 
     # --- phases ------------------------------------------------------------------------------
 
@@ -133,9 +165,12 @@ class GeneratedOperator:
         continues = previous is not None and previous.reference == seg.reference
         if not continues and self.plan.retarget:
             self._motion = Planar.between(seg.pose, pose)
-            self._size_change = self._size_delta(world)
+            half, lift = self._size_delta(world)
+            if seg.reference == "goal":
+                lift += self._goal_height - self._source.goal[2]
+            self._size_change = (half, lift)
         self.provenance.segments.append(
-            SegmentRun(seg, self._motion, pose, world.time - (self._t0 or 0.0))
+            SegmentRun(seg, self._motion, pose, world.time - (self._t0 or 0.0), *self._size_change)
         )
         if continues:
             # the same object on: the motion goes on as it was (a held box moves with
@@ -205,8 +240,7 @@ class GeneratedOperator:
     def _object_pose(self, world: World, seg: Segment) -> Planar | None:
         """The segment's object's pose now, or None while a box it waits for still moves."""
         if seg.reference == "goal":
-            center = world.zone.center
-            return Planar(float(center[0]), float(center[1]), 0.0)
+            return self._goal
         boxes = world.boxes
         slot = boxes.slots[self._source.box]
         if slot.state is not BoxState.ACTIVE:

@@ -25,6 +25,8 @@ def generated_operator_id(source_ids: Sequence[str]) -> str:
 class GenerationPlan:
     """The source trials and their segments (frozen and picklable, for worker processes)."""
 
+    task: str
+    """The task whose trials these are (its registered name)."""
     sources: tuple[SourceTrial, ...]
     segments: tuple[tuple[Segment, ...], ...]
     """Each source trial's segments, in the order of :attr:`sources`."""
@@ -34,10 +36,13 @@ class GenerationPlan:
 
     @staticmethod
     def of(
-        sources: Sequence[SourceTrial], references: Mapping[str, Reference], retarget: bool = True
+        task: str,
+        sources: Sequence[SourceTrial],
+        references: Mapping[str, Reference],
+        retarget: bool = True,
     ) -> GenerationPlan:
         segments = tuple(segment(s, references) for s in sources)
-        return GenerationPlan(tuple(sources), segments, retarget)
+        return GenerationPlan(task, tuple(sources), segments, retarget)
 
     @property
     def operator_id(self) -> str:

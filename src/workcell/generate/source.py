@@ -2,8 +2,9 @@
 
 Only what replay needs is kept, per frame: the trial clock, the base's pose and commanded
 twist, both arms' TCP targets (base frame), follow flags and gripper commands, the head
-command, the task's stage, and the pose of the box the trial grasped; with the trial's goal
-(box transfer: its target zone's centre). A source trial is a successful trial of the
+command, the task's stage, and the pose of the box the trial grasped; with where the trial's
+goal was (:meth:`workcell.tasks.Task.goal_site`: box transfer's target zone's centre, shelve's
+asked board and its height). A source trial is a successful trial of the
 task; failed, timed-out and interrupted trials are not replayed.
 """
 
@@ -23,6 +24,7 @@ from workcell.generate.errors import GenerateError
 from workcell.generate.planar import yaw_of
 from workcell.record.columns import pose_columns
 from workcell.record.entries import EventRecord
+from workcell.tasks.task import Task
 
 NO_BOX = -1
 
@@ -52,8 +54,9 @@ class SourceTrial:
     """The index of the box the trial grasped."""
     box_pose: NDArray[np.float64]
     """(n, 4): that box's x, y, yaw and speed (m/s) at each frame (NaN where not active)."""
-    goal: tuple[float, float]
-    """Where the trial's boxes went (the target zone's centre, x and y)."""
+    goal: tuple[float, float, float]
+    """Where the trial's goal was: x, y in the world and a height (the task's
+    :meth:`~workcell.tasks.Task.goal_site`)."""
     box_size: tuple[float, float, float]
     """The sides of the trial's boxes (m), as its conditions recorded them."""
 
@@ -65,7 +68,7 @@ def load_sources(store: Path, task: str, operators: Sequence[str] = ()) -> tuple
     """The successful trials of ``task`` in ``store`` (only those of ``operators``, when
     given), in recording order; a GenerateError saying what is missing otherwise."""
     from workcell.record.store import Store  # noqa: PLC0415
-    from workcell.tasks.registry import recorded_kind  # noqa: PLC0415
+    from workcell.tasks.registry import load_task, recorded_kind  # noqa: PLC0415
 
     if not store.is_file():
         raise GenerateError(f"--source {store}: no such store (record source trials first)")
@@ -94,16 +97,34 @@ def load_sources(store: Path, task: str, operators: Sequence[str] = ()) -> tuple
                 f"--source {store}: none of its {len(chosen)} trials of {task} succeeded; "
                 "generation replays successful trials only"
             )
+        goal_of = _GoalSite(load_task(task))
         return tuple(
             _source(
                 t.trial_id,
                 sessions[t.session_id].operator_id,
                 reader.frames(t.trial_id),
-                t.goal,
+                goal_of(t.trial_id, t.goal),
                 _box_size(reader.events(t.trial_id)),
             )
             for t in successes
         )
+
+
+class _GoalSite:
+    """A source trial's goal site, from the goal its trial row recorded."""
+
+    def __init__(self, task: Task) -> None:
+        self.task = task
+
+    def __call__(self, trial_id: str, goal: dict[str, Any] | None) -> tuple[float, float, float]:
+        names = self.task.goal_names
+        numbers = [float((goal or {}).get(name, math.nan)) for name in names]
+        site = self.task.goal_site(numbers) if numbers else (math.nan,) * 3
+        if not all(math.isfinite(v) for v in site):
+            raise GenerateError(
+                f"source trial {trial_id}: its goal ({', '.join(names)}) is not recorded"
+            )
+        return site
 
 
 def _box_size(events: Sequence[EventRecord]) -> tuple[float, float, float]:
@@ -119,7 +140,7 @@ def _source(
     trial_id: str,
     operator_id: str,
     frames: dict[str, NDArray[Any]],
-    goal: dict[str, Any] | None,
+    goal: tuple[float, float, float],
     box_size: tuple[float, float, float],
 ) -> SourceTrial:
     n = len(frames["t_sim"])
@@ -144,9 +165,6 @@ def _source(
     step = np.diff(box_pose[:, :2], axis=0) / np.maximum(np.diff(t), 1e-9)[:, None]
     box_pose[1:, 3] = np.linalg.norm(step, axis=1)
     box_pose[0, 3] = box_pose[1, 3] if n > 1 else np.nan
-    goal_xy = (float((goal or {}).get("goal_x", np.nan)), float((goal or {}).get("goal_y", np.nan)))
-    if not all(np.isfinite(goal_xy)):
-        raise GenerateError(f"source trial {trial_id}: its goal (goal_x, goal_y) is not recorded")
     return SourceTrial(
         trial_id=trial_id,
         operator_id=operator_id,
@@ -166,6 +184,6 @@ def _source(
         stage=tuple(str(s) for s in frames["stage"]),
         box=box,
         box_pose=box_pose,
-        goal=goal_xy,
+        goal=goal,
         box_size=box_size,
     )

@@ -12,7 +12,7 @@ trial succeeded: the success rule is written once, in the task.
 from __future__ import annotations
 
 from abc import ABC, abstractmethod
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from typing import TYPE_CHECKING, Any, ClassVar, Literal, Protocol
 
@@ -154,6 +154,13 @@ class Task(ABC):
     @abstractmethod
     def expert(self, config: ExpertConfig) -> Operator:
         """The task's scripted expert at ``config``'s skill."""
+
+    def goal_site(self, goal: Sequence[float]) -> tuple[float, float, float]:
+        """Where a trial's goal is, from :meth:`goal`'s numbers: x and y in the world and a
+        height (m; 0 for a goal on the floor plan only). Data generation moves a segment
+        acting on the goal from the source trial's site to the attempt's; by default the
+        goal's first two numbers, at height 0."""
+        return float(goal[0]), float(goal[1]), 0.0
 
     def settled_check(self, world: World) -> SettledCheck | None:
         """A check that the objects ``world``'s trial completed stay completed, taken the

@@ -3,18 +3,21 @@
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
+from types import MappingProxyType
 from typing import Any, ClassVar
 
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
+from workcell.sim.world import World
 from workcell.task.operator import Operator
 from workcell.tasks.shelve.expert import ShelveExpert
 from workcell.tasks.shelve.judge import ShelveJudge
 from workcell.tasks.shelve.scene import ShelveScene
+from workcell.tasks.shelve.settled import ShelvedBoxStays
 from workcell.tasks.shelve.shelf import ShelfLayout
 from workcell.tasks.shelve.stages import SHELVE_STAGES
-from workcell.tasks.task import Task
+from workcell.tasks.task import Reference, Task
 from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ASKED = "Put the box from the table on the {shelf} shelf."
@@ -37,6 +40,19 @@ class Shelve(Task):
     goal_names: ClassVar[tuple[str, ...]] = ("shelf_x", "shelf_y", "shelf_height")
     """The asked board's centre in the world and its top's height (m)."""
 
+    segment_references: ClassVar[Mapping[str, Reference]] = MappingProxyType(
+        {
+            "none": "box",
+            "touched": "box",
+            "grasped": "box",
+            "lifted": "box",
+            "placed": "goal",
+            "settled": "goal",
+        }
+    )
+    """Up to the lift the arms act on the box on the table (reaching, closing, lifting it),
+    from then on on the asked board (carrying the box there, setting it down)."""
+
     def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
         layout = ShelfLayout.from_recorded(conditions.get("task"))
         x, y = layout.board_center(layout.asked)
@@ -58,3 +74,10 @@ class Shelve(Task):
 
     def expert(self, config: ExpertConfig) -> Operator:
         return ShelveExpert(config)
+
+    def goal_site(self, goal: Sequence[float]) -> tuple[float, float, float]:
+        """The asked board's centre and the height of its top."""
+        return float(goal[0]), float(goal[1]), float(goal[2])
+
+    def settled_check(self, world: World) -> ShelvedBoxStays:
+        return ShelvedBoxStays(world)

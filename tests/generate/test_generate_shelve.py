@@ -1,0 +1,88 @@
+"""``workcell generate --task shelve``: a second task generated through the same path as box
+transfer's. Expert shelve trials recorded with ``workcell collect`` are replayed in new
+worlds (real MuJoCo, real SQLite) in a guarded interpreter that fails if the expert is
+built; each attempt replays a source that put its box on the attempt's asked board where
+there is one, and otherwise moves the carry up or down by the boards' height difference;
+a success is re-checked by shelve's settled check."""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any
+
+import pytest
+
+from tests.generate.test_generate import EXPERT_BUILT, generation_events, guarded
+from workcell.cli.main import main
+from workcell.record import Store
+from workcell.record.verify import verify_store
+from workcell.tasks.shelve.shelf import BOARD_TOPS
+
+RECHECK_HELD = {"seconds": 1.0, "settle_s": 0.25, "held": True, "reason": None}
+
+
+def collect(store: Path, trials: int) -> None:
+    argv = ["collect", "--task", "shelve", "--mode", "collection", "--trials", str(trials)]
+    assert main([*argv, "--seed", "1", "--store", str(store), "--writer", "inline"]) == 0
+
+
+def generate(sources: Path, out: Path, attempts: int, seed: int, world: str) -> str:
+    run = guarded(
+        out.with_name(EXPERT_BUILT),
+        "generate", "--task", "shelve", "--source", str(sources), "--attempts", str(attempts),
+        "--seed", str(seed), "--store", str(out), "--world", world,
+    )  # fmt: skip
+    assert run.returncode == 0, run.stderr
+    assert not out.with_name(EXPERT_BUILT).exists()
+    return run.stdout
+
+
+def heights(store: Path) -> dict[str, float]:
+    """Each trial's asked board height."""
+    with Store.open(store, writer=False) as reader:
+        return {t.trial_id: float((t.goal or {})["shelf_height"]) for t in reader.trials()}
+
+
+def goal_lifts(payload: dict[str, Any]) -> set[float]:
+    return {float(s["lift_m"]) for s in payload["segments"] if s["reference"] == "goal"}
+
+
+@pytest.fixture(scope="module")
+def three_boards(tmp_path_factory: pytest.TempPathFactory) -> Path:
+    """Three expert trials (seed 1): one on each board."""
+    store = tmp_path_factory.mktemp("shelve") / "sources.sqlite"
+    collect(store, 3)
+    assert sorted(heights(store).values()) == sorted(BOARD_TOPS)
+    return store
+
+
+def test_attempts_replay_a_source_of_the_asked_board(three_boards: Path, tmp_path: Path) -> None:
+    out = tmp_path / "generated.sqlite"
+    stdout = generate(three_boards, out, 3, 7, "D1")
+    assert "3/3 accepted" in stdout, stdout
+    source_heights, asked = heights(three_boards), heights(out)
+    events = generation_events(out)
+    assert set(events) == set(asked)
+    for trial_id, payload in events.items():
+        assert payload["accepted"] and payload["recheck"] == RECHECK_HELD
+        assert source_heights[payload["source_trial_id"]] == asked[trial_id]
+        assert goal_lifts(payload) == {0.0}
+        stages = [s["end_stage"] for s in payload["segments"]]
+        assert stages[-1] == "settled"
+        assert {s["reference"] for s in payload["segments"]} == {"box", "goal"}
+    assert verify_store(out) == []
+
+
+def test_a_source_of_another_board_is_moved_by_the_height_difference(tmp_path: Path) -> None:
+    sources = tmp_path / "one.sqlite"
+    collect(sources, 1)
+    (source_height,) = heights(sources).values()
+    out = tmp_path / "generated.sqlite"
+    generate(sources, out, 4, 3, "D0")
+    asked = heights(out)
+    assert len(set(asked.values())) > 1, "the attempts should ask more than one board"
+    for trial_id, payload in generation_events(out).items():
+        (lift,) = goal_lifts(payload)
+        assert lift == pytest.approx(asked[trial_id] - source_height, abs=1e-6)
+        assert {s["lift_m"] for s in payload["segments"] if s["reference"] == "box"} == {0.0}
+        assert payload["accepted"], payload["reason"]
