@@ -190,7 +190,8 @@ def test_bad_input_gets_one_clear_error(
             ["--source", str(sources), "--source-operator", "nobody"],
             "no trials of task box_transfer by operator nobody",
         ),
-        (["--source", str(sources), "--task", "palletize"], "palletize: the task declares no"),
+        (["--source", str(sources), "--task", "sort"], "sort: the task declares no"),
+        (["--source", str(sources), "--task", "palletize"], "no trials of task palletize"),
         (["--source", str(sources), "--world", "D3"], "invalid choice: 'D3'"),
         (["--source", str(sources), "--attempts", "0"], "--attempts = 0: must be 1 to"),
     ]

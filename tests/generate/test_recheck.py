@@ -14,10 +14,13 @@ from workcell.sim.config import FeederConfig, WorldConfig
 from workcell.sim.events import BoxCompleted
 from workcell.sim.world import World
 from workcell.tasks.box_transfer.task import BoxTransfer
+from workcell.tasks.palletize.layout import PalletLayout
 from workcell.tasks.palletize.task import Palletize
 from workcell.tasks.registry import BUILT_IN, load_task
 from workcell.tasks.shelve.shelf import BOARD_TOPS, ShelfLayout
 from workcell.tasks.shelve.task import Shelve
+from workcell.tasks.sort.task import Sort
+from workcell.tasks.task import BY_GRASP, Task
 
 
 class StandStill:
@@ -120,11 +123,11 @@ def test_a_success_with_nothing_delivered_or_a_task_without_a_check_does_not_hol
     shelf_sim.reset(0)  # its box waits on the table: nothing shelved
     check = recheck(shelf_sim, StandStill(), shelve)
     assert check == Recheck(False, "no completed object to check")
-    palletize = Palletize()
-    pallet_sim = Simulation(WorldConfig(), palletize.scene())
-    pallet_sim.reset(0)
-    check = recheck(pallet_sim, StandStill(), palletize)
-    assert check == Recheck(False, "the task palletize has no settled check")
+    sort = Sort()
+    sort_sim = Simulation(WorldConfig(), sort.scene())
+    sort_sim.reset(0)
+    check = recheck(sort_sim, StandStill(), sort)
+    assert check == Recheck(False, "the task sort has no settled check")
 
 
 def shelved_sim() -> tuple[Simulation, ShelfLayout]:
@@ -144,8 +147,8 @@ def shelved_sim() -> tuple[Simulation, ShelfLayout]:
 
 
 class PushOff(StandStill):
-    """Moves every active box off the shelf (to 0.3 m above the factory's origin) once, half
-    a second in."""
+    """Moves every box in play off its shelf or pallet (to 0.3 m above the factory's
+    origin) once, half a second in."""
 
     def __init__(self) -> None:
         self.calls = 0
@@ -153,8 +156,9 @@ class PushOff(StandStill):
     def act(self, world: World) -> Command:
         self.calls += 1
         if self.calls == 20:
-            for slot in world.boxes.active():
-                world.data.qpos[slot.qpos : slot.qpos + 3] = (0.0, 0.0, 0.3)
+            for slot in world.boxes.slots:
+                if slot.state is not BoxState.PARKED:
+                    world.data.qpos[slot.qpos : slot.qpos + 3] = (0.0, 0.0, 0.3)
         return Command()
 
 
@@ -171,8 +175,39 @@ def test_each_tasks_segment_references_name_its_stages() -> None:
     declared = 0
     for name in BUILT_IN:
         task = load_task(name)
-        if task.segment_references is not None:
-            declared += 1
-            assert tuple(task.segment_references) == task.stages, name
-            assert set(task.segment_references.values()) <= {"box", "goal"}, name
-    assert declared >= 1
+        references = task.segment_references
+        if references is None:
+            continue
+        declared += 1
+        assert type(task).settled_check is not Task.settled_check, name
+        if isinstance(references, str):
+            assert references == BY_GRASP, name
+            continue
+        assert tuple(references) == task.stages, name
+        assert set(references.values()) <= {"box", "goal"}, name
+    assert declared == 3  # box transfer, shelve, palletize
+
+
+def palletized_sim() -> Simulation:
+    """A palletize world whose four boxes were set down at rest, one in each slot."""
+    sim = Simulation(WorldConfig(), Palletize().scene())
+    sim.reset(0)
+    world = sim.world
+    layout = PalletLayout.of(world.conditions.as_dict(), world.config)
+    for index, slot in enumerate(world.boxes.slots[:4]):
+        if slot.state is BoxState.PARKED:
+            assert world.boxes.release(world.data, world.time) is slot
+        x, y = layout.slot_center(index)
+        world.data.qpos[slot.qpos : slot.qpos + 7] = (x, y, layout.rest_z + 0.001, 1, 0, 0, 0)
+        world.data.qvel[slot.qvel : slot.qvel + 6] = 0.0
+    for _ in range(40):
+        sim.step(Command())
+    return sim
+
+
+def test_a_full_pallet_holds_and_a_box_knocked_out_of_its_slot_is_a_false_success() -> None:
+    check = recheck(palletized_sim(), StandStill(), Palletize())
+    assert check == Recheck(True)
+    assert Palletize().settled_check(palletized_sim().world).objects == 4
+    check = recheck(palletized_sim(), PushOff(), Palletize())
+    assert check == Recheck(False, "box 0 out of slot 1 0.50 s after success")

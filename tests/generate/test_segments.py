@@ -1,5 +1,6 @@
-"""Cutting a source trial at its recorded stage changes, each segment anchored on its
-object: a box still riding the belt is waited for until it has rested."""
+"""Cutting a source trial at its recorded stage changes (or, for a task carrying several
+boxes, where the hands take and let go of each), each segment anchored on its object: a box
+still riding the belt is waited for until it has rested."""
 
 from __future__ import annotations
 
@@ -8,10 +9,12 @@ import pytest
 
 from workcell.generate.errors import GenerateError
 from workcell.generate.references import references_for
-from workcell.generate.segments import segment
-from workcell.generate.source import SourceTrial
+from workcell.generate.segments import REACH_M, segment
+from workcell.generate.source import NO_BOX, SourceTrial
 from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.palletize.task import Palletize
+from workcell.tasks.sort.task import Sort
+from workcell.tasks.task import BY_GRASP, GoalSite
 
 RATE_HZ = 20
 REFERENCES = references_for(BoxTransfer())
@@ -39,8 +42,9 @@ def source(stages: list[str]) -> SourceTrial:
         head=np.zeros((n, 2)),
         stage=tuple(stages),
         box=0,
-        box_pose=box,
-        goal=(1.6, 1.9, 0.0),
+        attached=np.full(n, NO_BOX),
+        box_poses={0: box},
+        sites=(GoalSite(1.6, 1.9),),
         box_size=(0.3, 0.3, 0.3),
     )
 
@@ -67,8 +71,9 @@ def test_segments_end_where_the_stage_changes_and_act_on_their_object() -> None:
 def test_a_trial_without_its_tasks_stages_is_refused() -> None:
     with pytest.raises(GenerateError, match="recorded before schema version 5"):
         segment(source(["None"] * 10), REFERENCES)
-    with pytest.raises(GenerateError, match="palletize: the task declares no segment ref"):
-        references_for(Palletize())
+    with pytest.raises(GenerateError, match="sort: the task declares no segment ref"):
+        references_for(Sort())
+    assert references_for(Palletize()) == BY_GRASP
 
     class Shortened(BoxTransfer):
         stages = ("none", "touched", "grasped", "lifted", "delivered")
@@ -85,7 +90,7 @@ def creeping(speeds: np.ndarray) -> SourceTrial:
     box = trial.box_pose.copy()
     box[41:, 3] = speeds[: len(box) - 41]
     box[41:, 0] = box[40, 0] + np.cumsum(box[41:, 3]) / RATE_HZ
-    return SourceTrial(**{**trial.__dict__, "operator_id": "teleop", "box_pose": box})
+    return SourceTrial(**{**trial.__dict__, "operator_id": "teleop", "box_poses": {0: box}})
 
 
 def test_a_box_taken_while_it_still_creeps_is_moved_from_where_the_hands_met_it() -> None:
@@ -112,7 +117,44 @@ def test_a_box_moving_in_the_hands_from_the_grasp_on_is_not_waited_for() -> None
     trial = source(stages)
     box = trial.box_pose.copy()
     box[80:, 3] = 0.3
-    moving = SourceTrial(**{**trial.__dict__, "box_pose": box})
+    moving = SourceTrial(**{**trial.__dict__, "box_poses": {0: box}})
     first, second, *_ = segment(moving, REFERENCES)
     assert first.waits_for_rest and first.anchor == 51
     assert (second.start, second.anchor, second.waits_for_rest) == (80, 80, False)
+
+
+def two_carries() -> SourceTrial:
+    """Two boxes carried to two goal sites, 1 s a frame apart: box 0 waits at (0, 0) and is
+    held in frames 20-39, box 1 at (0, 1) in frames 70-89; from frame 40 the base stands
+    at y = 1 and drives from x = 4 back toward box 1 (x falling 0.2 m a frame to 0.5)."""
+    n = 100
+    attached = np.full(n, NO_BOX)
+    attached[20:40], attached[70:90] = 0, 1
+    base = np.zeros((n, 3))
+    base[:, 0] = np.clip(4.0 - 0.2 * (np.arange(n) - 40), 0.5, 4.0)
+    base[:20, 0] = 0.5
+    base[40:, 1] = 1.0
+    poses = {b: np.zeros((n, 4)) for b in (0, 1)}
+    poses[1][:, 1] = 1.0
+    poses[0][40:, :2] = (4.2, 0.3)  # let go of beside the first site
+    poses[1][90:, :2] = (4.2, -0.9)  # and beside the second
+    trial = source(["none"] * 20 + ["grasped"] * 20 + ["placed_1"] * 50 + ["placed_2"] * 10)
+    fields = {**trial.__dict__, "base": base, "attached": attached, "box_poses": poses}
+    return SourceTrial(**{**fields, "sites": (GoalSite(4.2, -1.0), GoalSite(4.2, 0.2))})
+
+
+def test_a_task_of_several_boxes_is_cut_where_the_hands_take_and_let_go_of_each() -> None:
+    segments = segment(two_carries(), BY_GRASP)
+    assert [(s.start, s.end, s.reference, s.box, s.site) for s in segments] == [
+        (0, 20, "box", 0, 0),  # to the grasp of box 0
+        (20, 40, "goal", 0, 1),  # carried to the site nearest where it was let go of
+        (40, 55, "goal", 0, 1),  # travelling back: the carry's motion goes on ...
+        (55, 70, "box", 1, 0),  # ... until the base is within REACH_M of box 1
+        (70, 90, "goal", 1, 0),
+        (90, 99, "goal", 1, 0),  # after the last let-go: on with the same motion
+    ]
+    assert two_carries().base[55, 0] <= REACH_M < two_carries().base[54, 0]
+    travel, reach = segments[2], segments[3]
+    assert travel.acts_on_same_object(segments[1]) and not reach.acts_on_same_object(travel)
+    assert (reach.pose.x, reach.pose.y) == (0.0, 1.0)
+    assert (segments[4].pose.x, segments[4].pose.y) == (4.2, -1.0)

@@ -41,6 +41,7 @@ from workcell.generate.source import SourceTrial
 from workcell.sim.boxes import BoxState
 from workcell.sim.world import World
 from workcell.tasks.registry import load_task
+from workcell.tasks.task import GoalSite
 
 JOIN_SPEED = (0.3, 0.5, 0.25)
 """How fast a join moves the base (m/s, rad/s) and the hands (m/s) at most."""
@@ -109,8 +110,7 @@ class GeneratedOperator:
         self._picked = False
         self._source: SourceTrial = self.plan.sources[0]
         self._segments: tuple[Segment, ...] = self.plan.segments[0]
-        self._goal = Planar()
-        self._goal_height = 0.0
+        self._sites: tuple[GoalSite, ...] = ()
         self.provenance = Provenance()
         self._index = 0
         self._phase = Phase.WAIT
@@ -142,12 +142,15 @@ class GeneratedOperator:
         return self._hold(world)
 
     def _pick(self, world: World) -> None:
-        """Draw the attempt's source trial, among those whose goal stood at the height of
-        this attempt's goal (all of them where none did)."""
-        x, y, height = self.task.goal_site(self.task.goal(world.conditions.as_dict(), world.config))
-        self._goal, self._goal_height = Planar(x, y, 0.0), height
+        """Draw the attempt's source trial, among those whose (first) goal site stood at
+        the height of this attempt's (all of them where none did)."""
+        goal = self.task.goal(world.conditions.as_dict(), world.config)
+        self._sites = self.task.goal_sites(goal)
+        height = self._sites[0].height
         sources = self.plan.sources
-        level = [i for i, s in enumerate(sources) if abs(s.goal[2] - height) < SAME_HEIGHT_M]
+        level = [
+            i for i, s in enumerate(sources) if abs(s.sites[0].height - height) < SAME_HEIGHT_M
+        ]
         candidates = level or list(range(len(sources)))
         pick = candidates[int(self._rng.integers(len(candidates)))]
         self._source, self._segments = sources[pick], self.plan.segments[pick]
@@ -162,12 +165,12 @@ class GeneratedOperator:
         if pose is None:
             return
         previous = self._segments[self._index - 1] if self._index else None
-        continues = previous is not None and previous.reference == seg.reference
+        continues = seg.acts_on_same_object(previous)
         if not continues and self.plan.retarget:
             self._motion = Planar.between(seg.pose, pose)
-            half, lift = self._size_delta(world)
+            half, lift = self._size_delta(world, seg.box)
             if seg.reference == "goal":
-                lift += self._goal_height - self._source.goal[2]
+                lift += self._sites[seg.site].height - self._source.sites[seg.site].height
             self._size_change = (half, lift)
         self.provenance.segments.append(
             SegmentRun(seg, self._motion, pose, world.time - (self._t0 or 0.0), *self._size_change)
@@ -240,9 +243,10 @@ class GeneratedOperator:
     def _object_pose(self, world: World, seg: Segment) -> Planar | None:
         """The segment's object's pose now, or None while a box it waits for still moves."""
         if seg.reference == "goal":
-            return self._goal
+            site = self._sites[seg.site]
+            return Planar(site.x, site.y, site.yaw)
         boxes = world.boxes
-        slot = boxes.slots[self._source.box]
+        slot = boxes.slots[seg.box]
         if slot.state is not BoxState.ACTIVE:
             self._rest_since = None
             return None
@@ -260,13 +264,13 @@ class GeneratedOperator:
         turn = (yaw - seg.pose.yaw + BOX_SYMMETRY / 2) % BOX_SYMMETRY - BOX_SYMMETRY / 2
         return Planar(x, y, seg.pose.yaw + turn)
 
-    def _size_delta(self, world: World) -> tuple[float, float]:
-        """How much wider (per hand) and taller (half) this attempt's box is than the
-        source's: the hands move apart and up by as much."""
+    def _size_delta(self, world: World, box: int) -> tuple[float, float]:
+        """How much wider (per hand) and taller (half) this attempt's box ``box`` is than
+        the source's: the hands move apart and up by as much."""
         source = self._source.box_size
         if not all(math.isfinite(v) for v in source):
             return (0.0, 0.0)
-        size = world.boxes.size_of(world.boxes.slots[self._source.box])
+        size = world.boxes.size_of(world.boxes.slots[box])
         return ((size[1] - source[1]) / 2, (size[2] - source[2]) / 2)
 
     def _moved(self, t: float) -> MotionSample:

@@ -3,12 +3,12 @@
 from __future__ import annotations
 
 import hashlib
-from collections.abc import Mapping, Sequence
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 from workcell.generate.segments import Segment, segment
 from workcell.generate.source import SourceTrial
-from workcell.tasks.task import Reference
+from workcell.tasks.task import SegmentReferences
 
 OPERATOR_PREFIX = "generated-"
 HASH_CHARS = 10
@@ -38,7 +38,7 @@ class GenerationPlan:
     def of(
         task: str,
         sources: Sequence[SourceTrial],
-        references: Mapping[str, Reference],
+        references: SegmentReferences,
         retarget: bool = True,
     ) -> GenerationPlan:
         segments = tuple(segment(s, references) for s in sources)

@@ -2,9 +2,10 @@
 
 Only what replay needs is kept, per frame: the trial clock, the base's pose and commanded
 twist, both arms' TCP targets (base frame), follow flags and gripper commands, the head
-command, the task's stage, and the pose of the box the trial grasped; with where the trial's
-goal was (:meth:`workcell.tasks.Task.goal_site`: box transfer's target zone's centre, shelve's
-asked board and its height). A source trial is a successful trial of the
+command, the task's stage, which box the hands held, and the pose of every box the trial
+grasped; with where the trial's goal sites were (:meth:`workcell.tasks.Task.goal_sites`: box
+transfer's target zone's centre, shelve's asked board and its height, palletize's four
+slots and the pallet's turn). A source trial is a successful trial of the
 task; failed, timed-out and interrupted trials are not replayed.
 """
 
@@ -12,7 +13,7 @@ from __future__ import annotations
 
 import json
 import math
-from collections.abc import Sequence
+from collections.abc import Mapping, Sequence
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
@@ -24,7 +25,7 @@ from workcell.generate.errors import GenerateError
 from workcell.generate.planar import yaw_of
 from workcell.record.columns import pose_columns
 from workcell.record.entries import EventRecord
-from workcell.tasks.task import Task
+from workcell.tasks.task import GoalSite, Task
 
 NO_BOX = -1
 
@@ -51,17 +52,24 @@ class SourceTrial:
     stage: tuple[str, ...]
     """Each frame's stage, as the task's judge said."""
     box: int
-    """The index of the box the trial grasped."""
-    box_pose: NDArray[np.float64]
-    """(n, 4): that box's x, y, yaw and speed (m/s) at each frame (NaN where not active)."""
-    goal: tuple[float, float, float]
-    """Where the trial's goal was: x, y in the world and a height (the task's
-    :meth:`~workcell.tasks.Task.goal_site`)."""
+    """The index of the box the trial grasped first."""
+    attached: NDArray[np.int64]
+    """(n,): the box the hands held at each frame (:data:`NO_BOX`: none)."""
+    box_poses: Mapping[int, NDArray[np.float64]]
+    """For each box the trial grasped, (n, 4): its x, y, yaw and speed (m/s) at each frame
+    (NaN where not active)."""
+    sites: tuple[GoalSite, ...]
+    """Where the trial's objects went (the task's :meth:`~workcell.tasks.Task.goal_sites`)."""
     box_size: tuple[float, float, float]
     """The sides of the trial's boxes (m), as its conditions recorded them."""
 
     def __len__(self) -> int:
         return len(self.t)
+
+    @property
+    def box_pose(self) -> NDArray[np.float64]:
+        """(n, 4): the pose and speed of the box the trial grasped first."""
+        return self.box_poses[self.box]
 
 
 def load_sources(store: Path, task: str, operators: Sequence[str] = ()) -> tuple[SourceTrial, ...]:
@@ -111,20 +119,21 @@ def load_sources(store: Path, task: str, operators: Sequence[str] = ()) -> tuple
 
 
 class _GoalSite:
-    """A source trial's goal site, from the goal its trial row recorded."""
+    """A source trial's goal sites, from the goal its trial row recorded."""
 
     def __init__(self, task: Task) -> None:
         self.task = task
 
-    def __call__(self, trial_id: str, goal: dict[str, Any] | None) -> tuple[float, float, float]:
+    def __call__(self, trial_id: str, goal: dict[str, Any] | None) -> tuple[GoalSite, ...]:
         names = self.task.goal_names
         numbers = [float((goal or {}).get(name, math.nan)) for name in names]
-        site = self.task.goal_site(numbers) if numbers else (math.nan,) * 3
-        if not all(math.isfinite(v) for v in site):
+        sites = self.task.goal_sites(numbers) if numbers else ()
+        values = [v for site in sites for v in (site.x, site.y, site.yaw, site.height)]
+        if not sites or not all(math.isfinite(v) for v in values):
             raise GenerateError(
                 f"source trial {trial_id}: its goal ({', '.join(names)}) is not recorded"
             )
-        return site
+        return sites
 
 
 def _box_size(events: Sequence[EventRecord]) -> tuple[float, float, float]:
@@ -140,7 +149,7 @@ def _source(
     trial_id: str,
     operator_id: str,
     frames: dict[str, NDArray[Any]],
-    goal: tuple[float, float, float],
+    sites: tuple[GoalSite, ...],
     box_size: tuple[float, float, float],
 ) -> SourceTrial:
     n = len(frames["t_sim"])
@@ -156,15 +165,17 @@ def _source(
     if not len(held):
         raise GenerateError(f"source trial {trial_id}: succeeded without grasping a box")
     box = int(held[0])
-    box_pose = np.full((n, 4), np.nan)
+    poses = {int(b): np.full((n, 4), np.nan) for b in np.unique(held)}
     for i, text in enumerate(frames["boxes"]):
         for entry in json.loads(text):
-            if int(entry[0]) == box and entry[1] != "parked":
-                box_pose[i, :3] = (entry[2], entry[3], yaw_of(entry[5:9]))
+            pose = poses.get(int(entry[0]))
+            if pose is not None and entry[1] != "parked":
+                pose[i, :3] = (entry[2], entry[3], yaw_of(entry[5:9]))
     t = np.asarray(frames["t_sim"], dtype=np.float64)
-    step = np.diff(box_pose[:, :2], axis=0) / np.maximum(np.diff(t), 1e-9)[:, None]
-    box_pose[1:, 3] = np.linalg.norm(step, axis=1)
-    box_pose[0, 3] = box_pose[1, 3] if n > 1 else np.nan
+    for box_pose in poses.values():
+        step = np.diff(box_pose[:, :2], axis=0) / np.maximum(np.diff(t), 1e-9)[:, None]
+        box_pose[1:, 3] = np.linalg.norm(step, axis=1)
+        box_pose[0, 3] = box_pose[1, 3] if n > 1 else np.nan
     return SourceTrial(
         trial_id=trial_id,
         operator_id=operator_id,
@@ -183,7 +194,8 @@ def _source(
         head=np.stack([frames["head_cmd_pan"], frames["head_cmd_tilt"]], axis=1).astype(np.float64),
         stage=tuple(str(s) for s in frames["stage"]),
         box=box,
-        box_pose=box_pose,
-        goal=goal,
+        attached=attached,
+        box_poses=poses,
+        sites=sites,
         box_size=box_size,
     )

@@ -39,6 +39,24 @@ class Evaluation:
 
 
 Reference = Literal["box", "goal"]
+BY_GRASP: Literal["by_grasp"] = "by_grasp"
+"""A task's :attr:`Task.segment_references` when its segments end where the hands take or
+let go of an object rather than at its stages."""
+SegmentReferences = Mapping[str, Reference] | Literal["by_grasp"]
+
+
+@dataclass(frozen=True)
+class GoalSite:
+    """One place a trial's objects go, for data generation: ``x``, ``y`` in the world, the
+    turn of its frame (``yaw``, rad) and the ``height`` (m) of what an object is set down on
+    (0: a goal on the floor plan only)."""
+
+    x: float
+    y: float
+    yaw: float = 0.0
+    height: float = 0.0
+
+
 """What a stage's motion acts on, for data generation (:mod:`workcell.generate.segments`):
 ``box`` the object the trial grasps, ``goal`` where the trial's objects go (the numbers of
 :meth:`Task.goal`)."""
@@ -112,9 +130,12 @@ class Task(ABC):
     goal_names: ClassVar[tuple[str, ...]]
     """The names of :meth:`goal`'s numbers, in order (they follow the objects in every
     observation's ``environment_state`` and every dataset's feature names)."""
-    segment_references: ClassVar[Mapping[str, Reference] | None] = None
+    segment_references: ClassVar[SegmentReferences | None] = None
     """For data generation (``workcell generate``): what the motion of a segment ending at
-    each of :attr:`stages` acts on. None: the task's trials cannot be generated yet."""
+    each of :attr:`stages` acts on; or :data:`BY_GRASP` for a task that carries several
+    objects a trial (a segment ends wherever the hands take or let go of one, and acts on
+    the object it takes or on the goal site it sets it down at). None: the task's trials
+    cannot be generated yet."""
 
     @abstractmethod
     def goal(self, conditions: Mapping[str, Any], world: WorldConfig) -> tuple[float, ...]:
@@ -155,12 +176,11 @@ class Task(ABC):
     def expert(self, config: ExpertConfig) -> Operator:
         """The task's scripted expert at ``config``'s skill."""
 
-    def goal_site(self, goal: Sequence[float]) -> tuple[float, float, float]:
-        """Where a trial's goal is, from :meth:`goal`'s numbers: x and y in the world and a
-        height (m; 0 for a goal on the floor plan only). Data generation moves a segment
-        acting on the goal from the source trial's site to the attempt's; by default the
-        goal's first two numbers, at height 0."""
-        return float(goal[0]), float(goal[1]), 0.0
+    def goal_sites(self, goal: Sequence[float]) -> tuple[GoalSite, ...]:
+        """Where a trial's objects go, from :meth:`goal`'s numbers (data generation moves a
+        segment acting on a goal from the source trial's site to the attempt's); by
+        default one site: the goal's first two numbers, unturned, at height 0."""
+        return (GoalSite(float(goal[0]), float(goal[1])),)
 
     def settled_check(self, world: World) -> SettledCheck | None:
         """A check that the objects ``world``'s trial completed stay completed, taken the

@@ -4,19 +4,22 @@ pattern, until the pallet is full and at rest."""
 
 from __future__ import annotations
 
-from collections.abc import Mapping
+import math
+from collections.abc import Mapping, Sequence
 from typing import Any, ClassVar
 
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
+from workcell.sim.world import World
 from workcell.task.operator import Operator
 from workcell.tasks.box_transfer.task import BoxTransfer
 from workcell.tasks.palletize.expert import PalletizeExpert
 from workcell.tasks.palletize.judge import PalletizeJudge
-from workcell.tasks.palletize.layout import SLOT_SIGNS, PalletLayout
+from workcell.tasks.palletize.layout import PALLET_HEIGHT, SLOT_SIGNS, PalletLayout
 from workcell.tasks.palletize.scene import PalletizeScene
+from workcell.tasks.palletize.settled import SlotsStayFilled
 from workcell.tasks.palletize.stages import PALLET_BOXES, PALLETIZE_STAGES
-from workcell.tasks.task import Task
+from workcell.tasks.task import BY_GRASP, GoalSite, SegmentReferences, Task
 from workcell.tasks.worlds import WorldName, WorldRanges
 
 PALLET_TIME_LIMIT_S = 180.0
@@ -62,3 +65,18 @@ class Palletize(Task):
 
     def expert(self, config: ExpertConfig) -> Operator:
         return PalletizeExpert(config)
+
+    segment_references: ClassVar[SegmentReferences] = BY_GRASP
+    """Four carries a trial: a segment ends where the hands take a box (it acts on that box)
+    or let go of it (it acts on the slot the box was set down in)."""
+
+    def goal_sites(self, goal: Sequence[float]) -> tuple[GoalSite, ...]:
+        """The four slots, each turned with the pallet (whose +x runs from the first slot to
+        the third: :data:`~workcell.tasks.palletize.layout.SLOT_SIGNS`), at its top."""
+        centers = [(float(goal[2 * i]), float(goal[2 * i + 1])) for i in range(len(SLOT_SIGNS))]
+        (x0, y0), (x2, y2) = centers[0], centers[2]
+        yaw = math.atan2(y2 - y0, x2 - x0)
+        return tuple(GoalSite(x, y, yaw, PALLET_HEIGHT) for x, y in centers)
+
+    def settled_check(self, world: World) -> SlotsStayFilled:
+        return SlotsStayFilled(world)

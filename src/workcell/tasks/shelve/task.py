@@ -17,7 +17,7 @@ from workcell.tasks.shelve.scene import ShelveScene
 from workcell.tasks.shelve.settled import ShelvedBoxStays
 from workcell.tasks.shelve.shelf import ShelfLayout
 from workcell.tasks.shelve.stages import SHELVE_STAGES
-from workcell.tasks.task import Reference, Task
+from workcell.tasks.task import GoalSite, Reference, Task
 from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ASKED = "Put the box from the table on the {shelf} shelf."
@@ -75,9 +75,9 @@ class Shelve(Task):
     def expert(self, config: ExpertConfig) -> Operator:
         return ShelveExpert(config)
 
-    def goal_site(self, goal: Sequence[float]) -> tuple[float, float, float]:
+    def goal_sites(self, goal: Sequence[float]) -> tuple[GoalSite, ...]:
         """The asked board's centre and the height of its top."""
-        return float(goal[0]), float(goal[1]), float(goal[2])
+        return (GoalSite(float(goal[0]), float(goal[1]), 0.0, float(goal[2])),)
 
     def settled_check(self, world: World) -> ShelvedBoxStays:
         return ShelvedBoxStays(world)

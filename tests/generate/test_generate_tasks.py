@@ -1,9 +1,11 @@
-"""``workcell generate --task shelve``: a second task generated through the same path as box
-transfer's. Expert shelve trials recorded with ``workcell collect`` are replayed in new
+"""``workcell generate --task shelve|palletize``: the other tasks generated through the same
+path as box transfer's. Expert trials recorded with ``workcell collect`` are replayed in new
 worlds (real MuJoCo, real SQLite) in a guarded interpreter that fails if the expert is
-built; each attempt replays a source that put its box on the attempt's asked board where
-there is one, and otherwise moves the carry up or down by the boards' height difference;
-a success is re-checked by shelve's settled check."""
+built. Shelve: each attempt replays a source that put its box on the attempt's asked board
+where there is one, and otherwise moves the carry up or down by the boards' height
+difference. Palletize: each source is cut where the hands take and let go of each of its
+four boxes, every carry moved with the slot it went to. Successes are re-checked by each
+task's settled check."""
 
 from __future__ import annotations
 
@@ -21,15 +23,17 @@ from workcell.tasks.shelve.shelf import BOARD_TOPS
 RECHECK_HELD = {"seconds": 1.0, "settle_s": 0.25, "held": True, "reason": None}
 
 
-def collect(store: Path, trials: int) -> None:
-    argv = ["collect", "--task", "shelve", "--mode", "collection", "--trials", str(trials)]
+def collect(store: Path, trials: int, task: str = "shelve") -> None:
+    argv = ["collect", "--task", task, "--mode", "collection", "--trials", str(trials)]
     assert main([*argv, "--seed", "1", "--store", str(store), "--writer", "inline"]) == 0
 
 
-def generate(sources: Path, out: Path, attempts: int, seed: int, world: str) -> str:
+def generate(  # noqa: PLR0917 - the command's flags
+    sources: Path, out: Path, attempts: int, seed: int, world: str, task: str = "shelve"
+) -> str:
     run = guarded(
         out.with_name(EXPERT_BUILT),
-        "generate", "--task", "shelve", "--source", str(sources), "--attempts", str(attempts),
+        "generate", "--task", task, "--source", str(sources), "--attempts", str(attempts),
         "--seed", str(seed), "--store", str(out), "--world", world,
     )  # fmt: skip
     assert run.returncode == 0, run.stderr
@@ -86,3 +90,22 @@ def test_a_source_of_another_board_is_moved_by_the_height_difference(tmp_path: P
         assert lift == pytest.approx(asked[trial_id] - source_height, abs=1e-6)
         assert {s["lift_m"] for s in payload["segments"] if s["reference"] == "box"} == {0.0}
         assert payload["accepted"], payload["reason"]
+
+
+def test_palletize_is_cut_per_box_and_every_carry_moves_with_its_slot(tmp_path: Path) -> None:
+    sources, out = tmp_path / "sources.sqlite", tmp_path / "generated.sqlite"
+    collect(sources, 2, "palletize")
+    stdout = generate(sources, out, 2, 7, "D0", "palletize")
+    assert "2/2 accepted" in stdout, stdout
+    for payload in generation_events(out).values():
+        assert payload["accepted"] and payload["recheck"] == RECHECK_HELD
+        segments = payload["segments"]
+        taken = [s["box"] for s in segments if s["reference"] == "box"]
+        assert sorted(set(taken)) == [0, 1, 2, 3]
+        carried = {(s["box"], s["site"]) for s in segments if s["reference"] == "goal"}
+        assert sorted(site for _, site in carried) == [0, 1, 2, 3]
+        assert len(carried) == 4  # one slot per box
+        yaws = {s["transform"]["yaw"] for s in segments if s["reference"] == "goal"}
+        assert len(yaws) == 1  # the slots move with one pallet
+        assert segments[-1]["end_stage"] == "settled"
+    assert verify_store(out) == []
