@@ -21,6 +21,8 @@ from workcell.generate.plan import generated_operator_id
 from workcell.record import Store
 from workcell.record.verify import verify_store
 
+LIFT_BOX = "examples.lift_box:LiftBox"
+"""A task of one's own that declares nothing generation needs (examples/lift_box)."""
 EXPERT_BUILT = "expert-built"
 """The file the guarded interpreter writes when anything builds or runs the expert."""
 GUARD = textwrap.dedent(
@@ -190,7 +192,7 @@ def test_bad_input_gets_one_clear_error(
             ["--source", str(sources), "--source-operator", "nobody"],
             "no trials of task box_transfer by operator nobody",
         ),
-        (["--source", str(sources), "--task", "sort"], "sort: the task declares no"),
+        (["--source", str(sources), "--task", LIFT_BOX], "lift_box: the task declares no"),
         (["--source", str(sources), "--task", "palletize"], "no trials of task palletize"),
         (["--source", str(sources), "--world", "D3"], "invalid choice: 'D3'"),
         (["--source", str(sources), "--attempts", "0"], "--attempts = 0: must be 1 to"),

@@ -3,8 +3,9 @@ path as box transfer's. Expert trials recorded with ``workcell collect`` are rep
 worlds (real MuJoCo, real SQLite) in a guarded interpreter that fails if the expert is
 built. Shelve: each attempt replays a source that put its box on the attempt's asked board
 where there is one, and otherwise moves the carry up or down by the boards' height
-difference. Palletize: each source is cut where the hands take and let go of each of its
-four boxes, every carry moved with the slot it went to. Successes are re-checked by each
+difference. Palletize and sort: each source is cut where the hands take and let go of each
+of its four boxes, every carry moved with the slot or table it went to; sort replays a
+source whose boxes' kinds came in the attempt's order. Successes are re-checked by each
 task's settled check."""
 
 from __future__ import annotations
@@ -18,6 +19,7 @@ from tests.generate.test_generate import EXPERT_BUILT, generation_events, guarde
 from workcell.cli.main import main
 from workcell.record import Store
 from workcell.record.verify import verify_store
+from workcell.tasks.registry import load_task
 from workcell.tasks.shelve.shelf import BOARD_TOPS
 
 RECHECK_HELD = {"seconds": 1.0, "settle_s": 0.25, "held": True, "reason": None}
@@ -109,3 +111,30 @@ def test_palletize_is_cut_per_box_and_every_carry_moves_with_its_slot(tmp_path: 
         assert len(yaws) == 1  # the slots move with one pallet
         assert segments[-1]["end_stage"] == "settled"
     assert verify_store(out) == []
+
+
+def test_sort_replays_a_source_whose_boxes_go_to_the_same_tables(tmp_path: Path) -> None:
+    sources, out = tmp_path / "sources.sqlite", tmp_path / "generated.sqlite"
+    collect(sources, 6, "sort")
+    task = load_task("sort")
+
+    def keys(store: Path) -> dict[str, tuple[float, ...]]:
+        with Store.open(store, writer=False) as reader:
+            return {
+                t.trial_id: task.source_key([(t.goal or {})[n] for n in task.goal_names])
+                for t in reader.trials()
+            }
+
+    source_keys = keys(sources)
+    generate(sources, out, 4, 7, "D0", "sort")
+    attempt_keys, matched = keys(out), 0
+    for trial_id, payload in generation_events(out).items():
+        if attempt_keys[trial_id] not in source_keys.values():
+            continue  # no source sorted its kinds in this order: any source is replayed
+        matched += 1
+        assert source_keys[payload["source_trial_id"]] == attempt_keys[trial_id]
+        assert payload["accepted"] and payload["recheck"] == RECHECK_HELD, payload["reason"]
+        carried = {(s["box"], s["site"]) for s in payload["segments"] if s["reference"] == "goal"}
+        tables = attempt_keys[trial_id]
+        assert carried == {(box, int(tables[box])) for box in range(4)}
+    assert matched >= 1

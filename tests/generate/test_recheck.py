@@ -5,6 +5,7 @@ within the second is caught."""
 from __future__ import annotations
 
 import numpy as np
+from examples.lift_box.task import LiftBox
 
 from workcell.control.command import Command
 from workcell.control.simulation import Simulation
@@ -19,6 +20,7 @@ from workcell.tasks.palletize.task import Palletize
 from workcell.tasks.registry import BUILT_IN, load_task
 from workcell.tasks.shelve.shelf import BOARD_TOPS, ShelfLayout
 from workcell.tasks.shelve.task import Shelve
+from workcell.tasks.sort.judge import sort_scene
 from workcell.tasks.sort.task import Sort
 from workcell.tasks.task import BY_GRASP, Task
 
@@ -123,11 +125,11 @@ def test_a_success_with_nothing_delivered_or_a_task_without_a_check_does_not_hol
     shelf_sim.reset(0)  # its box waits on the table: nothing shelved
     check = recheck(shelf_sim, StandStill(), shelve)
     assert check == Recheck(False, "no completed object to check")
-    sort = Sort()
-    sort_sim = Simulation(WorldConfig(), sort.scene())
-    sort_sim.reset(0)
-    check = recheck(sort_sim, StandStill(), sort)
-    assert check == Recheck(False, "the task sort has no settled check")
+    lift = LiftBox()
+    lift_sim = Simulation(WorldConfig(), lift.scene())
+    lift_sim.reset(0)
+    check = recheck(lift_sim, StandStill(), lift)
+    assert check == Recheck(False, "the task lift_box has no settled check")
 
 
 def shelved_sim() -> tuple[Simulation, ShelfLayout]:
@@ -185,7 +187,7 @@ def test_each_tasks_segment_references_name_its_stages() -> None:
             continue
         assert tuple(references) == task.stages, name
         assert set(references.values()) <= {"box", "goal"}, name
-    assert declared == 3  # box transfer, shelve, palletize
+    assert declared == 4  # every built-in task
 
 
 def palletized_sim() -> Simulation:
@@ -211,3 +213,15 @@ def test_a_full_pallet_holds_and_a_box_knocked_out_of_its_slot_is_a_false_succes
     assert Palletize().settled_check(palletized_sim().world).objects == 4
     check = recheck(palletized_sim(), PushOff(), Palletize())
     assert check == Recheck(False, "box 0 out of slot 1 0.50 s after success")
+
+
+def test_sort_is_settled_once_sorted_and_undone_by_a_box_missorted_after() -> None:
+    sim = Simulation(WorldConfig(), Sort().scene())
+    sim.reset(0)
+    scene = sort_scene(sim.world)
+    assert Sort().settled_check(sim.world).objects == 0
+    scene.sorted_count = 4  # as if the trial had sorted its four boxes (each taken away)
+    check = Sort().settled_check(sim.world)
+    assert check.objects == 4 and check.why_undone(sim.world, settling=False) is None
+    scene.missorted.add(2)
+    assert check.why_undone(sim.world, settling=False) == "box 2 set down in the other kind's zone"

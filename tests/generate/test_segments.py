@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import numpy as np
 import pytest
+from examples.lift_box.task import LiftBox
 
 from workcell.generate.errors import GenerateError
 from workcell.generate.references import references_for
@@ -45,7 +46,8 @@ def source(stages: list[str]) -> SourceTrial:
         attached=np.full(n, NO_BOX),
         box_poses={0: box},
         sites=(GoalSite(1.6, 1.9),),
-        box_size=(0.3, 0.3, 0.3),
+        key=(),
+        box_sizes={0: (0.3, 0.3, 0.3)},
     )
 
 
@@ -71,9 +73,9 @@ def test_segments_end_where_the_stage_changes_and_act_on_their_object() -> None:
 def test_a_trial_without_its_tasks_stages_is_refused() -> None:
     with pytest.raises(GenerateError, match="recorded before schema version 5"):
         segment(source(["None"] * 10), REFERENCES)
-    with pytest.raises(GenerateError, match="sort: the task declares no segment ref"):
-        references_for(Sort())
-    assert references_for(Palletize()) == BY_GRASP
+    with pytest.raises(GenerateError, match="lift_box: the task declares no segment ref"):
+        references_for(LiftBox())
+    assert references_for(Palletize()) == references_for(Sort()) == BY_GRASP
 
     class Shortened(BoxTransfer):
         stages = ("none", "touched", "grasped", "lifted", "delivered")

@@ -1,8 +1,9 @@
 """The generator's operator: a source trial's segments replayed in a new world.
 
 For each attempt it picks one source trial from the attempt's seed
-(:meth:`GeneratedOperator.start_trial`), among those whose goal stood at the attempt's goal's
-height where there are any (shelve's boards: a source that put its box on the asked board);
+(:meth:`GeneratedOperator.start_trial`), among those that share the attempt's
+:meth:`~workcell.tasks.Task.source_key` where there are any (shelve: a source that put its box
+on the asked board; sort: one whose boxes went to the same tables);
 then, segment by segment, it takes the segment's object's pose in the new
 world (waiting for an object still on the move to rest), moves the segment with it
 (:class:`~workcell.generate.planar.Planar`), joins the robot to the moved segment's first
@@ -51,8 +52,6 @@ GAIN = (2.0, 2.5)
 """Base pose feedback: per second of linear and of yaw error."""
 BOX_SYMMETRY = math.pi / 2
 """A box looks the same turned a quarter turn: a segment turns with it by the least angle."""
-SAME_HEIGHT_M = 0.01
-"""Goals whose heights differ by less than this (m) stand at one height."""
 
 
 class Phase(enum.Enum):
@@ -142,16 +141,14 @@ class GeneratedOperator:
         return self._hold(world)
 
     def _pick(self, world: World) -> None:
-        """Draw the attempt's source trial, among those whose (first) goal site stood at
-        the height of this attempt's (all of them where none did)."""
+        """Draw the attempt's source trial, among those that share this attempt's
+        :meth:`~workcell.tasks.Task.source_key` (all of them where none does)."""
         goal = self.task.goal(world.conditions.as_dict(), world.config)
         self._sites = self.task.goal_sites(goal)
-        height = self._sites[0].height
+        key = self.task.source_key(goal)
         sources = self.plan.sources
-        level = [
-            i for i, s in enumerate(sources) if abs(s.sites[0].height - height) < SAME_HEIGHT_M
-        ]
-        candidates = level or list(range(len(sources)))
+        alike = [i for i, s in enumerate(sources) if s.key == key]
+        candidates = alike or list(range(len(sources)))
         pick = candidates[int(self._rng.integers(len(candidates)))]
         self._source, self._segments = sources[pick], self.plan.segments[pick]
         self.provenance = Provenance(self._source.trial_id)
@@ -267,7 +264,7 @@ class GeneratedOperator:
     def _size_delta(self, world: World, box: int) -> tuple[float, float]:
         """How much wider (per hand) and taller (half) this attempt's box ``box`` is than
         the source's: the hands move apart and up by as much."""
-        source = self._source.box_size
+        source = self._source.box_sizes.get(box, (math.nan,) * 3)
         if not all(math.isfinite(v) for v in source):
             return (0.0, 0.0)
         size = world.boxes.size_of(world.boxes.slots[box])

@@ -25,7 +25,7 @@ from workcell.generate.errors import GenerateError
 from workcell.generate.planar import yaw_of
 from workcell.record.columns import pose_columns
 from workcell.record.entries import EventRecord
-from workcell.tasks.task import GoalSite, Task
+from workcell.tasks.task import GoalSite, ObjectLook, Task
 
 NO_BOX = -1
 
@@ -60,8 +60,12 @@ class SourceTrial:
     (NaN where not active)."""
     sites: tuple[GoalSite, ...]
     """Where the trial's objects went (the task's :meth:`~workcell.tasks.Task.goal_sites`)."""
-    box_size: tuple[float, float, float]
-    """The sides of the trial's boxes (m), as its conditions recorded them."""
+    key: tuple[float, ...]
+    """What an attempt replaying it should share with it (the task's
+    :meth:`~workcell.tasks.Task.source_key`)."""
+    box_sizes: Mapping[int, tuple[float, float, float]]
+    """The sides (m) of each box the trial grasped, as its conditions recorded them (NaN
+    where they did not)."""
 
     def __len__(self) -> int:
         return len(self.t)
@@ -105,52 +109,69 @@ def load_sources(store: Path, task: str, operators: Sequence[str] = ()) -> tuple
                 f"--source {store}: none of its {len(chosen)} trials of {task} succeeded; "
                 "generation replays successful trials only"
             )
-        goal_of = _GoalSite(load_task(task))
+        kind = load_task(task)
         return tuple(
             _source(
+                kind,
                 t.trial_id,
                 sessions[t.session_id].operator_id,
                 reader.frames(t.trial_id),
-                goal_of(t.trial_id, t.goal),
-                _box_size(reader.events(t.trial_id)),
+                t.goal,
+                _conditions(reader.events(t.trial_id)),
             )
             for t in successes
         )
 
 
-class _GoalSite:
-    """A source trial's goal sites, from the goal its trial row recorded."""
-
-    def __init__(self, task: Task) -> None:
-        self.task = task
-
-    def __call__(self, trial_id: str, goal: dict[str, Any] | None) -> tuple[GoalSite, ...]:
-        names = self.task.goal_names
-        numbers = [float((goal or {}).get(name, math.nan)) for name in names]
-        sites = self.task.goal_sites(numbers) if numbers else ()
-        values = [v for site in sites for v in (site.x, site.y, site.yaw, site.height)]
-        if not sites or not all(math.isfinite(v) for v in values):
-            raise GenerateError(
-                f"source trial {trial_id}: its goal ({', '.join(names)}) is not recorded"
-            )
-        return sites
+def _goal(
+    task: Task, trial_id: str, goal: dict[str, Any] | None
+) -> tuple[tuple[GoalSite, ...], tuple[float, ...]]:
+    """A source trial's goal sites and source key, from the goal its trial row recorded."""
+    names = task.goal_names
+    numbers = [float((goal or {}).get(name, math.nan)) for name in names]
+    sites = task.goal_sites(numbers) if numbers else ()
+    values = [v for site in sites for v in (site.x, site.y, site.yaw, site.height)]
+    if not sites or not all(math.isfinite(v) for v in values):
+        raise GenerateError(
+            f"source trial {trial_id}: its goal ({', '.join(names)}) is not recorded"
+        )
+    return sites, task.source_key(numbers)
 
 
-def _box_size(events: Sequence[EventRecord]) -> tuple[float, float, float]:
+def _conditions(events: Sequence[EventRecord]) -> dict[str, Any]:
+    """The conditions the trial's ``trial_started`` recorded ({} where none)."""
     for event in events:
         if event.kind == "trial_started":
-            size = event.payload.get("conditions", {}).get("box_size")
-            if isinstance(size, list) and len(size) == 3:
-                return float(size[0]), float(size[1]), float(size[2])
-    return (math.nan, math.nan, math.nan)
+            conditions = event.payload.get("conditions")
+            return conditions if isinstance(conditions, dict) else {}
+    return {}
 
 
-def _source(
+def _box_sizes(
+    task: Task, conditions: dict[str, Any], boxes: Sequence[int]
+) -> dict[int, tuple[float, float, float]]:
+    """The sides of each of ``boxes`` as the trial's conditions recorded them (the task's
+    :meth:`~workcell.tasks.Task.object_looks`: sort's two kinds differ), NaN where not."""
+    size, rgba = conditions.get("box_size"), conditions.get("box_rgba")
+    if not (isinstance(size, list) and len(size) == 3):
+        return {box: (math.nan, math.nan, math.nan) for box in boxes}
+    if not (isinstance(rgba, list) and len(rgba) == 4):
+        rgba = [1.0, 1.0, 1.0, 1.0]
+    trial_box = ObjectLook(
+        (float(size[0]), float(size[1]), float(size[2])),
+        (float(rgba[0]), float(rgba[1]), float(rgba[2]), float(rgba[3])),
+    )
+    looks = task.object_looks(conditions, max(boxes) + 1, trial_box)
+    return {box: looks[box].size for box in boxes}
+
+
+def _source(  # noqa: PLR0917 - a trial's parts
+    task: Task,
     trial_id: str,
     operator_id: str,
     frames: dict[str, NDArray[Any]],
-    sites: tuple[GoalSite, ...],
-    box_size: tuple[float, float, float],
+    goal: dict[str, Any] | None,
+    conditions: dict[str, Any],
 ) -> SourceTrial:
     n = len(frames["t_sim"])
     targets = np.stack(
@@ -165,6 +186,7 @@ def _source(
     if not len(held):
         raise GenerateError(f"source trial {trial_id}: succeeded without grasping a box")
     box = int(held[0])
+    sites, key = _goal(task, trial_id, goal)
     poses = {int(b): np.full((n, 4), np.nan) for b in np.unique(held)}
     for i, text in enumerate(frames["boxes"]):
         for entry in json.loads(text):
@@ -197,5 +219,6 @@ def _source(
         attached=attached,
         box_poses=poses,
         sites=sites,
-        box_size=box_size,
+        key=key,
+        box_sizes=_box_sizes(task, conditions, sorted(poses)),
     )

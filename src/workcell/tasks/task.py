@@ -182,6 +182,13 @@ class Task(ABC):
         default one site: the goal's first two numbers, unturned, at height 0."""
         return (GoalSite(float(goal[0]), float(goal[1])),)
 
+    def source_key(self, goal: Sequence[float]) -> tuple[float, ...]:
+        """What a source trial must share with an attempt, read from :meth:`goal`'s numbers,
+        for data generation to replay it there where the source set has such a trial (by
+        default nothing: any source; shelve: the asked board's height; sort: which table
+        each box goes to)."""
+        return ()
+
     def settled_check(self, world: World) -> SettledCheck | None:
         """A check that the objects ``world``'s trial completed stay completed, taken the
         moment it succeeded (None: the task has none, and generation cannot re-check it)."""

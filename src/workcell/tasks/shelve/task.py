@@ -79,5 +79,9 @@ class Shelve(Task):
         """The asked board's centre and the height of its top."""
         return (GoalSite(float(goal[0]), float(goal[1]), 0.0, float(goal[2])),)
 
+    def source_key(self, goal: Sequence[float]) -> tuple[float, ...]:
+        """The asked board's height: a carry to the top board is replayed from one."""
+        return (round(float(goal[2]), 3),)
+
     def settled_check(self, world: World) -> ShelvedBoxStays:
         return ShelvedBoxStays(world)

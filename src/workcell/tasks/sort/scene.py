@@ -45,6 +45,8 @@ class SortScene:
         self._layout: SortLayout | None = None
         self.missorted: set[int] = set()
         """Pool indices of the boxes set down in the other kind's zone this trial."""
+        self.sorted_count = 0
+        """How many boxes this trial sorted (each then taken away)."""
         self._resting: dict[int, tuple[int, float]] = {}
 
     @property
@@ -75,6 +77,7 @@ class SortScene:
         layout = SortLayout.draw(world.config, world.conditions, rng)
         self._layout = layout
         self.missorted = set()
+        self.sorted_count = 0
         self._resting = {}
         model, data = world.model, world.data
         model.body_pos[model.body(TABLE_BODY).id, :2] = layout.tables[1]
@@ -110,6 +113,7 @@ class SortScene:
                 slot.state = BoxState.DELIVERED  # taken away: not fed again this round
                 slot.delivered_at = t
                 del self._resting[slot.index]
+                self.sorted_count += 1
                 events.append(BoxCompleted(t, slot.index))
             else:
                 self.missorted.add(slot.index)

@@ -10,13 +10,15 @@ from typing import Any, ClassVar
 
 from workcell.expert.skill import ExpertConfig
 from workcell.sim.config import WorldConfig
+from workcell.sim.world import World
 from workcell.task.operator import Operator
 from workcell.tasks.sort.expert import SortExpert
 from workcell.tasks.sort.judge import SortJudge
 from workcell.tasks.sort.layout import SortLayout, sorting_table_center
 from workcell.tasks.sort.scene import SortScene
+from workcell.tasks.sort.settled import SortedStay
 from workcell.tasks.sort.stages import SORT_STAGES
-from workcell.tasks.task import ObjectLook, Task
+from workcell.tasks.task import BY_GRASP, GoalSite, ObjectLook, SegmentReferences, Task
 from workcell.tasks.worlds import WorldName, WorldRanges, shifted_worlds
 
 ONE_BOX = "Sort the box from the conveyor onto the table whose zone has its colour."
@@ -94,6 +96,22 @@ class Sort(Task):
 
     def new_trial(self, required: int) -> SortJudge:
         return SortJudge(required)
+
+    segment_references: ClassVar[SegmentReferences] = BY_GRASP
+    """Four carries a trial: a segment ends where the hands take a box (it acts on that box)
+    or let go of it (it acts on the table it was set down on)."""
+
+    def goal_sites(self, goal: Sequence[float]) -> tuple[GoalSite, ...]:
+        """The delivery table's zone and the sorting table's (the kinds' tables 0 and 1)."""
+        return (GoalSite(float(goal[0]), float(goal[1])), GoalSite(float(goal[2]), float(goal[3])))
+
+    def source_key(self, goal: Sequence[float]) -> tuple[float, ...]:
+        """Which table each pooled box goes to: a source's carries go to the tables an
+        attempt's boxes need only when its boxes' kinds came in the same order."""
+        return tuple(float(v) for v in goal[4:])
+
+    def settled_check(self, world: World) -> SortedStay:
+        return SortedStay(world)
 
     def expert(self, config: ExpertConfig) -> Operator:
         return SortExpert(config)
