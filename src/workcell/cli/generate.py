@@ -30,12 +30,14 @@ def register(subparsers: Subparsers) -> None:
         "generate",
         help="generate demonstrations in new worlds by replaying recorded source trials",
         description=(
-            "Cut each successful source trial at its task's recorded stage boundaries, and "
-            "replay its segments, moved with the objects they act on, in new worlds drawn "
-            "from --world: every attempt is a recorded trial in --store (operator "
+            "Cut each successful source trial at its task's recorded stage boundaries (or, "
+            "for a task of several boxes a trial, where the hands take and let go of each), "
+            "and replay its segments, moved with the objects they act on, in new worlds "
+            "drawn from --world: every attempt is a recorded trial in --store (operator "
             "generated-<hash of the source trial ids>), accepted when the task succeeded "
-            "and still held a second later. The task's expert is never called. Box "
-            "transfer (and tasks with its stages) only."
+            "and still held a second later. The task's expert is never called. Every "
+            "built-in task; a task of one's own that declares what generation needs "
+            "(docs/tasks.md)."
         ),
     )
     parser.add_argument(
