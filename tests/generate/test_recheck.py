@@ -4,6 +4,8 @@ within the second is caught."""
 
 from __future__ import annotations
 
+from collections.abc import Callable
+
 import numpy as np
 from examples.lift_box.task import LiftBox
 
@@ -35,19 +37,30 @@ class StandStill:
         return Command()
 
 
-class Shove(StandStill):
-    """Shoves every delivered box sideways once, half a second in."""
+class OnceHalfASecondIn(StandStill):
+    """Stands still, but for ``disturb`` done to the world once, half a second in (the
+    20th act)."""
 
-    def __init__(self) -> None:
+    def __init__(self, disturb: Callable[[World], None]) -> None:
+        self.disturb = disturb
         self.calls = 0
 
     def act(self, world: World) -> Command:
         self.calls += 1
         if self.calls == 20:
-            for slot in world.boxes.slots:
-                if slot.state is BoxState.DELIVERED:
-                    world.data.qvel[slot.qvel] = 0.6
+            self.disturb(world)
         return Command()
+
+
+def _shove_delivered(world: World) -> None:
+    for slot in world.boxes.slots:
+        if slot.state is BoxState.DELIVERED:
+            world.data.qvel[slot.qvel] = 0.6
+
+
+def Shove() -> OnceHalfASecondIn:  # noqa: N802 - read like the operator it makes
+    """Shoves every delivered box sideways once, half a second in."""
+    return OnceHalfASecondIn(_shove_delivered)
 
 
 def delivered_sim() -> Simulation:
@@ -148,20 +161,16 @@ def shelved_sim() -> tuple[Simulation, ShelfLayout]:
     return sim, layout
 
 
-class PushOff(StandStill):
+def _push_off(world: World) -> None:
+    for slot in world.boxes.slots:
+        if slot.state is not BoxState.PARKED:
+            world.data.qpos[slot.qpos : slot.qpos + 3] = (0.0, 0.0, 0.3)
+
+
+def PushOff() -> OnceHalfASecondIn:  # noqa: N802 - read like the operator it makes
     """Moves every box in play off its shelf or pallet (to 0.3 m above the factory's
     origin) once, half a second in."""
-
-    def __init__(self) -> None:
-        self.calls = 0
-
-    def act(self, world: World) -> Command:
-        self.calls += 1
-        if self.calls == 20:
-            for slot in world.boxes.slots:
-                if slot.state is not BoxState.PARKED:
-                    world.data.qpos[slot.qpos : slot.qpos + 3] = (0.0, 0.0, 0.3)
-        return Command()
+    return OnceHalfASecondIn(_push_off)
 
 
 def test_a_shelved_box_holds_and_one_taken_off_its_board_is_a_false_success() -> None:

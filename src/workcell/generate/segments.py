@@ -103,12 +103,9 @@ def segment(source: SourceTrial, references: SegmentReferences) -> tuple[Segment
             f"source trial {source.trial_id}: its frames' stages {unknown} are not its "
             f"task's {tuple(references)} (a trial recorded before schema version 5 has none)"
         )
-    bounds = [i for i in range(1, len(stages)) if stages[i] != stages[i - 1]]
-    if not bounds or bounds[-1] != len(stages) - 1:
-        bounds.append(len(stages) - 1)
     segments: list[Segment] = []
     start = 0
-    for end in bounds:
+    for end in _change_points(stages):
         segments.append(_cut(source, segments, start, end, references[stages[end]], source.box, 0))
         start = end
     return tuple(segments)
@@ -118,12 +115,9 @@ def _by_grasp(source: SourceTrial) -> tuple[Segment, ...]:
     """Segments ending where the hands take a box (acting on it) or let go of it (acting
     on the goal site nearest where it was let go of), and at the last frame."""
     held = source.attached
-    bounds = [i for i in range(1, len(held)) if held[i] != held[i - 1]]
-    if not bounds or bounds[-1] != len(held) - 1:
-        bounds.append(len(held) - 1)
     segments: list[Segment] = []
     start = 0
-    for end in bounds:
+    for end in _change_points(held):
         if held[end] != NO_BOX and end != len(held) - 1:
             box, site = int(held[end]), 0
             start = _carry_on(source, segments, start, end, source.box_poses[box][:, :2])
@@ -142,6 +136,14 @@ def _by_grasp(source: SourceTrial) -> tuple[Segment, ...]:
         segments.append(cut)
         start = end
     return tuple(segments)
+
+
+def _change_points(values: tuple[str, ...] | NDArray[np.int64]) -> list[int]:
+    """The frames where ``values`` differs from the frame before, and the last frame."""
+    points = [i for i in range(1, len(values)) if values[i] != values[i - 1]]
+    if not points or points[-1] != len(values) - 1:
+        points.append(len(values) - 1)
+    return points
 
 
 def _carry_on(
