@@ -14,6 +14,7 @@ from pathlib import Path
 from typing import Any
 
 import h5py  # type: ignore[import-untyped, unused-ignore]
+import numpy as np
 import pytest
 
 from workcell.cli.main import main
@@ -142,6 +143,29 @@ def test_attempts_are_recorded_with_operator_provenance_and_verdicts(
         assert stages[-1] == "delivered"
         assert {s["reference"] for s in payload["segments"]} == {"box", "goal"}
     assert "3/3 done" in stdout and "Wilson 95 %" in stdout
+
+
+def test_an_attempt_drives_off_while_its_box_rides_the_belt(
+    generated: tuple[Path, str],
+) -> None:
+    """The first segment's frames before its anchor (the source driving to the belt's end
+    while its box arrived) are replayed while the attempt's box is on its way: the base is
+    moving within the first second, not standing at its start until the box has rested,
+    and the join that follows is short."""
+    out, _ = generated
+    events = generation_events(out)
+    with Store.open(out, writer=False) as reader:
+        for trial_id, payload in events.items():
+            frames = reader.frames(trial_id)
+            t, speed = frames["t_sim"], np.hypot(frames["base_vx"], frames["base_vy"])
+            assert float(np.max(speed[t <= 1.0])) > 0.05, trial_id
+            first, second = payload["segments"][:2]
+            assert first["approached_s"] == pytest.approx(first["began_s"], abs=0.06)
+            assert first["approached_s"] > 5.0
+            assert second["approached_s"] == 0.0
+            # join and play of the box-relative approach: seconds, not the drive from
+            # the start
+            assert second["began_s"] - first["began_s"] < 6.0
 
 
 def test_the_output_verifies_audits_and_exports_by_operator(

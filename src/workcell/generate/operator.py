@@ -73,6 +73,9 @@ class SegmentRun:
     """How far each hand was moved apart (a wider box than the source's)."""
     lift_m: float
     """How far both hands were moved up (a taller box; a goal at another height)."""
+    approached_s: float = 0.0
+    """How long the source's frames before the anchor were replayed while the segment's
+    box was still on its way (:meth:`GeneratedOperator._approach`)."""
 
     def as_dict(self) -> dict[str, object]:
         return {
@@ -80,6 +83,7 @@ class SegmentRun:
             "transform": self.motion.as_dict(),
             "widen_m": round(self.widen_m, 6),
             "lift_m": round(self.lift_m, 6),
+            "approached_s": round(self.approached_s, 4),
             "object_pose": self.object_pose.as_dict(),
             "began_s": round(self.began_s, 4),
         }
@@ -115,6 +119,8 @@ class GeneratedOperator:
         self._phase = Phase.WAIT
         self._t0: float | None = None
         self._rest_since: float | None = None
+        self._approach_began: float | None = None
+        self._approach_from = Planar()
         self._motion = Planar()
         self._size_change = (0.0, 0.0)
         self._join_from: tuple[NDArray[np.float64], NDArray[np.float64]] | None = None
@@ -138,6 +144,8 @@ class GeneratedOperator:
             return self._join(world)
         if self._phase is Phase.PLAY:
             return self._play(world)
+        if self._phase is Phase.WAIT:
+            return self._approach(world)
         return self._hold(world)
 
     def _pick(self, world: World) -> None:
@@ -169,8 +177,17 @@ class GeneratedOperator:
             if seg.reference == "goal":
                 lift += self._sites[seg.site].height - self._source.sites[seg.site].height
             self._size_change = (half, lift)
+        approached = 0.0 if self._approach_began is None else world.time - self._approach_began
+        self._approach_began = None
         self.provenance.segments.append(
-            SegmentRun(seg, self._motion, pose, world.time - (self._t0 or 0.0), *self._size_change)
+            SegmentRun(
+                seg,
+                self._motion,
+                pose,
+                world.time - (self._t0 or 0.0),
+                *self._size_change,
+                approached,
+            )
         )
         if continues:
             # the same object on: the motion goes on as it was (a held box moves with
@@ -220,6 +237,31 @@ class GeneratedOperator:
             self._index += 1
             self._phase = Phase.WAIT if self._index < len(self._segments) else Phase.HOLD
         return command
+
+    def _approach(self, world: World) -> Command:
+        """While the segment's box is still on its way: the source's frames before the
+        anchor (its operator driving to where its own box came to rest, and waiting there),
+        moved by a motion eased from the one the attempt carries on with (the first
+        segment: the attempt's start against the source's) to none, since a box riding
+        the belt comes to rest where the source's did, give or take the world's spread;
+        held at the anchor's pose once played. The join to the box's actual pose follows
+        when it has rested, from wherever this got to, a short way (without this, an
+        attempt stood still at its start until its box had rested: 13 s of a box
+        transfer trial, which a policy trained on such trials learns to do for ever)."""
+        seg = self._segments[self._index]
+        start_t, anchor_t = float(self._source.t[seg.start]), seg.anchor_time(self._source)
+        if anchor_t <= start_t:
+            return self._hold(world)
+        if self._approach_began is None:
+            self._approach_began = world.time
+            self._approach_from = self._motion
+            if self._index == 0 and self.plan.retarget:
+                source_start = Planar(*(float(v) for v in self._source.base[seg.start]))
+                here = Planar(*(float(v) for v in world.base_pose))
+                self._approach_from = Planar.between(source_start, here)
+        s = min(1.0, (world.time - self._approach_began) / (anchor_t - start_t))
+        motion = self._approach_from.scaled(1.0 - s * s * (3 - 2 * s))
+        return self._command(world, self._sampled(start_t + s * (anchor_t - start_t), motion))
 
     def _hold(self, world: World) -> Command:
         last = self._last
@@ -271,7 +313,10 @@ class GeneratedOperator:
         return ((size[1] - source[1]) / 2, (size[2] - source[2]) / 2)
 
     def _moved(self, t: float) -> MotionSample:
-        at = sample(self._source, t, self._motion)
+        return self._sampled(t, self._motion)
+
+    def _sampled(self, t: float, motion: Planar) -> MotionSample:
+        at = sample(self._source, t, motion)
         half, lift = self._size_change
         return MotionSample(
             at.base, at.twist, widen(at.hands, half, lift), at.follow, at.close, at.head
@@ -346,7 +391,16 @@ def _join_duration(
 ) -> float:
     distance = float(np.linalg.norm(target.base[:2] - base[:2]))
     turn = abs(wrap(float(target.base[2] - base[2])))
-    reach = float(np.max(np.linalg.norm(target.hands[:, :3] - hands[:, :3], axis=1)))
+    # an arm the target does not have following (a person's released clutch) holds where
+    # it is: its recorded target (often none) is no distance to cover
+    reach = max(
+        (
+            float(np.linalg.norm(target.hands[i, :3] - hands[i, :3]))
+            for i in range(2)
+            if target.follow[i] and np.isfinite(target.hands[i]).all()
+        ),
+        default=0.0,
+    )
     # the smooth blend's top speed is 1.5 times its mean
     return max(
         MIN_JOIN_S,

@@ -42,6 +42,11 @@ class Planar:
             wrap(self.yaw + other.yaw),
         )
 
+    def scaled(self, fraction: float) -> Planar:
+        """This motion's x, y and yaw times ``fraction`` (1: itself, 0: no motion), to ease
+        from one into none."""
+        return Planar(self.x * fraction, self.y * fraction, self.yaw * fraction)
+
     def inverse(self) -> Planar:
         c, s = math.cos(self.yaw), math.sin(self.yaw)
         return Planar(-(c * self.x + s * self.y), -(-s * self.x + c * self.y), -self.yaw)
