@@ -7,8 +7,8 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
+from workcell.generate.join import JOIN_SPEED, MIN_JOIN_S, join_duration
 from workcell.generate.motion import MotionSample
-from workcell.generate.operator import JOIN_SPEED, MIN_JOIN_S, _join_duration
 from workcell.generate.planar import Planar
 
 
@@ -26,16 +26,16 @@ def target(hands: np.ndarray, follow: tuple[bool, bool]) -> MotionSample:
 def test_a_following_arm_far_away_makes_the_join_long() -> None:
     here = hands_at((0.5, 0.2, 1.0), (0.5, -0.2, 1.0))
     there = hands_at((0.5, 0.2, 1.0), (0.5, -0.2, 0.0))
-    duration = _join_duration(np.zeros(3), here, target(there, (True, True)))
+    duration = join_duration(np.zeros(3), here, target(there, (True, True)))
     assert duration == pytest.approx(1.5 * 1.0 / JOIN_SPEED[2])
 
 
 def test_an_arm_not_following_adds_nothing_however_far_its_recorded_target() -> None:
     here = hands_at((0.5, 0.2, 1.0), (0.5, -0.2, 1.0))
     there = hands_at((0.5, 0.2, 1.0), (0.0, 0.0, -0.02))
-    assert _join_duration(np.zeros(3), here, target(there, (True, False))) == MIN_JOIN_S
+    assert join_duration(np.zeros(3), here, target(there, (True, False))) == MIN_JOIN_S
     there[1] = np.nan
-    assert _join_duration(np.zeros(3), here, target(there, (True, True))) == MIN_JOIN_S
+    assert join_duration(np.zeros(3), here, target(there, (True, True))) == MIN_JOIN_S
 
 
 def test_a_motion_eases_into_none() -> None:

@@ -3,16 +3,17 @@
 For each attempt it picks one source trial from the attempt's seed
 (:meth:`GeneratedOperator.start_trial`), among those that share the attempt's
 :meth:`~workcell.tasks.Task.source_key` where there are any (shelve: a source that put its box
-on the asked board; sort: one whose boxes went to the same tables);
-then, segment by segment, it takes the segment's object's pose in the new
-world (waiting for an object still on the move to rest), moves the segment with it
-(:class:`~workcell.generate.planar.Planar`), joins the robot to the moved segment's first
-pose by a smooth blend (:data:`JOIN_SPEED`), and plays the moved segment: the base tracks
-the moved path (the source's twist fed forward, its pose error fed back), the arms the moved
-targets, grippers and head as recorded (a segment acting on a goal at another height is also
-moved up or down by the difference). A segment acting on the same object as the one
-before it carries on with its motion, unjoined (a held box's pose says nothing new). It
-reads the world (the boxes, the zone, the base) and returns
+on the asked board; sort: one whose boxes went to the same tables); then, segment by
+segment, it takes the segment's object's pose in the new world (for an object still on the
+move, once it has rested, replaying the source's frames before the segment's anchor
+meanwhile), moves the segment with it (:class:`~workcell.generate.planar.Planar`), joins
+the robot to the moved segment's first pose by a smooth blend
+(:mod:`~workcell.generate.join`), and plays the moved segment: the base tracks the moved
+path (the source's twist fed forward, its pose error fed back), the arms the moved targets,
+grippers and head as recorded (a segment acting on a goal at another height is also moved
+up or down by the difference). A segment acting on the same object as the one before it
+carries on with its motion, unjoined (a held box's pose says nothing new). It reads the
+world (the boxes, the zone, the base) and returns
 :class:`~workcell.control.command.Command` values, like every operator; it never asks the
 task's expert. What it did (each segment's motion and when it began) is
 :attr:`GeneratedOperator.provenance`.
@@ -28,6 +29,7 @@ import numpy as np
 from numpy.typing import NDArray
 
 from workcell.control.command import ArmCommand, BaseTwist, Command
+from workcell.generate.join import MIN_JOIN_S, join_duration
 from workcell.generate.motion import (
     MotionSample,
     blend,
@@ -44,10 +46,6 @@ from workcell.sim.world import World
 from workcell.tasks.registry import load_task
 from workcell.tasks.task import GoalSite
 
-JOIN_SPEED = (0.3, 0.5, 0.25)
-"""How fast a join moves the base (m/s, rad/s) and the hands (m/s) at most."""
-MIN_JOIN_S = 0.5
-"""The shortest join."""
 GAIN = (2.0, 2.5)
 """Base pose feedback: per second of linear and of yaw error."""
 BOX_SYMMETRY = math.pi / 2
@@ -201,7 +199,7 @@ class GeneratedOperator:
         self._join_from = (current_base, hands)
         self._join_to = target
         self._join_began = world.time
-        self._join_s = _join_duration(current_base, hands, target)
+        self._join_s = join_duration(current_base, hands, target)
         self._phase = Phase.JOIN
 
     def _join(self, world: World) -> Command:
@@ -384,27 +382,3 @@ def _to_base_twist(pose: NDArray[np.float64], world_xy: NDArray[np.float64]) -> 
     if len(world_xy) > 2:
         out[2] = world_xy[2]
     return out
-
-
-def _join_duration(
-    base: NDArray[np.float64], hands: NDArray[np.float64], target: MotionSample
-) -> float:
-    distance = float(np.linalg.norm(target.base[:2] - base[:2]))
-    turn = abs(wrap(float(target.base[2] - base[2])))
-    # an arm the target does not have following (a person's released clutch) holds where
-    # it is: its recorded target (often none) is no distance to cover
-    reach = max(
-        (
-            float(np.linalg.norm(target.hands[i, :3] - hands[i, :3]))
-            for i in range(2)
-            if target.follow[i] and np.isfinite(target.hands[i]).all()
-        ),
-        default=0.0,
-    )
-    # the smooth blend's top speed is 1.5 times its mean
-    return max(
-        MIN_JOIN_S,
-        1.5 * distance / JOIN_SPEED[0],
-        1.5 * turn / JOIN_SPEED[1],
-        1.5 * reach / JOIN_SPEED[2],
-    )
