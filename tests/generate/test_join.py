@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from workcell.generate.join import JOIN_SPEED, MIN_JOIN_S, join_duration
-from workcell.generate.motion import MotionSample
+from workcell.generate.motion import MotionSample, smoothstep
 from workcell.generate.planar import Planar
 
 
@@ -43,3 +43,10 @@ def test_a_motion_eases_into_none() -> None:
     assert motion.scaled(1.0) == motion
     assert motion.scaled(0.0) == Planar()
     assert motion.scaled(0.5) == Planar(0.2, -0.1, 0.15)
+
+
+def test_the_ease_starts_and_ends_at_rest() -> None:
+    assert (smoothstep(0.0), smoothstep(0.5), smoothstep(1.0)) == (0.0, 0.5, 1.0)
+    step = 1e-6
+    assert smoothstep(step) / step < 1e-5
+    assert (1.0 - smoothstep(1.0 - step)) / step < 1e-5

@@ -36,7 +36,7 @@ class MotionSample:
 
 def hands_in_world(base: NDArray[np.float64], targets: NDArray[np.float64]) -> NDArray[np.float64]:
     """Base-frame TCP targets (2, 7) of a base at ``base`` (x, y, yaw), in the world."""
-    frame = Planar(float(base[0]), float(base[1]), float(base[2]))
+    frame = Planar.of(base)
     out = np.empty_like(targets)
     out[:, :3] = frame.points(targets[:, :3])
     out[:, 3:] = frame.quaternions(targets[:, 3:])
@@ -49,7 +49,7 @@ def hands_in_base(base: NDArray[np.float64], hands: NDArray[np.float64]) -> NDAr
 
 
 def _inverse(base: NDArray[np.float64]) -> NDArray[np.float64]:
-    inv = Planar(float(base[0]), float(base[1]), float(base[2])).inverse()
+    inv = Planar.of(base).inverse()
     return np.array([inv.x, inv.y, inv.yaw])
 
 
@@ -79,6 +79,11 @@ def sample(source: SourceTrial, t: float, motion: Planar) -> MotionSample:
         close=(float(source.close[k, 0]), float(source.close[k, 1])),
         head=(float(source.head[k, 0]), float(source.head[k, 1])),
     )
+
+
+def smoothstep(s: float) -> float:
+    """``s`` in [0, 1] eased in and out: 3 s^2 - 2 s^3 (zero slope at both ends)."""
+    return s * s * (3 - 2 * s)
 
 
 def blend(a: NDArray[np.float64], b: NDArray[np.float64], s: float) -> NDArray[np.float64]:

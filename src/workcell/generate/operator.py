@@ -35,6 +35,7 @@ from workcell.generate.motion import (
     blend,
     hands_in_base,
     sample,
+    smoothstep,
     widen,
 )
 from workcell.generate.plan import GenerationPlan
@@ -205,7 +206,7 @@ class GeneratedOperator:
     def _join(self, world: World) -> Command:
         assert self._join_from is not None and self._join_to is not None
         s = min(1.0, (world.time - self._join_began) / self._join_s)
-        smooth = s * s * (3 - 2 * s)
+        smooth = smoothstep(s)
         rate = 6 * s * (1 - s) / self._join_s
         base_from, hands_from = self._join_from
         to = self._join_to
@@ -254,11 +255,10 @@ class GeneratedOperator:
             self._approach_began = world.time
             self._approach_from = self._motion
             if self._index == 0 and self.plan.retarget:
-                source_start = Planar(*(float(v) for v in self._source.base[seg.start]))
-                here = Planar(*(float(v) for v in world.base_pose))
-                self._approach_from = Planar.between(source_start, here)
+                source_start = Planar.of(self._source.base[seg.start])
+                self._approach_from = Planar.between(source_start, Planar.of(world.base_pose))
         s = min(1.0, (world.time - self._approach_began) / (anchor_t - start_t))
-        motion = self._approach_from.scaled(1.0 - s * s * (3 - 2 * s))
+        motion = self._approach_from.scaled(1.0 - smoothstep(s))
         return self._command(world, self._sampled(start_t + s * (anchor_t - start_t), motion))
 
     def _hold(self, world: World) -> Command:

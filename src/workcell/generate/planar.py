@@ -29,6 +29,11 @@ class Planar:
     yaw: float = 0.0
 
     @staticmethod
+    def of(pose: NDArray[np.float64]) -> Planar:
+        """A pose array (x, y, yaw, ...) as a planar pose."""
+        return Planar(float(pose[0]), float(pose[1]), float(pose[2]))
+
+    @staticmethod
     def between(source: Planar, target: Planar) -> Planar:
         """The motion carrying ``source`` onto ``target``: ``target * source^-1``."""
         return target.compose(source.inverse())
