@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from workcell.generate.join import JOIN_SPEED, MIN_JOIN_S, join_duration
-from workcell.generate.motion import MotionSample, smoothstep
+from workcell.generate.motion import MotionSample, smoothstep, smoothstep_rate
 from workcell.generate.planar import Planar
 
 
@@ -50,3 +50,6 @@ def test_the_ease_starts_and_ends_at_rest() -> None:
     step = 1e-6
     assert smoothstep(step) / step < 1e-5
     assert (1.0 - smoothstep(1.0 - step)) / step < 1e-5
+    assert smoothstep_rate(0.5) == pytest.approx(
+        (smoothstep(0.5 + step) - smoothstep(0.5 - step)) / (2 * step)
+    )

@@ -86,6 +86,11 @@ def smoothstep(s: float) -> float:
     return s * s * (3 - 2 * s)
 
 
+def smoothstep_rate(s: float) -> float:
+    """:func:`smoothstep`'s slope at ``s``: 6 s (1 - s)."""
+    return 6 * s * (1 - s)
+
+
 def blend(a: NDArray[np.float64], b: NDArray[np.float64], s: float) -> NDArray[np.float64]:
     """Poses (m, 7) a fraction ``s`` of the way from ``a`` to ``b`` (positions linear,
     orientations normalized linear on the shorter arc)."""

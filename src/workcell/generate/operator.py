@@ -36,6 +36,7 @@ from workcell.generate.motion import (
     hands_in_base,
     sample,
     smoothstep,
+    smoothstep_rate,
     widen,
 )
 from workcell.generate.plan import GenerationPlan
@@ -207,7 +208,7 @@ class GeneratedOperator:
         assert self._join_from is not None and self._join_to is not None
         s = min(1.0, (world.time - self._join_began) / self._join_s)
         smooth = smoothstep(s)
-        rate = 6 * s * (1 - s) / self._join_s
+        rate = smoothstep_rate(s) / self._join_s
         base_from, hands_from = self._join_from
         to = self._join_to
         delta = to.base - base_from
